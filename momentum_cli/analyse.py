@@ -1,0 +1,210 @@
+"""Analyse: the structure of an equation system before any number is computed.
+
+Unknowns and equations form a bipartite graph. A maximum matching and the
+Dulmage-Mendelsohn decomposition name the under-determined unknowns and the
+over-determined (redundant) equations; strongly connected components of the
+matched graph give the block-lower-triangular order in which the rest is solved.
+"""
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+
+from .compile import Equation, System
+from .expr import variables
+
+
+@dataclass
+class Block:
+    index: int
+    equations: list[int]  # equation indices
+    unknowns: list[str]
+    depends: set[int]  # indices of blocks this one needs first
+
+
+@dataclass
+class Structure:
+    incidence: list[set[str]]  # unknowns of each equation
+    match_eq: dict[int, str]  # equation -> its matched unknown
+    match_var: dict[str, int]
+    under: set[str]  # unknowns not determined
+    under_eqs: set[int]
+    redundant: list[int]  # equations left over: checked after solving
+    blocks: list[Block]  # in solving order
+    block_of_var: dict[str, int]
+    constant_eqs: list[int]  # equations with no unknowns (pure checks)
+
+    def needed_blocks(self, names) -> list[int]:
+        """The blocks that determine `names`, with everything they depend on, in order."""
+        todo = [self.block_of_var[n] for n in names if n in self.block_of_var]
+        seen: set[int] = set()
+        while todo:
+            b = todo.pop()
+            if b in seen:
+                continue
+            seen.add(b)
+            todo.extend(self.blocks[b].depends)
+        return sorted(seen)
+
+    def undetermined_for(self, names) -> list[str]:
+        """The under-determined unknowns that `names` need (directly or through blocks)."""
+        out = [n for n in names if n in self.under]
+        for b in self.needed_blocks(names):
+            for e in self.blocks[b].equations:
+                out.extend(v for v in self.incidence[e] if v in self.under)
+        return sorted(set(out))
+
+
+def analyse(system: System) -> Structure:
+    eqs = system.equations
+    incidence = [variables(e.residual) for e in eqs]
+    names = list(system.unknowns)
+    constant = [k for k, inc in enumerate(incidence) if not inc]
+    # auto equations first: stated principles then become the checks when redundant
+    order = sorted((k for k, inc in enumerate(incidence) if inc),
+                   key=lambda k: (eqs[k].kind in ("stated", "user"), k))
+    match_eq, match_var = _max_matching(order, incidence)
+    # Dulmage-Mendelsohn: under-determined = reachable from unmatched unknowns by
+    # alternating paths (unknown -> equation containing it -> that equation's unknown).
+    var_eqs: dict[str, list[int]] = {n: [] for n in names}
+    for k, inc in enumerate(incidence):
+        for v in inc:
+            var_eqs.setdefault(v, []).append(k)
+    under: set[str] = set()
+    under_eqs: set[int] = set()
+    stack = [n for n in var_eqs if n not in match_var]
+    while stack:
+        v = stack.pop()
+        if v in under:
+            continue
+        under.add(v)
+        for k in var_eqs.get(v, ()):
+            if k in match_eq and k not in under_eqs:
+                under_eqs.add(k)
+                stack.append(match_eq[k])
+    redundant = [k for k in order if k not in match_eq]
+    # BLT over the matched, determined equations (Tarjan's SCC, iterative)
+    det = [k for k in order if k in match_eq and k not in under_eqs]
+    succ: dict[int, list[int]] = {}
+    for k in det:
+        succ[k] = [match_var[v] for v in incidence[k]
+                   if v in match_var and match_var[v] != k and match_var[v] not in under_eqs]
+    comps = _tarjan(det, succ)
+    blocks: list[Block] = []
+    block_of_eq: dict[int, int] = {}
+    for comp in comps:  # Tarjan emits dependencies first
+        idx = len(blocks)
+        for k in comp:
+            block_of_eq[k] = idx
+        blocks.append(Block(idx, sorted(comp), [match_eq[k] for k in sorted(comp)], set()))
+    for b in blocks:
+        for k in b.equations:
+            for d in succ[k]:
+                if block_of_eq[d] != b.index:
+                    b.depends.add(block_of_eq[d])
+    block_of_var = {match_eq[k]: block_of_eq[k] for k in det}
+    return Structure(incidence, match_eq, match_var, under, under_eqs, redundant, blocks,
+                     block_of_var, constant)
+
+
+def _max_matching(order: list[int], incidence: list[set[str]]):
+    """Maximum bipartite matching by augmenting paths (equations in the given order)."""
+    match_eq: dict[int, str] = {}
+    match_var: dict[str, int] = {}
+    adj = {k: sorted(incidence[k]) for k in order}
+    # cheap greedy pass first
+    for k in order:
+        for v in adj[k]:
+            if v not in match_var:
+                match_var[v] = k
+                match_eq[k] = v
+                break
+    for k in order:
+        if k in match_eq:
+            continue
+        # iterative DFS for an augmenting path from equation k
+        visited: set[str] = set()
+        parent: dict[str, int] = {}
+        stack = [(k, iter(adj[k]))]
+        found = None
+        while stack and found is None:
+            e, it = stack[-1]
+            for v in it:
+                if v in visited:
+                    continue
+                visited.add(v)
+                parent[v] = e
+                if v not in match_var:
+                    found = v
+                    break
+                stack.append((match_var[v], iter(adj[match_var[v]])))
+                break
+            else:
+                stack.pop()
+        if found is None:
+            continue
+        v = found
+        while True:
+            e = parent[v]
+            prev = match_eq.get(e)
+            match_eq[e] = v
+            match_var[v] = e
+            if e == k:
+                break
+            v = prev
+    return match_eq, match_var
+
+
+def _tarjan(nodes: list[int], succ: dict[int, list[int]]) -> list[list[int]]:
+    """Strongly connected components, dependencies before dependents (iterative)."""
+    index: dict[int, int] = {}
+    low: dict[int, int] = {}
+    on: set[int] = set()
+    stack: list[int] = []
+    out: list[list[int]] = []
+    counter = 0
+    for root in nodes:
+        if root in index:
+            continue
+        work = [(root, 0)]
+        while work:
+            v, pi = work.pop()
+            if pi == 0:
+                index[v] = low[v] = counter
+                counter += 1
+                stack.append(v)
+                on.add(v)
+            recurse = False
+            ws = succ.get(v, [])
+            for i in range(pi, len(ws)):
+                w = ws[i]
+                if w not in index:
+                    work.append((v, i + 1))
+                    work.append((w, 0))
+                    recurse = True
+                    break
+                if w in on:
+                    low[v] = min(low[v], index[w])
+            if recurse:
+                continue
+            if low[v] == index[v]:
+                comp = []
+                while True:
+                    w = stack.pop()
+                    on.discard(w)
+                    comp.append(w)
+                    if w == v:
+                        break
+                out.append(comp)
+            if work:
+                parent = work[-1][0]
+                low[parent] = min(low[parent], low[v])
+    return out
+
+
+def describe_equation(e: Equation) -> str:
+    line = f"line {e.span.line}" if e.span else "the scene"
+    return f"{e.principle} ({line})"
+
+
+sys.setrecursionlimit(max(sys.getrecursionlimit(), 10000))

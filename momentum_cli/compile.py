@@ -1,0 +1,930 @@
+"""Compile: Scene -> equation system (unknowns, equations with provenance).
+
+Each declared transition adds the principles that hold for it, derived from the
+scene rather than from a template: linear impulse-momentum per body in x and y,
+angular impulse-momentum about each body's centre of mass, Newton's restitution and
+the tangential law at each contact, the reactions of pins, welds and links as
+unknown impulses, and the kinematic constraints of every state. Energy phases add
+T1 + V1 + U12 = T2 + V2. Positions do not change in an impact; an interval keeps its
+start configuration for the moment arms (constant forces, constant geometry).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from . import syntax as S
+from .diagnostics import Collector, ProblemError, did_you_mean
+from .expr import (ZERO, Const, E, Known, V2, Var, add, evaluate, is_zero, mul, neg,
+                   omega_cross, power, rotate, to_text, variables)
+from .quantity import Evaluator, Q
+from .scene import (STATE_QTYS, Body, Contact, Joint, PointOn, Scene, StatedAngular,
+                    StatedMomentum, StatedRestitution, TransitionSpec)
+from .source import Span
+from .units import (ACCELERATION, ANGULAR_IMPULSE, IMPULSE, LENGTH, MOMENT, NONE, RATE, TIME,
+                    VELOCITY, Dim, describe, si_label)
+
+
+@dataclass
+class Unknown:
+    name: str
+    dim: Dim
+    unit: str
+    kind: str  # state | impulse | angular-impulse | restitution | duration | user | derived
+    hints: list[tuple[str, float, Span]] = field(default_factory=list)
+    state: str | None = None
+    body: str | None = None
+    qty: str | None = None
+
+
+@dataclass
+class Equation:
+    lhs: E
+    rhs: E
+    principle: str
+    group: str
+    span: Span | None
+    kind: str = "auto"  # auto | stated | user | consistency
+    index: int = 0
+
+    @property
+    def residual(self) -> E:
+        return add(self.lhs, neg(self.rhs))
+
+    def text(self, numeric: bool = False) -> str:
+        return f"{to_text(self.lhs, numeric)} = {to_text(self.rhs, numeric)}"
+
+
+@dataclass
+class FindSpec:
+    name: str
+    expr: E
+    dim: Dim
+    unit: str  # display unit label
+    factor: float  # SI value / factor = display value
+    span: Span
+
+
+@dataclass
+class Source_:
+    """An impulse source acting during a transition, for 'why a principle holds'."""
+
+    bodies: tuple[str | None, str | None]  # the two sides (None: ground)
+    point: str  # the name of where it acts
+    direction: tuple[float, float] | None  # None: any direction in the plane
+    torque_only: bool = False
+    what: str = ""
+
+
+@dataclass
+class FrictionSite:
+    """A contact whose tangential law depends on a regime chosen at solve time."""
+
+    key: str
+    label: str
+    transition: str
+    mu: float
+    jn: str
+    jt: str | None
+    regime: str  # stick | slide+ | slide-
+    slip_expr: E | None  # tangential slip velocity whose sign the slide must oppose
+    span: Span
+
+
+@dataclass
+class TransitionInfo:
+    kind: str
+    key: str
+    before: str
+    after: str
+    span: Span
+    why: list[str]
+    contacts: list[tuple[str, E, E]]  # label, approach normal velocity, separation velocity
+
+
+@dataclass
+class System:
+    scene: Scene
+    unknowns: dict[str, Unknown]
+    equations: list[Equation]
+    finds: list[FindSpec]
+    transitions: list[TransitionInfo]
+    friction: list[FrictionSite]
+    notes: Collector
+    invalid_stated: list[tuple[Span, str]]
+    state_energy: dict[str, E]  # kinetic energy of every body at each state
+
+
+def compile_scene(scene: Scene, regimes: dict[str, str] | None = None) -> System:
+    """Build the equation system for `scene` with the given friction regimes."""
+    return _Compiler(scene, regimes or {}).run()
+
+
+class _Compiler:
+    def __init__(self, scene: Scene, regimes: dict[str, str]):
+        self.scene = scene
+        self.regimes = regimes
+        self.unknowns: dict[str, Unknown] = {}
+        self.equations: list[Equation] = []
+        self._seen: set[str] = set()
+        self.notes = Collector(list(scene.notes.items))
+        self.friction: list[FrictionSite] = []
+        self.invalid: list[tuple[Span, str]] = []
+        self.transitions: list[TransitionInfo] = []
+        self.sources: dict[str, list[Source_]] = {}
+        self._parent: dict[tuple[str, str, str], tuple[str, str, str]] = {}
+        self.tspecs = {t.key: t for t in scene.transitions}
+
+    # ---- unknowns and state variables ------------------------------------------------------
+    def unknown(self, name: str, dim: Dim, kind: str, unit: str | None = None, **kw) -> Var:
+        if name not in self.unknowns:
+            self.unknowns[name] = Unknown(name, dim, unit or si_label(dim), kind, **kw)
+        return Var(name)
+
+    def _find(self, key):
+        while key in self._parent:
+            key = self._parent[key]
+        return key
+
+    def _union(self, a, b) -> None:
+        ra, rb = self._find(a), self._find(b)
+        if ra == rb:
+            return
+        ga = self._given(ra)
+        gb = self._given(rb)
+        if ga is not None and gb is not None:
+            return  # both given: a consistency equation is added by the caller
+        if gb is not None:
+            self._parent[ra] = rb
+        else:
+            self._parent[rb] = ra
+
+    def _given(self, key):
+        body, qty, sid = key
+        st = self.scene.states.get(sid)
+        if st is None:
+            return None
+        return st.givens.get((body, qty))
+
+    def sv(self, body: str, qty: str, sid: str) -> E:
+        """A body's state quantity: a Known if given, else an unknown `rod.omega@3`."""
+        b = self.scene.bodies[body]
+        if b.is_particle and qty in ("angle", "omega"):
+            return ZERO
+        key = self._find((body, qty, sid))
+        name = f"{key[0]}.{key[1]}@{key[2]}"
+        given = self._given(key)
+        if given is not None:
+            return Known(name, given[0])
+        dim, unit = STATE_QTYS[qty]
+        st = self.scene.states[key[2]]
+        hints = list(st.hints.get((body, qty), []))
+        if key not in self.unknowns:
+            pass
+        v = self.unknown(name, dim, "state", unit, state=key[2], body=body, qty=qty)
+        u = self.unknowns[name]
+        for h in hints:
+            if h not in u.hints:
+                u.hints.append(h)
+        return v
+
+    def vel(self, body: str, sid: str) -> V2:
+        return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
+
+    def pos(self, body: str, sid: str) -> V2:
+        return V2(self.sv(body, "x", sid), self.sv(body, "y", sid))
+
+    def arm(self, p: PointOn, sid: str, normal: tuple[float, float] | None = None,
+            sign: float = 1.0) -> V2:
+        """The world vector from a body's G to point p at state sid."""
+        b = self.scene.bodies[p.body]
+        if p.round_contact and normal is not None and b.radius:
+            r = b.radius
+            return V2(Const(-sign * r * normal[0]), Const(-sign * r * normal[1]))
+        if p.offset == (0.0, 0.0):
+            return V2(ZERO, ZERO)
+        if b.is_particle:
+            return V2(ZERO, ZERO)
+        return rotate(p.offset, self.sv(p.body, "angle", sid))
+
+    def point_velocity(self, p: PointOn | None, sid: str, normal=None, sign=1.0) -> V2:
+        if p is None or p.body is None:
+            return V2(ZERO, ZERO)
+        r = self.arm(p, sid, normal, sign)
+        return self.vel(p.body, sid) + omega_cross(self.sv(p.body, "omega", sid), r)
+
+    def point_position(self, p: PointOn | None, sid: str) -> V2:
+        if p is None:
+            return V2(ZERO, ZERO)
+        if p.body is None:
+            return V2(Const(p.offset[0]), Const(p.offset[1]))
+        return self.pos(p.body, sid) + self.arm(p, sid)
+
+    # ---- equations ------------------------------------------------------------------------------
+    def eq(self, lhs: E, rhs: E, principle: str, group: str, span: Span | None,
+           kind: str = "auto") -> Equation | None:
+        e = Equation(lhs, rhs, principle, group, span, kind)
+        key = principle + "|" + e.text()
+        if key in self._seen:
+            return None
+        self._seen.add(key)
+        e.index = len(self.equations)
+        self.equations.append(e)
+        return e
+
+    # ---- the compile ------------------------------------------------------------------------------
+    def run(self) -> System:
+        sc = self.scene
+        self._positions()
+        for t in sc.transitions:
+            if t.kind == "energy":
+                self._energy(t)
+            else:
+                self._impulse_phase(t)
+        for sid, st in sc.states.items():
+            self._state_constraints(sid)
+            for body, surface, span in st.rolls:
+                self._rolling(body, surface, sid, f"state {sid}", span, None)
+        for s in sc.stated:
+            self._stated(s)
+        for ue in sc.equations:
+            self._user_equation(ue)
+        finds = self._finds()
+        energy = {sid: self._kinetic(sid) for sid in sc.states}
+        return System(sc, self.unknowns, self.equations, finds, self.transitions, self.friction,
+                      self.notes, self.invalid, energy)
+
+    def _positions(self) -> None:
+        """Positions are unchanged by impacts; intervals keep their start configuration."""
+        sc = self.scene
+        for t in sc.transitions:
+            if t.kind == "energy":
+                continue
+            for b in sc.bodies:
+                for q in ("x", "y", "angle"):
+                    a, c = (b, q, t.before), (b, q, t.after)
+                    if t.kind == "interval" and self._given(c) is not None:
+                        continue
+                    self._union(a, c)
+        for t in sc.transitions:
+            if t.kind != "impact":
+                continue
+            for b, body in sc.bodies.items():
+                for q in ("x", "y", "angle"):
+                    if body.is_particle and q == "angle":
+                        continue
+                    ga, gc = self._given((b, q, t.before)), self._given((b, q, t.after))
+                    if ga is not None and gc is not None and ga[0] != gc[0]:
+                        self.eq(Known(f"{b}.{q}@{t.after}", gc[0]),
+                                Known(f"{b}.{q}@{t.before}", ga[0]),
+                                "positions unchanged during an impact",
+                                f"impact {t.key}", gc[1], "consistency")
+
+    # ---- impacts and intervals ----------------------------------------------------------------
+    def _impulse_phase(self, t: TransitionSpec) -> None:
+        sc = self.scene
+        i, j = t.before, t.after
+        key = t.key
+        group = f"{t.kind} {i} -> {j}"
+        is_interval = t.kind == "interval"
+        # impulses acting on each body: (arm from G, impulse vector, torque)
+        lin: dict[str, list[V2]] = {b: [] for b in sc.bodies}
+        ang: dict[str, list[E]] = {b: [] for b in sc.bodies}
+        sources: list[Source_] = []
+        contacts_info = []
+        duration: E | None = None
+        if is_interval:
+            duration = Const(t.duration) if t.duration is not None else None
+            if duration is not None:
+                duration = Known(f"t@{key}", t.duration)
+
+        def dur() -> E:
+            nonlocal duration
+            if duration is None:
+                duration = self.unknown(f"t@{key}", TIME, "duration", "s")
+                u = self.unknowns[f"t@{key}"]
+                u.hints.append((">", 0.0, t.span))
+            return duration
+
+        def apply(p: PointOn | None, J: V2, torque: E | None = None, normal=None, sign=1.0):
+            if p is None or p.body is None:
+                return
+            r = self.arm(p, i, normal, sign)
+            lin[p.body].append(J)
+            m = r.cross(J)
+            if torque is not None:
+                m = add(m, torque)
+            ang[p.body].append(m)
+
+        for c in t.contacts:
+            self._contact(t, c, apply, sources, contacts_info, dur)
+        for jt in sc.joints:
+            self._joint_impulse(t, jt, apply, sources)
+        for name, span in t.bearing_friction:
+            jt = next(j_ for j_ in sc.joints if j_.label == name)
+            M = self.unknown(f"M[{name}]@{key}", ANGULAR_IMPULSE, "angular-impulse")
+            apply(jt.a, V2(ZERO, ZERO), M)
+            if jt.b.body is not None:
+                apply(jt.b, V2(ZERO, ZERO), neg(M))
+            sources.append(Source_((jt.a.body, jt.b.body), name, None, True,
+                                   f"friction torque at {name}"))
+        if is_interval:
+            if sc.gravity is not None:
+                for b, body in sc.bodies.items():
+                    W = V2(Const(body.mass * sc.gravity[0]), Const(body.mass * sc.gravity[1]))
+                    lin[b].append(W.scale(dur()))
+                    sources.append(Source_((b, None), b, _unit(sc.gravity), False,
+                                           f"weight of {b}"))
+            for F, p, span in t.forces:
+                Fv = V2(Const(F[0]), Const(F[1]))
+                apply(p, Fv.scale(dur()))
+                sources.append(Source_((p.body, None), p.name, _unit(F), False,
+                                       f"force at {p.name}"))
+            for M, b, span in t.moments:
+                ang[b].append(mul(Const(M), dur()))
+                sources.append(Source_((b, None), b, None, True, f"moment on {b}"))
+        elif t.forces or t.moments:
+            pass
+        # impulse-momentum for each body
+        for b, body in sc.bodies.items():
+            v1, v2 = self.vel(b, i), self.vel(b, j)
+            m = Known(f"m_{b}", body.mass)
+            for comp, a1, a2, jsum in (("x", v1.x, v2.x, [J.x for J in lin[b]]),
+                                       ("y", v1.y, v2.y, [J.y for J in lin[b]])):
+                rhs: E = ZERO
+                for x in jsum:
+                    rhs = add(rhs, x)
+                self.eq(mul(m, add(a2, neg(a1))), rhs,
+                        f"linear impulse-momentum {comp}: {b}", group, t.span)
+            if not body.is_particle:
+                I = Known(f"I_{b}", body.inertia)
+                w1, w2 = self.sv(b, "omega", i), self.sv(b, "omega", j)
+                rhs = ZERO
+                for x in ang[b]:
+                    rhs = add(rhs, x)
+                self.eq(mul(I, add(w2, neg(w1))), rhs,
+                        f"angular impulse-momentum about G: {b}", group, t.span)
+        # end conditions
+        for a, b, span in t.stops_relative:
+            ba, bb = sc.bodies[a], sc.bodies[b]
+            if ba.is_particle or bb.is_particle:
+                raise ProblemError("`stops relative to` compares rotations; a particle has none",
+                                   span, code="name")
+            self.eq(self.sv(a, "omega", j), self.sv(b, "omega", j),
+                    f"{a} stops turning relative to {b}", group, span)
+        for a, span in t.stops:
+            for q in ("vx", "vy") + (() if sc.bodies[a].is_particle else ("omega",)):
+                self.eq(self.sv(a, q, j), ZERO, f"{a} stops", group, span)
+        for body, surface, span in t.rolls:
+            normal = None
+            for c in t.contacts:
+                if c.a.body == body and c.b is None and (c.surface in (surface, None) or
+                                                         surface == "ground"):
+                    normal = c.normal
+            self._rolling(body, surface, j, group, span, normal)
+        self.sources[key] = sources
+        why = self._why(sources, t)
+        self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info))
+
+    def _contact(self, t: TransitionSpec, c: Contact, apply, sources, contacts_info, dur) -> None:
+        i, j, key = t.before, t.after, t.key
+        group = f"{t.kind} {i} -> {j}"
+        n = c.normal
+        tg = (-n[1], n[0])
+        nv, tv = V2(Const(n[0]), Const(n[1])), V2(Const(tg[0]), Const(tg[1]))
+        Jn = self.unknown(f"J_n[{c.label}]@{key}", IMPULSE, "impulse")
+        self.unknowns[Jn.name].hints.append((">", 0.0, c.span))
+        Jt: E = ZERO
+        if c.mode != "smooth":
+            Jt = self.unknown(f"J_t[{c.label}]@{key}", IMPULSE, "impulse")
+        J = nv.scale(Jn) + tv.scale(Jt)
+        apply(c.a, J, None, n, 1.0)
+        if c.b is not None:
+            apply(c.b, -J, None, n, -1.0)
+        where = c.a.name
+        sources.append(Source_((c.a.body, c.b.body if c.b else None), where,
+                               n if c.mode == "smooth" else None, False,
+                               f"contact {c.label}"))
+
+        def rel(sid: str) -> V2:
+            va = self.point_velocity(c.a, sid, n, 1.0)
+            vb = self.point_velocity(c.b, sid, n, -1.0) if c.b is not None else V2(ZERO, ZERO)
+            return va - vb
+
+        r1, r2 = rel(i), rel(j)
+        vn1, vn2 = r1.dot(nv), r2.dot(nv)
+        vt1, vt2 = r1.dot(tv), r2.dot(tv)
+        if t.kind == "impact":
+            if c.restitution_unknown:
+                ename = c.restitution_name or f"e[{c.label}]"
+                e: E = self.unknown(ename, NONE, "restitution", "")
+            else:
+                e = Known(f"e[{c.label}]", c.restitution)
+            self.eq(vn2, mul(neg(e), vn1), f"restitution at {c.label} (Newton)", group, c.span)
+            contacts_info.append((c.label, vn1, vn2))
+            if c.mode == "rough":
+                self.eq(vt2, ZERO, f"no slip at {c.label} (rough)", group, c.span)
+            elif c.mode == "friction":
+                site = f"{key}:{c.label}"
+                regime = self.regimes.get(site, "stick")
+                if regime == "stick":
+                    self.eq(vt2, ZERO, f"stick at {c.label} (assumed; |J_t| <= mu J_n checked)",
+                            group, c.span)
+                else:
+                    s = 1.0 if regime == "slide+" else -1.0
+                    self.eq(Jt, mul(Const(-s * c.mu), Jn),
+                            f"sliding friction at {c.label}: J_t = -mu J_n against the slip",
+                            group, c.span)
+                self.friction.append(FrictionSite(site, c.label, key, c.mu, Jn.name, Jt.name,
+                                                  regime, vt1, c.span))
+        else:
+            # an interval contact persists: no normal relative velocity at either end
+            self.eq(vn1, ZERO, f"contact {c.label} persists (no normal velocity)",
+                    f"state {i}", c.span)
+            self.eq(vn2, ZERO, f"contact {c.label} persists (no normal velocity)",
+                    f"state {j}", c.span)
+            if c.mode == "friction":
+                s = self._slip_sign(c, vt1, t)
+                site = f"{key}:{c.label}"
+                if s is None:
+                    regime = self.regimes.get(site, "slide+")
+                    s = 1.0 if regime == "slide+" else -1.0
+                else:
+                    regime = "slide+" if s > 0 else "slide-"
+                self.eq(Jt, mul(Const(-s * c.mu), Jn),
+                        f"kinetic friction at {c.label}: J_t = -mu J_n against the slip", group,
+                        c.span)
+                self.friction.append(FrictionSite(site, c.label, key, c.mu, Jn.name, Jt.name,
+                                                  regime, vt1, c.span))
+
+    def _slip_sign(self, c: Contact, vt1: E, t: TransitionSpec) -> float | None:
+        if c.slip is not None:
+            tg = (-c.normal[1], c.normal[0])
+            d = c.slip[0] * tg[0] + c.slip[1] * tg[1]
+            if abs(d) < 1e-12:
+                raise ProblemError("the slip direction is along the normal; give a direction "
+                                   "along the surface", c.span, code="name")
+            return 1.0 if d > 0 else -1.0
+        if not variables(vt1):
+            v = evaluate(vt1, {})
+            if v == 0:
+                raise ProblemError(f"contact {c.label} does not slip at state {t.before}: kinetic "
+                                   "friction needs a slip direction", c.span, code="name",
+                                   notes=["give `slip (dx, dy)`, or make the body roll"])
+            return 1.0 if v > 0 else -1.0
+        return None
+
+    def _joint_impulse(self, t: TransitionSpec, jt: Joint, apply, sources) -> None:
+        key = t.key
+        if jt.kind == "spring":
+            return  # finite force: no impulse in an impact; intervals keep it out (see README)
+        if jt.kind == "link":
+            d = jt.along
+            Jl = self.unknown(f"J[{jt.label}]@{key}", IMPULSE, "impulse")
+            J = V2(Const(d[0]), Const(d[1])).scale(Jl)
+            apply(jt.a, J)
+            if jt.b.body is not None:
+                apply(jt.b, -J)
+            sources.append(Source_((jt.a.body, jt.b.body), jt.a.name, d, False,
+                                   f"link {jt.label}"))
+            return
+        Jx = self.unknown(f"Jx[{jt.label}]@{key}", IMPULSE, "impulse")
+        Jy = self.unknown(f"Jy[{jt.label}]@{key}", IMPULSE, "impulse")
+        J = V2(Jx, Jy)
+        M = None
+        if jt.kind == "weld":
+            M = self.unknown(f"M[{jt.label}]@{key}", ANGULAR_IMPULSE, "angular-impulse")
+        apply(jt.a, J, M)
+        if jt.b.body is not None:
+            apply(jt.b, -J, neg(M) if M is not None else None)
+        sources.append(Source_((jt.a.body, jt.b.body), jt.a.name, None, False,
+                               f"{jt.kind} {jt.label}"))
+        if M is not None:
+            sources.append(Source_((jt.a.body, jt.b.body), jt.a.name, None, True,
+                                   f"weld moment {jt.label}"))
+
+    # ---- constraints at every state ---------------------------------------------------------
+    def _state_constraints(self, sid: str) -> None:
+        sc = self.scene
+        group = f"state {sid}"
+        for jt in sc.joints:
+            if jt.kind == "spring":
+                continue
+            a, b = jt.a, jt.b
+            if jt.kind in ("pin", "weld"):
+                pa, pb = self.point_position(a, sid), self.point_position(b, sid)
+                va, vb = self.point_velocity(a, sid), self.point_velocity(b, sid)
+                for comp, x1, x2 in (("x", pa.x, pb.x), ("y", pa.y, pb.y)):
+                    self.eq(x1, x2, f"{jt.kind} {jt.label}: points coincide ({comp})", group,
+                            jt.span)
+                for comp, x1, x2 in (("x", va.x, vb.x), ("y", va.y, vb.y)):
+                    self.eq(x1, x2, f"{jt.kind} {jt.label}: same velocity ({comp})", group,
+                            jt.span)
+                if jt.kind == "weld":
+                    wb = self.sv(b.body, "omega", sid) if b.body else ZERO
+                    self.eq(self.sv(a.body, "omega", sid), wb,
+                            f"weld {jt.label}: same angular velocity", group, jt.span)
+                    if b.body:
+                        ab = self.sv(b.body, "angle", sid)
+                        del ab  # relative angle is fixed but its value is not given
+            elif jt.kind == "link":
+                d = V2(Const(jt.along[0]), Const(jt.along[1]))
+                va, vb = self.point_velocity(a, sid), self.point_velocity(b, sid)
+                self.eq((va - vb).dot(d), ZERO,
+                        f"link {jt.label}: no stretching along its line", group, jt.span)
+
+    def _rolling(self, body: str, surface: str, sid: str, group: str, span: Span,
+                 normal) -> None:
+        sc = self.scene
+        b = sc.bodies[body]
+        if normal is None:
+            sf = sc.surfaces.get(surface)
+            normal = sf.normal if sf is not None and sf.normal is not None else None
+        if normal is None:
+            raise ProblemError(f"rolling on '{surface}' needs its normal: declare `surface "
+                               f"{surface} normal (0, 1)`", span, code="name")
+        if b.radius is None or b.is_particle:
+            raise ProblemError(f"'{body}' cannot roll: only disks, rings, spheres and bodies with "
+                               "a radius roll", span, code="name")
+        p = PointOn(body, (0.0, 0.0), f"{body}'s contact point", span, True)
+        v = self.point_velocity(p, sid, normal, 1.0)
+        n = V2(Const(normal[0]), Const(normal[1]))
+        tg = V2(Const(-normal[1]), Const(normal[0]))
+        self.eq(v.dot(tg), ZERO, f"{body} rolls on {surface}: contact point has no slip", group,
+                span)
+        self.eq(v.dot(n), ZERO, f"{body} rolls on {surface}: stays on the surface", group, span)
+
+    # ---- energy phases ---------------------------------------------------------------------------
+    def _kinetic(self, sid: str, bodies=None) -> E:
+        T: E = ZERO
+        for b, body in self.scene.bodies.items():
+            if bodies is not None and b not in bodies:
+                continue
+            v = self.vel(b, sid)
+            T = add(T, mul(Const(0.5 * body.mass), v.dot(v)))
+            if not body.is_particle:
+                w = self.sv(b, "omega", sid)
+                T = add(T, mul(Const(0.5 * body.inertia), mul(w, w)))
+        return T
+
+    def _potential(self, sid: str) -> E:
+        sc = self.scene
+        V: E = ZERO
+        if sc.gravity is not None:
+            gx, gy = sc.gravity
+            for b, body in sc.bodies.items():
+                r = self.pos(b, sid)
+                V = add(V, mul(Const(-body.mass), add(mul(Const(gx), r.x), mul(Const(gy), r.y))))
+        for jt in sc.joints:
+            if jt.kind != "spring":
+                continue
+            d = self.point_position(jt.a, sid) - self.point_position(jt.b, sid)
+            stretch = add(power(d.dot(d), 0.5), Const(-jt.length))
+            V = add(V, mul(Const(0.5 * jt.stiffness), mul(stretch, stretch)))
+        return V
+
+    def _energy(self, t: TransitionSpec) -> None:
+        i, j = t.before, t.after
+        group = f"energy {i} -> {j}"
+        U: E = ZERO
+        for F, p, span in t.forces:
+            d = self.point_position(p, j) - self.point_position(p, i)
+            U = add(U, d.dot(V2(Const(F[0]), Const(F[1]))))
+        for M, b, span in t.moments:
+            U = add(U, mul(Const(M), add(self.sv(b, "angle", j), neg(self.sv(b, "angle", i)))))
+        lhs = add(add(self._kinetic(i), self._potential(i)), U)
+        rhs = add(self._kinetic(j), self._potential(j))
+        self.eq(lhs, rhs, "work-energy: T1 + V1 + U12 = T2 + V2", group, t.span)
+        for body, surface, span in t.rolls:
+            self._rolling(body, surface, j, group, span, None)
+        why = ["energy is conserved except for the work U12 of the declared forces and moments"]
+        if self.scene.gravity is not None:
+            why.append("gravity and springs enter as potential energy V")
+        self.transitions.append(TransitionInfo("energy", t.key, i, j, t.span, why, []))
+
+    # ---- why a principle holds --------------------------------------------------------------------
+    def _why(self, sources: list[Source_], t: TransitionSpec) -> list[str]:
+        out = []
+        bodies = list(self.scene.bodies)
+        system = set(bodies)
+        groups = [(f"{{{', '.join(bodies)}}}", system)]
+        if len(bodies) > 1:
+            groups += [(b, {b}) for b in bodies]
+        for label, members in groups:
+            ext = [s for s in sources if _acts_on(s, members) and not _internal(s, members)]
+            out.append(self._linear_why(label, ext) + "; " + self._angular_why(label, ext))
+        return out
+
+    @staticmethod
+    def _linear_why(label: str, ext: list[Source_]) -> str:
+        lines = [s for s in ext if not s.torque_only]
+        if not lines:
+            return f"{label}: no external impulse, so linear momentum is conserved in every " \
+                   "direction"
+        dirs = [s.direction for s in lines]
+        if all(d is not None for d in dirs):
+            d0 = dirs[0]
+            if all(abs(d0[0] * d[1] - d0[1] * d[0]) < 1e-12 for d in dirs):
+                perp = (-d0[1], d0[0])
+                return (f"{label}: external impulses act only along ({_f(d0[0])}, {_f(d0[1])}), so "
+                        f"linear momentum is conserved along ({_f(perp[0])}, {_f(perp[1])})")
+        names = ", ".join(sorted({s.what for s in lines}))
+        return f"{label}: external impulses ({names}) leave no direction free"
+
+    @staticmethod
+    def _angular_why(label: str, ext: list[Source_]) -> str:
+        if not ext:
+            return "angular momentum is conserved about every point"
+        if any(s.torque_only for s in ext):
+            return "an external moment acts, so angular momentum is not conserved"
+        points = {s.point for s in ext}
+        if len(points) == 1:
+            return f"angular momentum is conserved about {points.pop()} (all external impulses " \
+                   "act there)"
+        return "no point is free of external angular impulse"
+
+    # ---- principles the user states ---------------------------------------------------------------
+    def _stated(self, s) -> None:
+        key = f"{s.before}->{s.after}"
+        group = "stated principles"
+        sources = self.sources.get(key)
+        if isinstance(s, StatedMomentum):
+            d = V2(Const(s.direction[0]), Const(s.direction[1]))
+            lhs = rhs = ZERO
+            for b in s.bodies:
+                m = Const(self.scene.bodies[b].mass)
+                lhs = add(lhs, mul(m, self.vel(b, s.before).dot(d)))
+                rhs = add(rhs, mul(m, self.vel(b, s.after).dot(d)))
+            principle = f"conservation of linear momentum along {s.axis_text} of " \
+                        f"{{{', '.join(s.bodies)}}} (stated)"
+            if sources is not None:
+                bad = [x for x in sources if _acts_on(x, set(s.bodies)) and
+                       not _internal(x, set(s.bodies)) and not x.torque_only and
+                       (x.direction is None or
+                        abs(x.direction[0] * s.direction[0] + x.direction[1] * s.direction[1])
+                        > 1e-12)]
+                if bad:
+                    self._invalid(s.span, f"linear momentum of {{{', '.join(s.bodies)}}} along "
+                                  f"{s.axis_text} is not conserved over {key}: "
+                                  f"{bad[0].what} gives an external impulse along it")
+                    return
+            self.eq(lhs, rhs, principle, group, s.span, "stated")
+        elif isinstance(s, StatedAngular):
+            lhs = self._angular_momentum(s.bodies, s.about, s.before)
+            rhs = self._angular_momentum(s.bodies, s.about, s.after)
+            if sources is not None:
+                members = set(s.bodies)
+                bad = [x for x in sources if _acts_on(x, members) and not _internal(x, members)
+                       and (x.torque_only or x.point != s.about.name)]
+                if bad:
+                    self._invalid(s.span, f"angular momentum of {{{', '.join(s.bodies)}}} about "
+                                  f"{s.about.name} is not conserved over {key}: "
+                                  f"{bad[0].what} has a moment about it")
+                    return
+            self.eq(lhs, rhs, f"conservation of angular momentum of {{{', '.join(s.bodies)}}} "
+                    f"about {s.about.name} (stated)", group, s.span, "stated")
+        elif isinstance(s, StatedRestitution):
+            n = V2(Const(s.along[0]), Const(s.along[1]))
+
+            def rel(sid):
+                va = self.point_velocity(s.a, sid)
+                vb = self.point_velocity(s.b, sid) if s.b is not None else V2(ZERO, ZERO)
+                return (va - vb).dot(n)
+
+            self.eq(rel(s.after), mul(Const(-s.value), rel(s.before)),
+                    f"restitution along the line of impact (stated, e = {s.value:g})", group,
+                    s.span, "stated")
+
+    def _invalid(self, span: Span, message: str) -> None:
+        self.invalid.append((span, message))
+        self.notes.warn(message + "; the stated principle is not used", span,
+                        code="principle-does-not-hold")
+
+    def _angular_momentum(self, bodies, about: PointOn, sid: str) -> E:
+        H: E = ZERO
+        rp = None
+        for b in bodies:
+            body = self.scene.bodies[b]
+            m = Const(body.mass)
+            if about.body == b:
+                r = -self.arm(about, sid)
+            else:
+                if rp is None:
+                    rp = self.point_position(about, sid)
+                r = self.pos(b, sid) - rp
+            H = add(H, mul(m, r.cross(self.vel(b, sid))))
+            if not body.is_particle:
+                H = add(H, mul(Const(body.inertia), self.sv(b, "omega", sid)))
+        return H
+
+    # ---- user equations and finds ------------------------------------------------------------------
+    def _resolver(self):
+        sc = self.scene
+
+        def resolve(ref: S.Ref, expect) -> Q:
+            name, idx, member, at = ref.name, ref.index, ref.member, ref.at
+            if idx is None and member is None and not at:
+                if name in sc.constants:
+                    return sc.constants[name]
+                if name == "pi":
+                    return Q(Const(math.pi), NONE)
+                if name == "g" and sc.g is not None:
+                    return Q(Known("g", sc.g), ACCELERATION)
+                if name in sc.user_unknowns:
+                    dim, unit, span = sc.user_unknowns[name]
+                    return Q(self.unknown(name, dim, "user", unit or si_label(dim)), dim)
+                if name in self.unknowns:
+                    return Q(Var(name), self.unknowns[name].dim)
+            if member and len(at) == 1 and name in sc.bodies:
+                return self._body_ref(ref)
+            if member is None and idx is None and len(at) == 1 and name == "T":
+                self._state_exists(at[0], ref)
+                return Q(self._kinetic(at[0]), MOMENT)
+            if member is None and idx is None and len(at) == 2 and name == "T_lost":
+                self._transition_exists(at, ref)
+                return Q(add(self._kinetic(at[0]), neg(self._kinetic(at[1]))), MOMENT)
+            if member is None and idx is None and len(at) == 2 and name == "t":
+                tr = self._transition_exists(at, ref)
+                if tr.kind != "interval":
+                    raise ProblemError(f"{ref.text}: only an interval has a duration (an impact "
+                                       "takes no time)", ref.span, code="name")
+                if tr.duration is not None:
+                    return Q(Known(ref.text, tr.duration), TIME)
+                return Q(self.unknown(ref.text, TIME, "duration", "s"), TIME)
+            text = ref.text
+            if text in self.unknowns:
+                return Q(Var(text), self.unknowns[text].dim)
+            if idx is not None and name == "e" and not at:
+                for t in sc.transitions:
+                    for c in t.contacts:
+                        if c.label == idx and not c.restitution_unknown:
+                            return Q(Known(text, c.restitution), NONE)
+            candidates = list(self.unknowns) + list(sc.constants) + ["g", "pi"]
+            raise ProblemError(f"unknown quantity '{text}'" + did_you_mean(text, candidates),
+                               ref.span, code="name", notes=_ref_help(ref))
+
+        return resolve
+
+    def _state_exists(self, sid: str, ref: S.Ref) -> None:
+        if sid not in self.scene.states:
+            raise ProblemError(f"state {sid} is not declared" +
+                               did_you_mean(sid, self.scene.states), ref.span, code="name")
+
+    def _transition_exists(self, at, ref: S.Ref) -> TransitionSpec:
+        key = "->".join(at)
+        if key not in self.tspecs:
+            raise ProblemError(f"no transition {at[0]} -> {at[1]} is declared" +
+                               did_you_mean(key, self.tspecs), ref.span, code="name")
+        return self.tspecs[key]
+
+    def _body_ref(self, ref: S.Ref) -> Q:
+        sc = self.scene
+        b, q, sid = ref.name, ref.member, ref.at[0]
+        body = sc.bodies[b]
+        if q in ("dx", "dy", "dtheta", "alpha"):
+            raise ProblemError(f"'{ref.text}' belongs to a transition: write "
+                               f"{b}.{q}@{sid}->STATE", ref.span, code="name")
+        self._state_exists(sid, ref)
+        if q in STATE_QTYS:
+            if body.is_particle and q in ("angle", "omega"):
+                raise ProblemError(f"'{b}' is a particle: it has no {q}", ref.span, code="name")
+            return Q(self.sv(b, q, sid), STATE_QTYS[q][0])
+        if q == "v":
+            return Q(self.vel(b, sid), VELOCITY)
+        if q == "pos":
+            return Q(self.pos(b, sid), LENGTH)
+        if q == "speed":
+            v = self.vel(b, sid)
+            return Q(power(v.dot(v), 0.5), VELOCITY)
+        if q == "T":
+            return Q(self._kinetic(sid, {b}), MOMENT)
+        raise ProblemError(f"'{q}' is not a quantity of a body" +
+                           did_you_mean(q, list(STATE_QTYS) + ["v", "pos", "speed", "T"]),
+                           ref.span, code="name")
+
+    def _displacement(self, ref: S.Ref) -> Q | None:
+        sc = self.scene
+        if not (ref.member and len(ref.at) == 2 and ref.name in sc.bodies):
+            return None
+        q = ref.member
+        if q not in ("dx", "dy", "dtheta", "alpha"):
+            return None
+        tr = self._transition_exists(ref.at, ref)
+        if tr.kind != "interval":
+            raise ProblemError(f"'{ref.text}': displacements belong to an interval", ref.span,
+                               code="name")
+        b = ref.name
+        i, j = ref.at
+        if tr.duration is not None:
+            t: E = Known(f"t@{tr.key}", tr.duration)
+        else:
+            t = self.unknown(f"t@{tr.key}", TIME, "duration", "s")
+        if q == "alpha":
+            w1, w2 = self.sv(b, "omega", i), self.sv(b, "omega", j)
+            return Q(mul(add(w2, neg(w1)), power(t, -1.0)), (0, 0, -2))
+        comp = {"dx": "vx", "dy": "vy", "dtheta": "omega"}[q]
+        dim = LENGTH if q != "dtheta" else NONE
+        d = self.unknown(ref.text, dim, "derived", "m" if q != "dtheta" else "rad")
+        a1, a2 = self.sv(b, comp, i), self.sv(b, comp, j)
+        self.eq(d, mul(mul(Const(0.5), add(a1, a2)), t),
+                f"constant acceleration: displacement = (start + end velocity)/2 * t",
+                f"interval {i} -> {j}", ref.span)
+        return Q(d, dim)
+
+    def _evaluator(self) -> Evaluator:
+        base = self._resolver()
+
+        def resolve(ref: S.Ref, expect) -> Q:
+            d = self._displacement(ref)
+            if d is not None:
+                return d
+            return base(ref, expect)
+
+        return Evaluator(resolve)
+
+    def _user_equation(self, ue: S.UserEquation) -> None:
+        ev = self._evaluator()
+        a, b = ev(ue.left), ev(ue.right, None)
+        if a.dim != b.dim:
+            raise ProblemError(f"the two sides differ: {describe(a.dim)} = {describe(b.dim)}",
+                               ue.span, code="units")
+        if a.is_vector != b.is_vector:
+            raise ProblemError("one side is a vector and the other a scalar", ue.span,
+                               code="type")
+        if a.is_vector:
+            self.eq(a.value.x, b.value.x, "equation (x)", "user equations", ue.span, "user")
+            self.eq(a.value.y, b.value.y, "equation (y)", "user equations", ue.span, "user")
+        else:
+            self.eq(a.value, b.value, "equation", "user equations", ue.span, "user")
+
+    def _finds(self) -> list[FindSpec]:
+        from .quantity import unit_readings
+
+        ev = self._evaluator()
+        out = []
+        for item in self.scene.finds:
+            q = ev(item.expr)
+            base = item.name or _expr_text(item.expr)
+            unit, factor = _display_unit(self.unknowns, item, q)
+            if item.unit:
+                readings = unit_readings(item.unit, item.unit_span)
+                match = [r for r in readings if r[1] == q.dim]
+                if not match:
+                    raise ProblemError(f"cannot show {describe(q.dim)} in {item.unit} "
+                                       f"({describe(readings[0][1])})", item.unit_span,
+                                       code="units")
+                unit, factor = item.unit, match[0][0]
+            if q.is_vector:
+                v = q.value
+                if isinstance(item.expr, S.Ref) and item.expr.member in ("v", "pos"):
+                    comps = {"v": ("vx", "vy"), "pos": ("x", "y")}[item.expr.member]
+                    names = [base.replace(f".{item.expr.member}@", f".{c}@") for c in comps]
+                else:
+                    names = [f"{base}.x", f"{base}.y"]
+                out.append(FindSpec(names[0], v.x, q.dim, unit, factor, item.span))
+                out.append(FindSpec(names[1], v.y, q.dim, unit, factor, item.span))
+            else:
+                out.append(FindSpec(base, q.value, q.dim, unit, factor, item.span))
+        return out
+
+
+def _display_unit(unknowns, item, q: Q) -> tuple[str, float]:
+    node = item.expr
+    if isinstance(node, S.Ref) and (node.name in ("T", "T_lost") or node.member == "T"):
+        return "J", 1.0
+    if isinstance(q.value, Var) and q.value.name in unknowns:
+        return unknowns[q.value.name].unit, 1.0
+    if isinstance(item.expr, S.Ref) and item.expr.member in ("omega",):
+        return "rad/s", 1.0
+    if isinstance(item.expr, S.Ref) and item.expr.member in ("angle", "dtheta"):
+        return "rad", 1.0
+    return si_label(q.dim), 1.0
+
+
+def _expr_text(node) -> str:
+    if isinstance(node, S.Ref):
+        return node.text
+    return "value"
+
+
+def _ref_help(ref: S.Ref) -> list[str]:
+    return ["quantities: BODY.omega@S, BODY.v@S, BODY.vx@S, BODY.angle@S, BODY.speed@S, "
+            "t@S->S, J_n[CONTACT]@S->S, e[CONTACT], T@S, T_lost@S->S, BODY.dtheta@S->S"]
+
+
+def _acts_on(s: Source_, members: set) -> bool:
+    return s.bodies[0] in members or s.bodies[1] in members
+
+
+def _internal(s: Source_, members: set) -> bool:
+    return s.bodies[0] in members and s.bodies[1] in members
+
+
+def _unit(v) -> tuple[float, float]:
+    n = math.hypot(v[0], v[1])
+    return (v[0] / n, v[1] / n)
+
+
+def _f(x: float) -> str:
+    s = f"{x:.4g}"
+    return "0" if s in ("-0", "0") else s

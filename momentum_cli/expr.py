@@ -1,0 +1,456 @@
+"""Expressions over unknowns: what an equation is made of.
+
+An equation is an `E` tree of constants, named knowns (given values that print by
+name), unknowns (`Var`), sums, products, powers and functions. The same tree prints
+symbolically (`m_rod*(rod.vx@3 - rod.vx@2)`) and with numbers, gives its unknowns
+(the incidence the structural analysis needs), its affine coefficients when it is
+linear in a block, and its derivatives for Newton's method.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .numbers import fmt_num
+
+
+class E:
+    """Base of expression nodes; arithmetic operators build trees with light folding."""
+
+    __slots__ = ()
+
+    def __add__(self, o):
+        return add(self, lift(o))
+
+    def __radd__(self, o):
+        return add(lift(o), self)
+
+    def __sub__(self, o):
+        return add(self, neg(lift(o)))
+
+    def __rsub__(self, o):
+        return add(lift(o), neg(self))
+
+    def __mul__(self, o):
+        return mul(self, lift(o))
+
+    def __rmul__(self, o):
+        return mul(lift(o), self)
+
+    def __truediv__(self, o):
+        return mul(self, power(lift(o), -1.0))
+
+    def __rtruediv__(self, o):
+        return mul(lift(o), power(self, -1.0))
+
+    def __neg__(self):
+        return neg(self)
+
+    def __pow__(self, p):
+        return power(self, float(p))
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Const(E):
+    value: float
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Known(E):
+    """A given value that prints by its name symbolically (`m_rod`, `rod.omega@2`)."""
+
+    name: str
+    value: float
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Var(E):
+    """An unknown, named as the DSL writes it (`rod.omega@3`, `J_n[A]@2->3`)."""
+
+    name: str
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Add(E):
+    terms: tuple
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Mul(E):
+    factors: tuple
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Pow(E):
+    base: E
+    exp: float
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Fn(E):
+    name: str
+    arg: E
+
+
+ZERO = Const(0.0)
+ONE = Const(1.0)
+
+FUNCS = {
+    "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin,
+    "acos": math.acos, "atan": math.atan, "exp": math.exp, "ln": math.log,
+    "log": math.log, "abs": abs,
+}
+
+
+def lift(x) -> E:
+    if isinstance(x, E):
+        return x
+    return Const(float(x))
+
+
+def is_const(e: E) -> bool:
+    return isinstance(e, Const)
+
+
+def is_zero(e: E) -> bool:
+    return isinstance(e, (Const, Known)) and e.value == 0.0
+
+
+def add(a: E, b: E) -> E:
+    if isinstance(a, Const) and a.value == 0.0:
+        return b
+    if isinstance(b, Const) and b.value == 0.0:
+        return a
+    if isinstance(a, Const) and isinstance(b, Const):
+        return Const(a.value + b.value)
+    ta = a.terms if isinstance(a, Add) else (a,)
+    tb = b.terms if isinstance(b, Add) else (b,)
+    return Add(ta + tb)
+
+
+def neg(a: E) -> E:
+    if isinstance(a, Const):
+        return Const(-a.value)
+    return mul(Const(-1.0), a)
+
+
+def mul(a: E, b: E) -> E:
+    if isinstance(a, Const) and isinstance(b, Const):
+        return Const(a.value * b.value)
+    for x, y in ((a, b), (b, a)):
+        if isinstance(x, Const):
+            if x.value == 0.0:
+                return ZERO
+            if x.value == 1.0:
+                return y
+    fa = a.factors if isinstance(a, Mul) else (a,)
+    fb = b.factors if isinstance(b, Mul) else (b,)
+    # keep one leading constant
+    consts = [f for f in fa + fb if isinstance(f, Const)]
+    rest = tuple(f for f in fa + fb if not isinstance(f, Const))
+    c = 1.0
+    for f in consts:
+        c *= f.value
+    if c == 0.0:
+        return ZERO
+    if not rest:
+        return Const(c)
+    if c == 1.0:
+        return rest[0] if len(rest) == 1 else Mul(rest)
+    return Mul((Const(c),) + rest)
+
+
+def power(a: E, p: float) -> E:
+    if p == 1.0:
+        return a
+    if p == 0.0:
+        return ONE
+    if isinstance(a, Const):
+        try:
+            return Const(a.value**p)
+        except (ZeroDivisionError, OverflowError):
+            return Pow(a, p)
+    return Pow(a, p)
+
+
+def fn(name: str, a: E) -> E:
+    if isinstance(a, Const):
+        try:
+            return Const(float(FUNCS[name](a.value)))
+        except (ValueError, OverflowError):
+            return Fn(name, a)
+    return Fn(name, a)
+
+
+# ---- evaluation --------------------------------------------------------------------------
+def evaluate(e: E, values: dict[str, float]) -> float:
+    """The value of `e` with unknowns taken from `values` (KeyError if missing)."""
+    t = type(e)
+    if t is Const or t is Known:
+        return e.value
+    if t is Var:
+        return values[e.name]
+    if t is Add:
+        return math.fsum(evaluate(x, values) for x in e.terms)
+    if t is Mul:
+        r = 1.0
+        for f in e.factors:
+            r *= evaluate(f, values)
+        return r
+    if t is Pow:
+        return evaluate(e.base, values) ** e.exp
+    return float(FUNCS[e.name](evaluate(e.arg, values)))
+
+
+def variables(e: E, out: set | None = None) -> set[str]:
+    """The unknowns `e` really depends on (terms multiplied by a zero known drop out)."""
+    if out is None:
+        out = set()
+    t = type(e)
+    if t is Var:
+        out.add(e.name)
+    elif t is Add:
+        for x in e.terms:
+            variables(x, out)
+    elif t is Mul:
+        if not any(is_zero(f) for f in e.factors):
+            for f in e.factors:
+                variables(f, out)
+    elif t is Pow:
+        variables(e.base, out)
+    elif t is Fn:
+        variables(e.arg, out)
+    return out
+
+
+class NonLinear(Exception):
+    """Raised by `affine` when an expression is not affine in the block's unknowns."""
+
+
+def affine(e: E, block: set[str], values: dict[str, float]) -> tuple[dict[str, float], float]:
+    """Coefficients and constant of `e` as an affine function of the `block` unknowns.
+
+    Unknowns outside the block take their solved value from `values`.
+    Raises NonLinear if `e` is not affine in the block.
+    """
+    t = type(e)
+    if t is Const or t is Known:
+        return {}, e.value
+    if t is Var:
+        if e.name in block:
+            return {e.name: 1.0}, 0.0
+        return {}, values[e.name]
+    if t is Add:
+        coef: dict[str, float] = {}
+        const = 0.0
+        for x in e.terms:
+            c, k = affine(x, block, values)
+            const += k
+            for n, v in c.items():
+                coef[n] = coef.get(n, 0.0) + v
+        return coef, const
+    if t is Mul:
+        if any(is_zero(f) for f in e.factors):
+            return {}, 0.0
+        coef, const = {}, 1.0
+        for f in e.factors:
+            c, k = affine(f, block, values)
+            if c and coef:
+                raise NonLinear()
+            if c:
+                coef = {n: v * const for n, v in c.items()}
+                const = k * const
+            else:
+                coef = {n: v * k for n, v in coef.items()}
+                const *= k
+        return coef, const
+    if t is Pow:
+        c, k = affine(e.base, block, values)
+        if c:
+            raise NonLinear()
+        return {}, k**e.exp
+    c, k = affine(e.arg, block, values)
+    if c:
+        raise NonLinear()
+    return {}, float(FUNCS[e.name](k))
+
+
+def magnitude(e: E, values: dict[str, float]) -> float:
+    """The sum of the absolute values of the terms of `e`: the scale of a residual."""
+    t = type(e)
+    if t is Add:
+        return sum(magnitude(x, values) for x in e.terms)
+    if t is Mul:
+        if any(is_zero(f) for f in e.factors):
+            return 0.0
+        sums = [f for f in e.factors if type(f) is Add]
+        if len(sums) == 1:
+            k = 1.0
+            for f in e.factors:
+                if f is not sums[0]:
+                    k *= evaluate(f, values)
+            return abs(k) * magnitude(sums[0], values)
+    return abs(evaluate(e, values))
+
+
+def diff(e: E, name: str) -> E:
+    """The partial derivative of `e` with respect to unknown `name`."""
+    t = type(e)
+    if t is Var:
+        return ONE if e.name == name else ZERO
+    if t is Const or t is Known:
+        return ZERO
+    if t is Add:
+        out: E = ZERO
+        for x in e.terms:
+            out = add(out, diff(x, name))
+        return out
+    if t is Mul:
+        out = ZERO
+        fs = e.factors
+        for i, f in enumerate(fs):
+            d = diff(f, name)
+            if is_const(d) and d.value == 0.0:
+                continue
+            term = d
+            for j, g in enumerate(fs):
+                if j != i:
+                    term = mul(term, g)
+            out = add(out, term)
+        return out
+    if t is Pow:
+        d = diff(e.base, name)
+        if is_const(d) and d.value == 0.0:
+            return ZERO
+        return mul(mul(Const(e.exp), power(e.base, e.exp - 1.0)), d)
+    d = diff(e.arg, name)
+    if is_const(d) and d.value == 0.0:
+        return ZERO
+    a = e.arg
+    derivs = {
+        "sin": lambda: fn("cos", a),
+        "cos": lambda: neg(fn("sin", a)),
+        "tan": lambda: power(fn("cos", a), -2.0),
+        "asin": lambda: power(add(ONE, neg(power(a, 2.0))), -0.5),
+        "acos": lambda: neg(power(add(ONE, neg(power(a, 2.0))), -0.5)),
+        "atan": lambda: power(add(ONE, power(a, 2.0)), -1.0),
+        "exp": lambda: fn("exp", a),
+        "ln": lambda: power(a, -1.0),
+        "log": lambda: power(a, -1.0),
+        "abs": lambda: mul(a, power(fn("abs", a), -1.0)),
+    }
+    return mul(derivs[e.name](), d)
+
+
+# ---- printing ---------------------------------------------------------------------------------
+_PREC = {"add": 1, "mul": 2, "pow": 3, "atom": 4}
+
+
+def to_text(e: E, numeric: bool = False, sig: int = 6) -> str:
+    """Print `e`; symbolically (knowns by name) or with numbers (knowns by value)."""
+    return _txt(e, numeric, sig)[0]
+
+
+def _num(x: float, sig: int) -> str:
+    return fmt_num(x, sig)
+
+
+def _txt(e: E, numeric: bool, sig: int) -> tuple[str, int]:
+    t = type(e)
+    if t is Const:
+        s = _num(e.value, sig)
+        return s, (_PREC["add"] if s.startswith("-") else _PREC["atom"])
+    if t is Known:
+        if numeric:
+            s = _num(e.value, sig)
+            return s, (_PREC["add"] if s.startswith("-") else _PREC["atom"])
+        return e.name, _PREC["atom"]
+    if t is Var:
+        return e.name, _PREC["atom"]
+    if t is Add:
+        parts = []
+        for i, x in enumerate(e.terms):
+            s, p = _txt(x, numeric, sig)
+            if i == 0:
+                parts.append(s)
+            elif s.startswith("-"):
+                parts.append(" - " + s[1:])
+            else:
+                parts.append(" + " + s)
+        return "".join(parts), _PREC["add"]
+    if t is Mul:
+        fs = list(e.factors)
+        sign = ""
+        if isinstance(fs[0], Const) and fs[0].value < 0:
+            sign = "-"
+            fs = fs[1:] if fs[0].value == -1.0 else [Const(-fs[0].value)] + fs[1:]
+        num, den = [], []
+        for f in fs:
+            if isinstance(f, Pow) and f.exp < 0:
+                den.append(power(f.base, -f.exp))
+            else:
+                num.append(f)
+        def join(items):
+            out = []
+            for f in items:
+                s, p = _txt(f, numeric, sig)
+                out.append(f"({s})" if p < _PREC["mul"] or (p == _PREC["add"]) else s)
+            return "*".join(out) if out else "1"
+        s = join(num)
+        if den:
+            d = join(den)
+            s += "/" + (f"({d})" if len(den) > 1 else d)
+        return sign + s, _PREC["mul"] if not sign else _PREC["add"]
+    if t is Pow:
+        b, p = _txt(e.base, numeric, sig)
+        if e.exp == 0.5:
+            return f"sqrt({b})", _PREC["atom"]
+        if e.exp == -1.0:
+            return f"1/{b if p >= _PREC['pow'] else '(' + b + ')'}", _PREC["mul"]
+        bs = b if p > _PREC["pow"] else f"({b})"
+        return f"{bs}^{_num(e.exp, sig)}", _PREC["pow"]
+    a, _ = _txt(e.arg, numeric, sig)
+    return f"{e.name}({a})", _PREC["atom"]
+
+
+# ---- planar vectors of expressions ------------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class V2:
+    """A planar vector of expressions; `cross` is the z-component of a x b."""
+
+    x: E
+    y: E
+
+    def __add__(self, o: "V2") -> "V2":
+        return V2(add(self.x, o.x), add(self.y, o.y))
+
+    def __sub__(self, o: "V2") -> "V2":
+        return V2(add(self.x, neg(o.x)), add(self.y, neg(o.y)))
+
+    def __neg__(self) -> "V2":
+        return V2(neg(self.x), neg(self.y))
+
+    def scale(self, k) -> "V2":
+        k = lift(k)
+        return V2(mul(k, self.x), mul(k, self.y))
+
+    def dot(self, o: "V2") -> E:
+        return add(mul(self.x, o.x), mul(self.y, o.y))
+
+    def cross(self, o: "V2") -> E:
+        return add(mul(self.x, o.y), neg(mul(self.y, o.x)))
+
+    def is_zero(self) -> bool:
+        return is_zero(self.x) and is_zero(self.y)
+
+
+def omega_cross(w: E, r: V2) -> V2:
+    """w k x r for a planar angular velocity w: (-w*r_y, w*r_x)."""
+    return V2(neg(mul(w, r.y)), mul(w, r.x))
+
+
+def rotate(r: tuple[float, float], angle: E) -> V2:
+    """A body-frame offset r turned by the body's angle: R(angle) r."""
+    c, s = fn("cos", angle), fn("sin", angle)
+    x, y = r
+    return V2(add(mul(Const(x), c), neg(mul(Const(y), s))), add(mul(Const(x), s), mul(Const(y), c)))

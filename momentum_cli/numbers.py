@@ -1,0 +1,28 @@
+"""Number formatting for every renderer: N significant figures, by our function.
+
+Never `repr`: the last digits of a float depend on BLAS and platform; golden files
+must not.
+"""
+from __future__ import annotations
+
+import math
+
+DEFAULT_SIG = 6
+
+
+def fmt_num(x: float, sig: int = DEFAULT_SIG) -> str:
+    """`x` to `sig` significant figures, without a trailing '.0' or a '-0'."""
+    if x is None:
+        return "-"
+    if isinstance(x, float) and (math.isnan(x) or math.isinf(x)):
+        return "nan" if math.isnan(x) else ("inf" if x > 0 else "-inf")
+    if x == 0:
+        return "0"
+    s = f"{x:.{sig}g}"
+    if "e" in s:
+        mant, exp = s.split("e")
+        exp_i = int(exp)
+        return f"{mant}e{exp_i}"
+    if s in ("-0",):
+        return "0"
+    return s

@@ -1,0 +1,781 @@
+"""Build: syntax nodes -> Scene (names resolved, SI floats, inertias, unit vectors).
+
+Every quantity is converted to SI here, once, and its dimension checked at its
+line:column. Inertias come from the shape formulas and, for composite bodies, the
+parallel-axis theorem. Weights become masses with the file's own g.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from . import syntax as S
+from .diagnostics import Collector, ProblemError, did_you_mean
+from .expr import Const
+from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
+from .source import Span
+from .units import (ACCELERATION, ANGULAR_IMPULSE, FORCE, IMPULSE, INERTIA, LENGTH, MASS, MOMENT,
+                    NONE, RATE, STIFFNESS, TIME, VELOCITY, Dim, describe, si_label)
+
+# quantity name in a state -> (dimension, SI unit label)
+STATE_QTYS: dict[str, tuple[Dim, str]] = {
+    "x": (LENGTH, "m"), "y": (LENGTH, "m"), "angle": (NONE, "rad"),
+    "vx": (VELOCITY, "m/s"), "vy": (VELOCITY, "m/s"), "omega": (RATE, "rad/s"),
+}
+VECTOR_QTYS = {"v": ("vx", "vy"), "pos": ("x", "y")}
+ROTATION_QTYS = ("angle", "omega")
+
+
+@dataclass(frozen=True)
+class Body:
+    name: str
+    span: Span
+    kind: str
+    mass: float
+    inertia: float  # about G, kg*m^2
+    inertia_formula: str
+    radius: float | None = None  # round bodies: contact point is at G - r n
+    length: float | None = None  # rods: ends at +-length/2 along body x
+    is_particle: bool = False  # no rotation unknowns
+    origin: tuple[float, float] = (0.0, 0.0)  # the user's body-frame origin, from G
+    weight_given: bool = False
+
+
+@dataclass(frozen=True)
+class PointOn:
+    """A point of a body (offset from G in the body frame) or of the ground (world)."""
+
+    body: str | None  # None: the ground
+    offset: tuple[float, float]
+    name: str
+    span: Span
+    round_contact: bool = False  # a round body's contact point: G - r n, in the world frame
+
+
+@dataclass(frozen=True)
+class Joint:
+    kind: str  # pin | weld | link | spring
+    label: str
+    a: PointOn
+    b: PointOn
+    span: Span
+    along: tuple[float, float] | None = None
+    stiffness: float | None = None
+    length: float | None = None
+
+
+@dataclass(frozen=True)
+class Contact:
+    label: str
+    span: Span
+    a: PointOn
+    b: PointOn | None  # None: the ground or a fixed surface
+    normal: tuple[float, float]  # unit; the direction of the impulse on `a`
+    restitution: float | None
+    restitution_unknown: bool
+    mode: str  # smooth | rough | friction
+    mu: float | None
+    slip: tuple[float, float] | None
+    surface: str | None = None
+    restitution_name: str | None = None  # a declared `unknown` used as this contact's e
+
+
+@dataclass
+class StateSpec:
+    id: str
+    label: str | None
+    span: Span
+    givens: dict[tuple[str, str], tuple[float, Span]] = field(default_factory=dict)
+    hints: dict[tuple[str, str], list[tuple[str, float, Span]]] = field(default_factory=dict)
+    rolls: list[tuple[str, str, Span]] = field(default_factory=list)
+
+
+@dataclass
+class TransitionSpec:
+    kind: str
+    before: str
+    after: str
+    span: Span
+    contacts: list[Contact] = field(default_factory=list)
+    bearing_friction: list[tuple[str, Span]] = field(default_factory=list)
+    stops_relative: list[tuple[str, str, Span]] = field(default_factory=list)
+    stops: list[tuple[str, Span]] = field(default_factory=list)
+    rolls: list[tuple[str, str, Span]] = field(default_factory=list)
+    forces: list[tuple[tuple[float, float], PointOn, Span]] = field(default_factory=list)
+    moments: list[tuple[float, str, Span]] = field(default_factory=list)
+    duration: float | None = None
+
+    @property
+    def key(self) -> str:
+        return f"{self.before}->{self.after}"
+
+
+@dataclass(frozen=True)
+class Surface:
+    name: str
+    normal: tuple[float, float] | None
+    at: tuple[float, float]
+    span: Span
+
+
+@dataclass(frozen=True)
+class StatedMomentum:
+    span: Span
+    direction: tuple[float, float]
+    axis_text: str
+    bodies: tuple[str, ...]
+    before: str
+    after: str
+
+
+@dataclass(frozen=True)
+class StatedAngular:
+    span: Span
+    bodies: tuple[str, ...]
+    about: PointOn
+    before: str
+    after: str
+
+
+@dataclass(frozen=True)
+class StatedRestitution:
+    span: Span
+    value: float
+    a: PointOn
+    b: PointOn | None
+    along: tuple[float, float]
+    before: str
+    after: str
+
+
+@dataclass
+class Scene:
+    title: str
+    gravity: tuple[float, float] | None  # the planar gravity vector (None: no planar effect)
+    g: float | None  # the file's g (for weights and `g` in expressions)
+    constants: dict[str, Q]
+    user_unknowns: dict[str, tuple[Dim, str, Span]]
+    bodies: dict[str, Body]
+    points: dict[str, PointOn]
+    surfaces: dict[str, Surface]
+    joints: list[Joint]
+    states: dict[str, StateSpec]
+    transitions: list[TransitionSpec]
+    stated: list  # StatedMomentum | StatedAngular | StatedRestitution
+    equations: list[S.UserEquation]
+    finds: list[S.FindItem]
+    notes: Collector
+    gravity_span: Span | None = None
+
+
+SHAPES = {
+    "particle": ({"mass", "weight", "radius"}, "0 (a particle)"),
+    "rod": ({"mass", "weight", "length"}, "m*L^2/12"),
+    "disk": ({"mass", "weight", "radius"}, "m*r^2/2"),
+    "cylinder": ({"mass", "weight", "radius"}, "m*r^2/2"),
+    "ring": ({"mass", "weight", "radius"}, "m*r^2"),
+    "hoop": ({"mass", "weight", "radius"}, "m*r^2"),
+    "sphere": ({"mass", "weight", "radius"}, "2*m*r^2/5"),
+    "shell": ({"mass", "weight", "radius"}, "2*m*r^2/3"),
+    "plate": ({"mass", "weight", "width", "height"}, "m*(w^2 + h^2)/12"),
+    "rigid": ({"mass", "weight", "inertia", "gyration", "radius"}, "given"),
+}
+ROUND = {"disk", "cylinder", "ring", "hoop", "sphere", "shell"}
+ARG_DIMS = {"mass": MASS, "weight": FORCE, "radius": LENGTH, "length": LENGTH, "width": LENGTH,
+            "height": LENGTH, "inertia": INERTIA, "gyration": LENGTH}
+
+
+def build(doc: S.Document) -> Scene:
+    """Resolve names, convert to SI and compute inertias; raise ProblemError on misuse."""
+    return _Builder(doc).run()
+
+
+class _Builder:
+    def __init__(self, doc: S.Document):
+        self.doc = doc
+        self.notes = Collector()
+        self.constants: dict[str, Q] = {}
+        self.g: float | None = None
+        self.gravity: tuple[float, float] | None = None
+        self.gravity_span = None
+        self.ev = Evaluator(self._resolve_constant)
+        self.bodies: dict[str, Body] = {}
+        self.points: dict[str, PointOn] = {}
+        self.surfaces: dict[str, Surface] = {}
+        self.user_unknowns: dict[str, tuple[Dim, str, Span]] = {}
+
+    # ---- names in constant expressions
+    def _resolve_constant(self, ref: S.Ref, expect) -> Q:
+        if ref.index is None and ref.member is None and not ref.at:
+            if ref.name in self.constants:
+                return self.constants[ref.name]
+            if ref.name == "pi":
+                return Q(Const(math.pi), NONE)
+            if ref.name == "g":
+                if self.g is None:
+                    raise ProblemError("'g' is used but no gravity is declared", ref.span,
+                                       code="name", notes=["add a line such as "
+                                                           "`gravity 9.81 m/s^2 down`"])
+                return Q(Const(self.g), ACCELERATION)
+        names = list(self.constants) + ["pi", "g"]
+        if ref.member or ref.at or ref.index:
+            raise ProblemError(f"'{ref.text}' is not a constant; only constants can be used here",
+                               ref.span, code="name")
+        raise ProblemError(f"unknown name '{ref.name}'" + did_you_mean(ref.name, names),
+                           ref.span, code="name")
+
+    def value(self, node, dim: Dim, what: str) -> float:
+        q = self.ev(node, dim)
+        if q.is_vector:
+            raise ProblemError(f"{what} needs a scalar; got a vector", node.span, code="type")
+        self._check_dim(q, dim, node, what)
+        v = constant(q, node)
+        if not math.isfinite(v):
+            raise ProblemError(f"{what} is not a finite number", node.span, code="number")
+        return v
+
+    def vector(self, node, dim: Dim, what: str) -> tuple[float, float]:
+        q = self.ev(node, dim)
+        if not q.is_vector:
+            raise ProblemError(f"{what} needs a vector such as (1, 0); got a scalar", node.span,
+                               code="type")
+        self._check_dim(q, dim, node, what)
+        v = constant_vector(q, node)
+        if not all(math.isfinite(c) for c in v):
+            raise ProblemError(f"{what} is not finite", node.span, code="number")
+        return v
+
+    def unit_vector(self, node, what: str) -> tuple[float, float]:
+        x, y = self.vector(node, NONE, what)
+        n = math.hypot(x, y)
+        if n == 0 or not math.isfinite(n):
+            raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
+        return (x / n, y / n)
+
+    def _check_dim(self, q: Q, dim: Dim, node, what: str) -> None:
+        if q.dim != dim:
+            got = describe(q.dim)
+            if isinstance(node, S.Num) and node.unit is None and dim != NONE:
+                msg = f"{what} needs {describe(dim)} with a unit (e.g. {si_label(dim)})"
+            else:
+                msg = f"{what} needs {describe(dim)}; got {got}"
+            raise ProblemError(msg, node.span, code="units")
+
+    # ---- the passes
+    def run(self) -> Scene:
+        st = self.doc.statements
+        title = ""
+        for s in st:
+            if isinstance(s, S.Problem):
+                title = s.title
+        for s in st:
+            if isinstance(s, S.Gravity):
+                self._gravity(s)
+        for s in st:
+            if isinstance(s, S.Let):
+                self._let(s)
+            elif isinstance(s, S.UnknownDecl):
+                self._unknown(s)
+        for s in st:
+            if isinstance(s, S.BodyDecl):
+                self._body(s)
+        for s in st:
+            if isinstance(s, S.SurfaceDecl):
+                self._surface(s)
+        for s in st:
+            if isinstance(s, S.PointDecl):
+                self._point(s)
+        joints = [self._joint(s) for s in st if isinstance(s, S.Joint)]
+        labels: dict[str, Span] = {}
+        for j in joints:
+            if j.label in labels:
+                raise ProblemError(f"two joints are called '{j.label}'", j.span, code="name",
+                                   notes=["name them: `pin NAME: A to B`"])
+            labels[j.label] = j.span
+        self.joints = joints
+        states: dict[str, StateSpec] = {}
+        for s in st:
+            if isinstance(s, S.StateDecl):
+                if s.id in states:
+                    raise ProblemError(f"state {s.id} is declared twice", s.span, code="name")
+                states[s.id] = self._state(s)
+        transitions = []
+        for s in st:
+            if isinstance(s, S.Transition):
+                transitions.append(self._transition(s, states))
+        stated = []
+        for s in st:
+            if isinstance(s, S.ConserveMomentum):
+                stated.append(self._stated_momentum(s, states))
+            elif isinstance(s, S.ConserveAngular):
+                self._states_exist(states, s.before, s.after, s.span)
+                self._body_names(s.bodies, s.span)
+                stated.append(StatedAngular(s.span, s.bodies, self.point(s.about), s.before,
+                                            s.after))
+            elif isinstance(s, S.RestitutionLaw):
+                self._states_exist(states, s.before, s.after, s.span)
+                e = self.value(s.value, NONE, "a coefficient of restitution")
+                self._check_restitution(e, s.value.span)
+                b = self.point(s.b) if s.b is not None else None
+                stated.append(StatedRestitution(s.span, e, self.point(s.a), b,
+                                                self.unit_vector(s.along, "the line of impact"),
+                                                s.before, s.after))
+        equations = [s for s in st if isinstance(s, S.UserEquation)]
+        finds = [i for s in st if isinstance(s, S.Find) for i in s.items]
+        if not self.bodies:
+            raise ProblemError("no bodies: declare one with `body NAME: rod(mass = ..., length = "
+                               "...)`", None, code="empty")
+        if not finds:
+            self.notes.note("no `find` line: every determined unknown is solved", None)
+        return Scene(title, self.gravity, self.g, self.constants, self.user_unknowns,
+                     self.bodies, self.points, self.surfaces, joints, states, transitions, stated,
+                     equations, finds, self.notes, self.gravity_span)
+
+    def _gravity(self, s: S.Gravity) -> None:
+        if self.g is not None:
+            raise ProblemError("gravity is declared twice", s.span, code="name")
+        g = self.value(s.magnitude, ACCELERATION, "gravity")
+        if g <= 0:
+            raise ProblemError("gravity must be positive (give its direction with down/up/...)",
+                               s.magnitude.span, code="number")
+        self.g = g
+        self.gravity_span = s.span
+        dirs = {"down": (0.0, -1.0), "up": (0.0, 1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
+        if s.direction == "plane":
+            self.gravity = None
+        elif s.direction == "vector":
+            n = self.unit_vector(s.vector, "the direction of gravity")
+            self.gravity = (g * n[0], g * n[1])
+        else:
+            d = dirs[s.direction]
+            self.gravity = (g * d[0], g * d[1])
+
+    def _let(self, s: S.Let) -> None:
+        if s.name in ("g", "pi"):
+            raise ProblemError(f"'{s.name}' is built in and cannot be redefined", s.span,
+                               code="name")
+        if s.name in self.constants:
+            raise ProblemError(f"'{s.name}' is defined twice", s.span, code="name")
+        q = self.ev(s.value)
+        if q.is_vector:
+            constant_vector(q, s.value)
+        else:
+            constant(q, s.value)
+        self.constants[s.name] = q
+
+    def _unknown(self, s: S.UnknownDecl) -> None:
+        dim, label = NONE, ""
+        if s.unit:
+            readings = unit_readings(s.unit, s.unit_span)
+            dim, label = readings[0][1], s.unit
+        self.user_unknowns[s.name] = (dim, label, s.span)
+
+    # ---- bodies
+    def _shape_args(self, shape: S.Shape) -> dict[str, tuple[float, Span]]:
+        if shape.kind not in SHAPES:
+            raise ProblemError(f"unknown shape '{shape.kind}'" + did_you_mean(shape.kind, SHAPES),
+                               shape.span, code="name",
+                               notes=["shapes: " + ", ".join(sorted(SHAPES))])
+        allowed = SHAPES[shape.kind][0]
+        out: dict[str, tuple[float, Span]] = {}
+        for a in shape.args:
+            if a.name not in allowed:
+                raise ProblemError(f"{shape.kind}() has no argument '{a.name}'" +
+                                   did_you_mean(a.name, allowed), a.span, code="name",
+                                   notes=[f"{shape.kind}() takes " + ", ".join(sorted(allowed))])
+            if a.name in out:
+                raise ProblemError(f"'{a.name}' is given twice", a.span, code="name")
+            v = self.value(a.value, ARG_DIMS[a.name], f"'{a.name}'")
+            if v <= 0 and not (a.name == "radius" and v == 0):
+                raise ProblemError(f"'{a.name}' must be positive; got {v:g}", a.value.span,
+                                   code="number")
+            out[a.name] = (v, a.value.span)
+        return out
+
+    def _mass(self, shape: S.Shape, args) -> tuple[float, bool]:
+        if "mass" in args and "weight" in args:
+            raise ProblemError("give either mass or weight, not both", shape.span, code="name")
+        if "mass" in args:
+            return args["mass"][0], False
+        if "weight" in args:
+            if self.g is None:
+                raise ProblemError("a weight needs the file's g to become a mass; declare "
+                                   "gravity", args["weight"][1], code="name",
+                                   notes=["e.g. `gravity 32.2 ft/s^2 down`, or `gravity 32.2 "
+                                          "ft/s^2 into plane` for a horizontal-plane problem"])
+            return args["weight"][0] / self.g, True
+        raise ProblemError(f"{shape.kind}() needs a mass (or a weight)", shape.span, code="name")
+
+    def _need(self, shape: S.Shape, args, name: str) -> float:
+        if name not in args:
+            raise ProblemError(f"{shape.kind}() needs '{name}'", shape.span, code="name")
+        return args[name][0]
+
+    def _simple(self, shape: S.Shape):
+        """(mass, inertia, formula, radius, length, weight_given) of one shape."""
+        args = self._shape_args(shape)
+        m, w = self._mass(shape, args)
+        k = shape.kind
+        r = args.get("radius", (None,))[0]
+        if k == "particle":
+            return m, 0.0, "0 (particle)", r, None, w
+        if k == "rod":
+            L = self._need(shape, args, "length")
+            return m, m * L * L / 12, "m*L^2/12", None, L, w
+        if k == "plate":
+            wd, h = self._need(shape, args, "width"), self._need(shape, args, "height")
+            return m, m * (wd * wd + h * h) / 12, "m*(w^2 + h^2)/12", None, None, w
+        if k == "rigid":
+            if "inertia" in args and "gyration" in args:
+                raise ProblemError("give either inertia or gyration, not both", shape.span,
+                                   code="name")
+            if "inertia" in args:
+                return m, args["inertia"][0], "I_G given", r, None, w
+            kk = self._need(shape, args, "gyration")
+            return m, m * kk * kk, "m*k^2", r, None, w
+        r = self._need(shape, args, "radius")
+        factor = {"disk": 0.5, "cylinder": 0.5, "ring": 1.0, "hoop": 1.0, "sphere": 0.4,
+                  "shell": 2 / 3}[k]
+        return m, factor * m * r * r, SHAPES[k][1], r, None, w
+
+    def _body(self, s: S.BodyDecl) -> None:
+        if s.name in self.bodies or s.name in ("ground",):
+            raise ProblemError(f"'{s.name}' is already a body name" if s.name != "ground" else
+                               "'ground' is the fixed world; choose another name", s.span,
+                               code="name")
+        if not s.composite:
+            shape = s.shapes[0]
+            m, inertia, formula, r, L, w = self._simple(shape)
+            kind = shape.kind
+            self.bodies[s.name] = Body(s.name, s.span, kind, m, inertia, formula,
+                                       r if kind in ROUND or kind in ("particle", "rigid") else None,
+                                       L, kind == "particle", (0.0, 0.0), w)
+            return
+        parts = []
+        for shape in s.shapes:
+            m, inertia, formula, r, L, w = self._simple(shape)
+            at = self.vector(shape.at, LENGTH, "a part's position") if shape.at is not None \
+                else (0.0, 0.0)
+            if shape.rotated is not None:
+                self.value(shape.rotated, NONE, "a part's rotation")
+            parts.append((shape.kind, m, inertia, at, w))
+        M = sum(p[1] for p in parts)
+        gx = sum(p[1] * p[3][0] for p in parts) / M
+        gy = sum(p[1] * p[3][1] for p in parts) / M
+        inertia = sum(p[2] + p[1] * ((p[3][0] - gx) ** 2 + (p[3][1] - gy) ** 2) for p in parts)
+        formula = "sum(I_i + m_i*d_i^2)  (parallel axes: " + " + ".join(p[0] for p in parts) + ")"
+        self.bodies[s.name] = Body(s.name, s.span, "composite", M, inertia, formula, None, None,
+                                   False, (-gx, -gy), any(p[4] for p in parts))
+
+    def _surface(self, s: S.SurfaceDecl) -> None:
+        if s.name in self.bodies or s.name in self.surfaces:
+            raise ProblemError(f"'{s.name}' is already defined", s.span, code="name")
+        n = self.unit_vector(s.normal, "a surface normal") if s.normal is not None else None
+        at = self.vector(s.at, LENGTH, "a surface position") if s.at is not None else (0.0, 0.0)
+        self.surfaces[s.name] = Surface(s.name, n, at, s.span)
+
+    def _point(self, s: S.PointDecl) -> None:
+        if s.name in self.points or s.name in self.bodies:
+            raise ProblemError(f"'{s.name}' is already defined", s.span, code="name")
+        if s.alias is not None:
+            p = self.point(s.alias)
+            self.points[s.name] = PointOn(p.body, p.offset, s.name, s.span)
+            return
+        xy = self.vector(s.offset, LENGTH, "a point's position")
+        if s.body == "ground" or s.body in self.surfaces:
+            self.points[s.name] = PointOn(None, xy, s.name, s.span)
+            return
+        body = self._body_named(s.body, s.span)
+        if body.is_particle and xy != (0.0, 0.0):
+            raise ProblemError(f"'{body.name}' is a particle: its only point is its centre",
+                               s.offset.span, code="name")
+        ox, oy = body.origin
+        self.points[s.name] = PointOn(body.name, (xy[0] + ox, xy[1] + oy), s.name, s.span)
+
+    def _body_named(self, name: str, span: Span) -> Body:
+        if name not in self.bodies:
+            raise ProblemError(f"unknown body '{name}'" + did_you_mean(name, self.bodies), span,
+                               code="name")
+        return self.bodies[name]
+
+    def point(self, ref: S.PointRef) -> PointOn:
+        """Resolve a point reference: named point, body centre, `rod.end(+)`, `rod.A`."""
+        if ref.end:
+            body = self._body_named(ref.name, ref.span)
+            if body.length is None:
+                raise ProblemError(f"'{body.name}' is not a rod: it has no ends", ref.span,
+                                   code="name", notes=["name a point: `point A = "
+                                                       f"{body.name} at (x, y)`"])
+            half = body.length / 2 * (1 if ref.end == "+" else -1)
+            return PointOn(body.name, (half, 0.0), ref.text, ref.span)
+        if ref.member:
+            body = self._body_named(ref.name, ref.span)
+            if ref.member in ("center", "centre", "G"):
+                return PointOn(body.name, (0.0, 0.0), ref.text, ref.span,
+                               round_contact=body.radius is not None)
+            p = self.points.get(ref.member)
+            if p is None or p.body != body.name:
+                mine = [n for n, q in self.points.items() if q.body == body.name]
+                raise ProblemError(f"'{body.name}' has no point '{ref.member}'" +
+                                   did_you_mean(ref.member, mine + ["center"]), ref.span,
+                                   code="name")
+            return PointOn(p.body, p.offset, ref.text, ref.span)
+        if ref.name in self.points:
+            p = self.points[ref.name]
+            return PointOn(p.body, p.offset, p.name, ref.span)
+        if ref.name in self.bodies:
+            b = self.bodies[ref.name]
+            return PointOn(b.name, (0.0, 0.0), b.name, ref.span, round_contact=True)
+        if ref.name == "ground":
+            return PointOn(None, (0.0, 0.0), "ground", ref.span)
+        if ref.name in self.surfaces:
+            sf = self.surfaces[ref.name]
+            return PointOn(None, sf.at, sf.name, ref.span)
+        names = list(self.points) + list(self.bodies) + list(self.surfaces) + ["ground"]
+        raise ProblemError(f"unknown point or body '{ref.name}'" + did_you_mean(ref.name, names),
+                           ref.span, code="name")
+
+    # ---- joints
+    def _joint(self, s: S.Joint) -> Joint:
+        a, b = self.point(s.a), self.point(s.b)
+        if a.body is None and b.body is not None:
+            a, b = b, a
+        if a.body is None:
+            raise ProblemError(f"a {s.kind} needs a body on at least one side", s.span,
+                               code="name")
+        if a.body == b.body:
+            raise ProblemError(f"a {s.kind} joins two different bodies (or a body and the "
+                               "ground)", s.span, code="name")
+        label = s.label or (a.name if b.body is None else f"{a.name}-{b.name}")
+        if s.kind == "pin" and s.at is not None:
+            if b.body is not None:
+                raise ProblemError("`at` places a pin to the ground; a pin between bodies is "
+                                   "where its two points meet", s.at.span, code="name")
+            b = PointOn(None, self.vector(s.at, LENGTH, "a pin's position"), b.name, b.span)
+        if s.kind in ("pin", "weld") and self.bodies[a.body].is_particle and a.body and \
+                s.kind == "weld":
+            raise ProblemError("a particle cannot be welded; use a pin", s.span, code="name")
+        along = self.unit_vector(s.along, "a link's direction") if s.along is not None else None
+        k = length = None
+        if s.kind == "spring":
+            k = self.value(s.stiffness, STIFFNESS, "a spring stiffness")
+            if k < 0:
+                raise ProblemError("a spring stiffness cannot be negative", s.stiffness.span,
+                                   code="number")
+            length = self.value(s.length, LENGTH, "a spring's free length") if s.length \
+                is not None else 0.0
+        return Joint(s.kind, label, a, b, s.span, along, k, length)
+
+    # ---- states
+    def _state(self, s: S.StateDecl) -> StateSpec:
+        spec = StateSpec(s.id, s.label, s.span)
+        for it in s.items:
+            if isinstance(it, S.AtRest):
+                body = self._body_named(it.body, it.span)
+                for q in ("vx", "vy") + (() if body.is_particle else ("omega",)):
+                    self._give(spec, body.name, q, 0.0, it.span)
+            elif isinstance(it, S.RollsIn):
+                self._body_named(it.body, it.span)
+                spec.rolls.append((it.body, it.surface, it.span))
+            else:
+                self._given(spec, it)
+        return spec
+
+    def _qty(self, body: Body, qty: str, span: Span) -> None:
+        names = list(STATE_QTYS) + list(VECTOR_QTYS)
+        if qty not in STATE_QTYS and qty not in VECTOR_QTYS:
+            raise ProblemError(f"'{qty}' is not a state quantity" + did_you_mean(qty, names),
+                               span, code="name", notes=["a state gives x, y, pos, angle, v, vx, "
+                                                         "vy or omega of a body"])
+        if body.is_particle and qty in ROTATION_QTYS:
+            raise ProblemError(f"'{body.name}' is a particle: it has no {qty}", span,
+                               code="name", notes=["use a sphere or disk for a body that turns"])
+
+    def _give(self, spec: StateSpec, body: str, qty: str, value: float, span: Span) -> None:
+        if (body, qty) in spec.givens:
+            raise ProblemError(f"{body}.{qty} is given twice in state {spec.id}", span,
+                               code="name")
+        spec.givens[(body, qty)] = (value, span)
+
+    def _given(self, spec: StateSpec, it: S.Given) -> None:
+        body = self._body_named(it.body, it.span)
+        self._qty(body, it.qty, it.qty_span)
+        if it.qty in VECTOR_QTYS:
+            comps = VECTOR_QTYS[it.qty]
+            dim = STATE_QTYS[comps[0]][0]
+            if it.relation != "=":
+                raise ProblemError("a hint needs a scalar quantity (vx, vy, omega, angle...)",
+                                   it.span, code="type")
+            v = self.vector(it.value, dim, f"{it.body}.{it.qty}")
+            for c, x in zip(comps, v):
+                self._give(spec, body.name, c, x, it.span)
+            return
+        dim = STATE_QTYS[it.qty][0]
+        v = self.value(it.value, dim, f"{it.body}.{it.qty}")
+        if it.relation == "=":
+            self._give(spec, body.name, it.qty, v, it.span)
+        else:
+            spec.hints.setdefault((body.name, it.qty), []).append((it.relation, v, it.span))
+
+    # ---- transitions
+    def _states_exist(self, states, a: str, b: str, span: Span) -> None:
+        for sid in (a, b):
+            if sid not in states:
+                raise ProblemError(f"state {sid} is not declared" + did_you_mean(sid, states),
+                                   span, code="name", notes=[f"add a line `state {sid}`"])
+        if a == b:
+            raise ProblemError("a transition goes from one state to another", span, code="name")
+
+    def _check_restitution(self, e: float, span: Span) -> None:
+        if e < 0 or e > 1:
+            raise ProblemError(f"a coefficient of restitution must be between 0 and 1; got {e:g}",
+                               span, code="number")
+
+    def _transition(self, s: S.Transition, states) -> TransitionSpec:
+        self._states_exist(states, s.before, s.after, s.span)
+        t = TransitionSpec(s.kind, s.before, s.after, s.span)
+        labels = set()
+        for c in s.clauses:
+            if isinstance(c, S.Contact):
+                if s.kind == "energy":
+                    raise ProblemError("contacts belong to impacts and intervals; an energy phase "
+                                       "takes gravity, springs, forces and moments", c.span,
+                                       code="name")
+                con = self._contact(c, s.kind)
+                if con.label in labels:
+                    raise ProblemError(f"two contacts are called '{con.label}' in this transition",
+                                       c.span, code="name",
+                                       notes=["name them: `contact NAME: A with B`"])
+                labels.add(con.label)
+                t.contacts.append(con)
+            elif c.kind == "bearing-friction":
+                if c.names[0] not in {j.label for j in self.joints if j.kind == "pin"}:
+                    pins = [j.label for j in self.joints if j.kind == "pin"]
+                    raise ProblemError(f"no pin called '{c.names[0]}'" +
+                                       did_you_mean(c.names[0], pins), c.span, code="name",
+                                       notes=["name a pin: `pin bearing: disk to rod.A`"])
+                t.bearing_friction.append((c.names[0], c.span))
+            elif c.kind == "stops-relative":
+                for n in c.names:
+                    self._body_named(n, c.span)
+                t.stops_relative.append((c.names[0], c.names[1], c.span))
+            elif c.kind == "stops":
+                self._body_named(c.names[0], c.span)
+                t.stops.append((c.names[0], c.span))
+            elif c.kind == "rolls":
+                self._body_named(c.names[0], c.span)
+                self._surface_named(c.names[1], c.span)
+                t.rolls.append((c.names[0], c.names[1], c.span))
+            elif c.kind == "force":
+                f = self.vector(c.value, FORCE, "a force")
+                t.forces.append((f, self.point(c.point), c.span))
+            elif c.kind == "moment":
+                body = self._body_named(c.names[0], c.span)
+                t.moments.append((self.value(c.value, MOMENT, "a moment"), body.name, c.span))
+            elif c.kind == "duration":
+                if s.kind != "interval":
+                    raise ProblemError("only an interval has a duration", c.span, code="name")
+                d = self.value(c.value, TIME, "a duration")
+                if d <= 0:
+                    raise ProblemError("a duration must be positive", c.value.span,
+                                       code="number")
+                t.duration = d
+            elif c.kind == "free":
+                self._body_named(c.names[0], c.span)
+        if s.kind == "impact" and (t.forces or t.moments):
+            raise ProblemError("an impact is instantaneous: finite forces and moments give no "
+                               "impulse; put them in an interval", (t.forces or t.moments)[0][2],
+                               code="name")
+        return t
+
+    def _surface_named(self, name: str, span: Span) -> Surface:
+        if name == "ground":
+            return Surface("ground", None, (0.0, 0.0), span)
+        if name not in self.surfaces:
+            raise ProblemError(f"unknown surface '{name}'" + did_you_mean(name, self.surfaces),
+                               span, code="name", notes=[f"declare it: `surface {name} normal "
+                                                         "(0, 1)`"])
+        return self.surfaces[name]
+
+    def _contact(self, c: S.Contact, kind: str) -> Contact:
+        a = self.point(c.a)
+        b = self.point(c.b) if c.b is not None else None
+        surface = None
+        if b is not None and b.body is None:
+            surface = b.name
+            sf = self.surfaces.get(b.name)
+            b = None
+        else:
+            sf = None
+        if a.body is None:
+            raise ProblemError("a contact's first point must be on a body", c.a.span,
+                               code="name")
+        if b is not None and b.body == a.body:
+            raise ProblemError("a body cannot be in contact with itself", c.span, code="name")
+        if c.normal is not None:
+            normal = self.unit_vector(c.normal, "a contact normal")
+        elif sf is not None and sf.normal is not None:
+            normal = sf.normal
+        else:
+            raise ProblemError("a contact needs a normal: `normal (0, 1)` (the direction of the "
+                               "impulse on the first body)", c.span, code="name")
+        e = None
+        e_unknown = False
+        e_name = None
+        mode = "smooth"
+        mu = None
+        slip = None
+        modes = []
+        for p in c.props:
+            if p.kind == "restitution" and isinstance(p.value, S.Ref) and \
+                    p.value.name in self.user_unknowns and not p.value.member:
+                e_name = p.value.name
+                e_unknown = True
+            elif p.kind == "restitution":
+                e = self.value(p.value, NONE, "a coefficient of restitution")
+                self._check_restitution(e, p.value.span)
+            elif p.kind == "restitution?":
+                e_unknown = True
+            elif p.kind in ("smooth", "rough"):
+                mode = p.kind
+                modes.append(p)
+            elif p.kind == "friction":
+                mu = self.value(p.value, NONE, "a friction coefficient")
+                if mu < 0:
+                    raise ProblemError(f"a friction coefficient cannot be negative; got {mu:g}",
+                                       p.value.span, code="number")
+                mode = "friction"
+                modes.append(p)
+            elif p.kind == "slip":
+                slip = self.unit_vector(p.value, "a slip direction")
+        if len(modes) > 1:
+            raise ProblemError("a contact is smooth, rough or has friction: choose one",
+                               modes[1].span, code="name")
+        if kind == "impact" and e is None and not e_unknown:
+            raise ProblemError("an impact contact needs a restitution: `restitution 0.5` (or "
+                               "`restitution ?` to find it)", c.span, code="name")
+        if kind == "interval" and mode == "rough":
+            raise ProblemError("in an interval a rough contact needs a friction coefficient "
+                               "(`friction 0.3`); rolling is `BODY rolls on SURFACE`",
+                               modes[0].span, code="name")
+        if b is None:
+            label = c.label or a.name
+        else:
+            label = c.label or f"{a.name}-{b.name}"
+        return Contact(label, c.span, a, b, normal, e, e_unknown, mode, mu, slip, surface, e_name)
+
+    def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
+        self._states_exist(states, s.before, s.after, s.span)
+        self._body_names(s.bodies, s.span)
+        if s.axis == "x":
+            d, text = (1.0, 0.0), "x"
+        elif s.axis == "y":
+            d, text = (0.0, 1.0), "y"
+        else:
+            d = self.unit_vector(s.axis, "a direction")
+            text = f"({d[0]:.4g}, {d[1]:.4g})"
+        return StatedMomentum(s.span, d, text, s.bodies, s.before, s.after)
+
+    def _body_names(self, names, span) -> None:
+        for n in names:
+            self._body_named(n, span)

@@ -1,0 +1,461 @@
+"""Solve: values for the unknowns, block by block, with checks.
+
+Linear blocks are solved with numpy after row and column equilibration (the
+unknowns mix N*s, m/s and rad/s), and their condition number is reported. Nonlinear
+blocks (energy phases) use damped Newton with branch hints from the file.
+Friction contacts are solved as stick first and switched to sliding where
+|J_t| > mu*J_n; the regime that held is reported.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .analyse import Structure, analyse
+from .compile import Equation, System, compile_scene
+from .diagnostics import Diagnostic, ProblemError
+from .expr import E, NonLinear, affine, diff, evaluate, magnitude, to_text
+from .numbers import fmt_num
+from .scene import Scene
+
+REL_TOL = 1e-9  # residual tolerance relative to the size of an equation's terms
+
+
+@dataclass
+class BlockReport:
+    index: int
+    unknowns: list[str]
+    equations: list[int]
+    method: str  # linear | newton | explicit
+    cond: float | None = None
+    iterations: int = 0
+    residual: float = 0.0
+    matrix: list[list[float]] | None = None
+    rhs: list[float] | None = None
+
+
+@dataclass
+class CheckReport:
+    name: str
+    status: str  # ok | warning | error | info
+    detail: str
+    value: float | None = None
+
+
+@dataclass
+class Solution:
+    system: System
+    structure: Structure
+    values: dict[str, float]
+    blocks: list[BlockReport]
+    checks: list[CheckReport]
+    diagnostics: list[Diagnostic]
+    regimes: dict[str, str]
+    answers: list[tuple[str, float, str, float]]  # name, display value, unit, SI value
+    solved_all: bool = False
+    regime_notes: list[str] = field(default_factory=list)
+
+
+def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8) -> Solution:
+    """Compile, analyse and solve, iterating the friction regimes until they hold."""
+    regimes: dict[str, str] = {}
+    tried: set[tuple] = set()
+    sol = None
+    for _ in range(max_rounds):
+        system = compile_scene(scene, regimes)
+        structure = analyse(system)
+        sol = _solve(system, structure, solve_all)
+        changed = _update_regimes(sol, regimes)
+        key = tuple(sorted(regimes.items()))
+        if not changed or key in tried:
+            break
+        tried.add(key)
+    assert sol is not None
+    sol.regimes = dict(regimes)
+    return sol
+
+
+def _update_regimes(sol: Solution, regimes: dict[str, str]) -> bool:
+    """Switch violated stick assumptions to sliding (and wrong slide signs). True if changed."""
+    changed = False
+    v = sol.values
+    for site in sol.system.friction:
+        if site.jn not in v:
+            continue
+        jn = v[site.jn]
+        jt = v.get(site.jt, 0.0) if site.jt else 0.0
+        if site.regime == "stick":
+            if abs(jt) > site.mu * jn * (1 + 1e-12) + 1e-300:
+                regimes[site.key] = "slide+" if jt < 0 else "slide-"
+                changed = True
+        elif site.slip_expr is not None and site.key in regimes:
+            try:
+                slip = evaluate(site.slip_expr, v)
+            except KeyError:
+                continue
+            want = "slide+" if slip > 0 else "slide-"
+            if slip != 0 and want != site.regime:
+                regimes[site.key] = want
+                changed = True
+    return changed
+
+
+def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
+    from .expr import variables
+
+    if solve_all or not system.finds:
+        return [n for n in system.unknowns if n not in structure.under]
+    names: set[str] = set()
+    for f in system.finds:
+        variables(f.expr, names)
+    # friction regimes and energy checks need their impulses and velocities
+    for site in system.friction:
+        names.add(site.jn)
+        if site.jt:
+            names.add(site.jt)
+    return sorted(names)
+
+
+def _solve(system: System, structure: Structure, solve_all: bool) -> Solution:
+    eqs = system.equations
+    diags: list[Diagnostic] = list(system.notes.items)
+    checks: list[CheckReport] = []
+    values: dict[str, float] = {}
+    needed = _needed(system, structure, solve_all)
+    find_vars: set[str] = set()
+    from .expr import variables
+
+    for f in system.finds:
+        variables(f.expr, find_vars)
+    # pure checks first: equations whose every term is given
+    for k in structure.constant_eqs:
+        _check_equation(eqs[k], values, checks, system, structure, constant=True)
+    missing = structure.undetermined_for(sorted(find_vars) if system.finds and not solve_all
+                                         else [])
+    if missing:
+        raise _under_determined(system, structure, missing)
+    blocks_needed = structure.needed_blocks([n for n in needed if n not in structure.under])
+    reports = []
+    for b in blocks_needed:
+        reports.append(_solve_block(system, structure, structure.blocks[b], values))
+    for k in structure.redundant:
+        e = eqs[k]
+        if all(v in values for v in structure.incidence[k]):
+            _check_equation(e, values, checks, system, structure)
+    sol = Solution(system, structure, values, reports, checks, diags, {}, [], solve_all)
+    _hint_checks(sol)
+    sol.answers = _answers(system, values)
+    return sol
+
+
+def _scale(e: Equation, values: dict[str, float]) -> float:
+    try:
+        return magnitude(e.residual, values)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return 0.0
+
+
+def _check_equation(e: Equation, values, checks, system, structure, constant=False) -> None:
+    try:
+        r = evaluate(e.residual, values)
+    except (ValueError, ZeroDivisionError, OverflowError):
+        r = math.nan
+    scale = _scale(e, values)
+    ok = math.isfinite(r) and abs(r) <= REL_TOL * max(scale, 1e-300) or (scale == 0 and r == 0)
+    where = f"line {e.span.line}" if e.span else "the scene"
+    if ok:
+        if e.kind in ("stated", "user", "consistency") or not constant:
+            checks.append(CheckReport(f"{e.principle}", "ok",
+                                      f"holds (redundant; {where}; residual {fmt_num(r, 3)})", r))
+        return
+    others = set()
+    for v in structure.incidence[e.index]:
+        k = structure.match_var.get(v)
+        if k is not None and system.equations[k].span:
+            others.add(system.equations[k].span.line)
+    notes = [f"{e.text()}  ->  {e.text(numeric=True)}  (off by {fmt_num(r, 4)})"]
+    if others:
+        notes.append("it conflicts with the equations from line" + ("s " if len(others) > 1 else
+                     " ") + ", ".join(str(x) for x in sorted(others)))
+    if constant:
+        notes.append("every quantity in it is given: one of the given values is inconsistent "
+                     "with it")
+    raise ProblemError(f"inconsistent: {e.principle} does not hold", e.span,
+                       code="inconsistent", notes=notes)
+
+
+def _under_determined(system: System, structure: Structure, missing: list[str]) -> ProblemError:
+    shown = missing[:8]
+    more = f" and {len(missing) - 8} more" if len(missing) > 8 else ""
+    notes = []
+    kinds = {system.unknowns[m].kind for m in missing if m in system.unknowns}
+    tips = []
+    if "state" in kinds:
+        tips.append("give the missing velocities or positions in their states")
+    if "impulse" in kinds or "restitution" in kinds:
+        tips.append("add a restitution coefficient or a post-impact velocity")
+    if "duration" in kinds:
+        tips.append("give a `duration`, an end condition (`stops`, `rolls on`) or a force of "
+                    "known size")
+    if "angular-impulse" in kinds:
+        tips.append("add an end condition such as `A stops relative to B`")
+    if tips:
+        notes.append("; ".join(tips))
+    n_eq = len(structure.under_eqs)
+    notes.append(f"the undetermined part has {len(structure.under)} unknowns and {n_eq} "
+                 f"equation{'s' if n_eq != 1 else ''}")
+    first_line = None
+    for m in missing:
+        u = system.unknowns.get(m)
+        if u and u.state and u.body:
+            st = system.scene.states.get(u.state)
+            if st is not None:
+                first_line = st.span
+                break
+    word = "is" if len(missing) == 1 else "are"
+    return ProblemError(f"under-determined: {', '.join(shown)}{more} {word} not determined",
+                        first_line, code="under-determined", notes=notes, caret=False)
+
+
+def _solve_block(system: System, structure: Structure, block, values) -> BlockReport:
+    eqs = [system.equations[k] for k in block.equations]
+    names = block.unknowns
+    bset = set(names)
+    rows, rhs = [], []
+    try:
+        for e in eqs:
+            coef, const = affine(e.residual, bset, values)
+            rows.append([coef.get(n, 0.0) for n in names])
+            rhs.append(-const)
+    except NonLinear:
+        return _newton(system, block, eqs, names, values)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError) as exc:
+        raise ProblemError(f"cannot evaluate {eqs[0].principle}: {exc}", eqs[0].span,
+                           code="number") from None
+    if len(names) == 1:
+        a, b = rows[0][0], rhs[0]
+        if a == 0 or not math.isfinite(a) or not math.isfinite(b):
+            raise _singular(eqs, names)
+        values[names[0]] = b / a
+        return BlockReport(block.index, names, block.equations, "linear", 1.0, 0, 0.0,
+                           [[a]], [b])
+    x, cond = solve_linear(rows, rhs, eqs, names)
+    for n, v in zip(names, x):
+        values[n] = v
+    return BlockReport(block.index, names, block.equations, "linear", cond, 0, 0.0, rows, rhs)
+
+
+def solve_linear(rows, rhs, eqs, names):
+    """Equilibrated dense solve; returns (x, condition number of the scaled matrix)."""
+    import numpy as np
+
+    A = np.array(rows, dtype=float)
+    b = np.array(rhs, dtype=float)
+    if not (np.isfinite(A).all() and np.isfinite(b).all()):
+        raise ProblemError("the equations contain a number that is not finite", eqs[0].span,
+                           code="number")
+    # row and column equilibration: the unknowns mix N*s, m/s and rad/s
+    r = np.max(np.abs(A), axis=1)
+    r[r == 0] = 1.0
+    A1 = A / r[:, None]
+    c = np.max(np.abs(A1), axis=0)
+    c[c == 0] = 1.0
+    A2 = A1 / c[None, :]
+    b2 = b / r
+    cond = float(np.linalg.cond(A2))
+    if not math.isfinite(cond) or cond > 1e15:
+        raise _singular(eqs, names, cond)
+    y = np.linalg.solve(A2, b2)
+    x = y / c
+    return [float(v) for v in x], cond
+
+
+def _singular(eqs, names, cond=None) -> ProblemError:
+    lines = sorted({e.span.line for e in eqs if e.span})
+    c = f" (condition number {fmt_num(cond, 3)})" if cond is not None else ""
+    return ProblemError(f"singular: the equations for {', '.join(names)} do not determine them"
+                        f"{c}", eqs[0].span, code="singular",
+                        notes=[f"equations from line{'s' if len(lines) > 1 else ''} "
+                               f"{', '.join(map(str, lines))} are dependent; a contact or "
+                               "constraint may be declared twice, or a normal is parallel to "
+                               "another"])
+
+
+def _starts(system: System, names: list[str], values) -> list[list[float]]:
+    """Starting points for Newton: from the hints, then a few spread guesses."""
+    base = []
+    for n in names:
+        u = system.unknowns[n]
+        lo = max((v for rel, v, _ in u.hints if rel == ">"), default=None)
+        hi = min((v for rel, v, _ in u.hints if rel == "<"), default=None)
+        if lo is not None and hi is not None:
+            base.append([(lo + hi) / 2, lo + (hi - lo) * 0.25, lo + (hi - lo) * 0.75])
+        elif lo is not None:
+            w = max(abs(lo), 1.0)
+            base.append([lo + 0.5 * w, lo + 2 * w, lo + 0.05 * w])
+        elif hi is not None:
+            w = max(abs(hi), 1.0)
+            base.append([hi - 0.5 * w, hi - 2 * w, hi - 0.05 * w])
+        else:
+            base.append([0.7, -0.7, 2.0])
+    return [[b[min(k, len(b) - 1)] for b in base] for k in range(3)]
+
+
+def _satisfies(system: System, names, x) -> bool:
+    for n, v in zip(names, x):
+        for rel, bound, _ in system.unknowns[n].hints:
+            if system.unknowns[n].kind in ("impulse", "duration"):
+                continue  # physical checks, reported separately
+            if rel == ">" and not v > bound:
+                return False
+            if rel == "<" and not v < bound:
+                return False
+    return True
+
+
+def _newton(system: System, block, eqs: list[Equation], names: list[str], values) -> BlockReport:
+    import numpy as np
+
+    F = [e.residual for e in eqs]
+    J = [[diff(f, n) for n in names] for f in F]
+    roots = []
+    best_iters = 0
+    for x0 in _starts(system, names, values):
+        r = _newton_from(F, J, names, values, x0)
+        if r is None:
+            continue
+        x, iters = r
+        if not any(np.allclose(x, y, rtol=1e-7, atol=1e-9) for y, _ in roots):
+            roots.append((x, iters))
+    lines = sorted({e.span.line for e in eqs if e.span})
+    where = f"line{'s' if len(lines) > 1 else ''} {', '.join(map(str, lines))}"
+    if not roots:
+        raise ProblemError(f"no real solution for {', '.join(names)}: {eqs[0].principle} cannot "
+                           "be satisfied", eqs[0].span, code="no-solution",
+                           notes=[f"from {where}; check the given energies and heights (e.g. not "
+                                  "enough energy to reach the given position)"])
+    hinted = [r for r in roots if _satisfies(system, names, r[0])]
+    has_hint = any(system.unknowns[n].hints and system.unknowns[n].kind not in
+                   ("impulse", "duration") for n in names)
+    if not hinted:
+        shown = "; ".join(", ".join(f"{n} = {fmt_num(v, 4)}" for n, v in zip(names, x))
+                          for x, _ in roots)
+        raise ProblemError(f"no solution of {eqs[0].principle} satisfies the hints", eqs[0].span,
+                           code="no-solution", notes=[f"solutions found: {shown}"])
+    if len(hinted) > 1 or (len(roots) > 1 and not has_hint):
+        shown = "; ".join(", ".join(f"{n} = {fmt_num(v, 4)}" for n, v in zip(names, x))
+                          for x, _ in roots)
+        first = names[0]
+        u = system.unknowns[first]
+        where_hint = f" in state {u.state}" if u.state else ""
+        qty = f"{u.body}.{u.qty}" if u.body else first
+        raise ProblemError(f"more than one solution for {', '.join(names)}", eqs[0].span,
+                           code="ambiguous",
+                           notes=[f"solutions: {shown}",
+                                  f"choose one with a hint such as `{qty} < 0`{where_hint}"])
+    x, iters = hinted[0]
+    for n, v in zip(names, x):
+        values[n] = float(v)
+    res = max(abs(evaluate(f, values)) for f in F)
+    best_iters = iters
+    return BlockReport(block.index, names, block.equations, "newton", None, best_iters, res)
+
+
+def _newton_from(F, J, names, values, x0):
+    import numpy as np
+
+    x = np.array(x0, dtype=float)
+    env = dict(values)
+
+    def resid(xv):
+        for n, v in zip(names, xv):
+            env[n] = float(v)
+        try:
+            return np.array([evaluate(f, env) for f in F])
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return None
+
+    r = resid(x)
+    if r is None:
+        return None
+    for it in range(1, 101):
+        scale = max(1.0, float(np.max(np.abs(x))))
+        try:
+            Jm = np.array([[evaluate(d, env) for d in row] for row in J])
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return None
+        if not np.isfinite(Jm).all():
+            return None
+        dx = np.linalg.lstsq(Jm, -r, rcond=None)[0]
+        step = 1.0
+        norm0 = float(np.linalg.norm(r))
+        while step > 1e-6:
+            xn = x + step * dx
+            rn = resid(xn)
+            if rn is not None and np.isfinite(rn).all() and np.linalg.norm(rn) < norm0 * (1 - 1e-4 * step) + 1e-300:
+                break
+            step /= 2
+        else:
+            resid(x)
+            return (x, it) if norm0 <= 1e-10 * scale else None
+        x = xn
+        r = rn
+        if float(np.max(np.abs(step * dx))) <= 1e-13 * scale and float(np.max(np.abs(r))) < 1e-8 * scale:
+            return x, it
+        if float(np.max(np.abs(r))) == 0.0:
+            return x, it
+    return (x, 100) if float(np.max(np.abs(r))) < 1e-9 * max(1.0, float(np.max(np.abs(x)))) else None
+
+
+def _hint_checks(sol: Solution) -> None:
+    """Physical sanity: contacts push, durations are positive, friction regimes hold."""
+    sysm, v = sol.system, sol.values
+    for name, u in sysm.unknowns.items():
+        if name not in v:
+            continue
+        if u.kind == "duration" and v[name] <= 0:
+            raise ProblemError(f"{name} = {fmt_num(v[name], 4)} s: the end condition is not "
+                               "reached forward in time", None, code="no-solution",
+                               notes=["check the signs of the given velocities and the slip "
+                                      "direction"])
+        if u.kind == "impulse" and name.startswith("J_n[") and v[name] < 0:
+            sol.checks.append(CheckReport(f"contact {name}", "warning",
+                                          f"normal impulse {fmt_num(v[name], 4)} N*s < 0: the "
+                                          "contact would pull; the bodies are separating", v[name]))
+    for site in sysm.friction:
+        if site.jn not in v:
+            continue
+        jn = v[site.jn]
+        jt = v.get(site.jt, 0.0) if site.jt else 0.0
+        if site.regime == "stick":
+            detail = (f"stick held: |J_t| = {fmt_num(abs(jt), 4)} <= mu*J_n = "
+                      f"{fmt_num(site.mu * jn, 4)} N*s")
+            status = "ok" if abs(jt) <= site.mu * jn * (1 + 1e-9) else "warning"
+        else:
+            detail = (f"sliding: J_t = -mu*J_n against the slip ({fmt_num(jt, 4)} N*s, "
+                      f"mu = {fmt_num(site.mu, 3)})")
+            status = "ok"
+        sol.checks.append(CheckReport(f"friction at {site.label} ({site.transition})", status,
+                                      detail))
+
+
+def _answers(system: System, values) -> list[tuple[str, float, str, float]]:
+    out = []
+    for f in system.finds:
+        try:
+            si = evaluate(f.expr, values)
+        except KeyError as exc:
+            raise ProblemError(f"{f.name} could not be computed: {exc.args[0]} is not solved",
+                               f.span, code="internal") from None
+        except (ValueError, ZeroDivisionError, OverflowError):
+            raise ProblemError(f"{f.name} is not a finite number", f.span, code="number") \
+                from None
+        out.append((f.name, si / f.factor, f.unit, si))
+    return out
+
+
+def solve_problem(scene: Scene, solve_all: bool = False) -> Solution:
+    return solve_scene(scene, solve_all)
+
+
+__all__ = ["solve_scene", "Solution", "analyse", "to_text", "E"]

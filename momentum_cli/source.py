@@ -1,0 +1,53 @@
+"""Source text and spans: the only place that formats a caret under a location.
+
+A `Source` is a file's name and text; a `Span` is a 1-based line:column range in it.
+`render_snippet` prints the offending line with a caret, GNU style.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True, slots=True)
+class Span:
+    """A 1-based range in a source file (end is inclusive of the last character)."""
+
+    line: int
+    column: int
+    end_line: int | None = None
+    end_column: int | None = None
+
+    def __str__(self) -> str:
+        return f"{self.line}:{self.column}"
+
+
+@dataclass(frozen=True, slots=True)
+class Source:
+    """A problem file's name (as the user gave it; `<stdin>` for `-`) and text."""
+
+    name: str
+    text: str
+
+    def line_text(self, line: int) -> str:
+        lines = self.text.splitlines()
+        if 1 <= line <= len(lines):
+            return lines[line - 1]
+        return ""
+
+
+def render_snippet(source: Source, span: Span) -> str:
+    """The source line of `span` with a caret (and tildes) under the spot.
+
+    Tabs are expanded the way lark counts columns, so the caret lines up.
+    """
+    raw = source.line_text(span.line)
+    if not raw.strip():
+        return ""
+    before = raw[: max(span.column - 1, 0)].expandtabs()
+    shown = raw.expandtabs()
+    width = 1
+    if span.end_line == span.line and span.end_column and span.end_column > span.column:
+        width = len(raw[span.column - 1 : span.end_column - 1].expandtabs()) or 1
+    gutter = f"{span.line:>5} | "
+    marker = " " * len(before) + "^" + "~" * (width - 1)
+    return f"{gutter}{shown}\n{' ' * (len(gutter) - 2)}| {marker}"

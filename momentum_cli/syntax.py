@@ -1,0 +1,834 @@
+"""Parse: problem text -> frozen syntax nodes that keep their line:column.
+
+The grammar is `grammar/momentum.lark` (shipped inside the package). Lark types stop
+here: nodes hold our `Span`, never lark's `Token` or `Meta`. The LALR parser is
+built once per process and cached on disk, outside the package directory.
+"""
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from .diagnostics import ProblemError
+from .source import Source, Span
+
+MAX_BYTES = 1_000_000  # larger problem files are refused with a clear error
+MAX_DEPTH = 200  # expression nesting bound (keeps recursion far from Python's limit)
+
+
+# ---- expression nodes ---------------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class Num:
+    span: Span
+    value: float
+    unit: str | None = None
+    unit_span: Span | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Ref:
+    """A name, maybe indexed, with a member and states: `rod.omega@3`, `J_n[A]@2->3`."""
+
+    span: Span
+    name: str
+    index: str | None = None
+    member: str | None = None
+    at: tuple[str, ...] = ()
+
+    @property
+    def text(self) -> str:
+        s = self.name
+        if self.index:
+            s += f"[{self.index}]"
+        if self.member:
+            s += f".{self.member}"
+        if self.at:
+            s += "@" + "->".join(self.at)
+        return s
+
+
+@dataclass(frozen=True, slots=True)
+class BinOp:
+    span: Span
+    op: str  # + - * / ^
+    left: object
+    right: object
+
+
+@dataclass(frozen=True, slots=True)
+class Neg:
+    span: Span
+    arg: object
+
+
+@dataclass(frozen=True, slots=True)
+class Call:
+    span: Span
+    fn: str
+    args: tuple
+    fn_span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class VecLit:
+    span: Span
+    x: object
+    y: object
+
+
+@dataclass(frozen=True, slots=True)
+class Mag:
+    span: Span
+    arg: object
+
+
+# ---- statements -------------------------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class Problem:
+    span: Span
+    title: str
+
+
+@dataclass(frozen=True, slots=True)
+class Gravity:
+    span: Span
+    magnitude: object
+    direction: str  # down | up | left | right | plane | vector
+    vector: object = None
+
+
+@dataclass(frozen=True, slots=True)
+class Let:
+    span: Span
+    name: str
+    value: object
+
+
+@dataclass(frozen=True, slots=True)
+class UnknownDecl:
+    span: Span
+    name: str
+    unit: str | None
+    unit_span: Span | None
+
+
+@dataclass(frozen=True, slots=True)
+class Arg:
+    span: Span
+    name: str
+    value: object
+
+
+@dataclass(frozen=True, slots=True)
+class Shape:
+    span: Span
+    kind: str
+    args: tuple[Arg, ...]
+    at: object = None  # offset in the composite frame (composite parts)
+    rotated: object = None
+
+
+@dataclass(frozen=True, slots=True)
+class BodyDecl:
+    span: Span
+    name: str
+    shapes: tuple[Shape, ...]
+    composite: bool
+
+
+@dataclass(frozen=True, slots=True)
+class PointRef:
+    span: Span
+    name: str
+    member: str | None = None  # `rod.A`, `rod.center`
+    end: str | None = None  # "+" or "-" for `rod.end(+)`
+
+    @property
+    def text(self) -> str:
+        if self.end:
+            return f"{self.name}.end({self.end})"
+        return f"{self.name}.{self.member}" if self.member else self.name
+
+
+@dataclass(frozen=True, slots=True)
+class PointDecl:
+    span: Span
+    name: str
+    body: str | None  # `point A = rod at (...)`
+    offset: object = None
+    alias: PointRef | None = None  # `point A = rod.end(-)`
+
+
+@dataclass(frozen=True, slots=True)
+class SurfaceDecl:
+    span: Span
+    name: str
+    normal: object
+    at: object
+
+
+@dataclass(frozen=True, slots=True)
+class Joint:
+    """`pin`, `weld`, `link` (a two-force strut) and `spring` between two points."""
+
+    span: Span
+    kind: str
+    label: str | None
+    a: PointRef
+    b: PointRef
+    at: object = None  # pin to ground: where the ground point is
+    along: object = None  # link: direction of the strut
+    stiffness: object = None  # spring
+    length: object = None  # spring free length
+
+
+@dataclass(frozen=True, slots=True)
+class Given:
+    span: Span
+    body: str
+    qty: str
+    qty_span: Span
+    value: object
+    relation: str = "="  # "=" given, "<" / ">" branch hints
+
+
+@dataclass(frozen=True, slots=True)
+class AtRest:
+    span: Span
+    body: str
+
+
+@dataclass(frozen=True, slots=True)
+class RollsIn:
+    span: Span
+    body: str
+    surface: str
+
+
+@dataclass(frozen=True, slots=True)
+class StateDecl:
+    span: Span
+    id: str
+    label: str | None
+    items: tuple
+
+
+@dataclass(frozen=True, slots=True)
+class Contact:
+    span: Span
+    label: str | None
+    a: PointRef
+    b: PointRef | None  # None: the ground
+    normal: object
+    props: tuple  # of Prop
+
+
+@dataclass(frozen=True, slots=True)
+class Prop:
+    span: Span
+    kind: str  # restitution | restitution? | smooth | rough | friction | slip
+    value: object = None
+
+
+@dataclass(frozen=True, slots=True)
+class Clause:
+    """A non-contact clause in a transition: stops, rolls, force, moment, duration..."""
+
+    span: Span
+    kind: str
+    names: tuple[str, ...] = ()
+    value: object = None
+    point: PointRef | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Transition:
+    span: Span
+    kind: str  # impact | interval | energy
+    before: str
+    after: str
+    clauses: tuple
+    before_span: Span
+    after_span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class ConserveMomentum:
+    span: Span
+    axis: object  # "x" | "y" | vector expression
+    bodies: tuple[str, ...]
+    before: str
+    after: str
+
+
+@dataclass(frozen=True, slots=True)
+class ConserveAngular:
+    span: Span
+    bodies: tuple[str, ...]
+    about: PointRef
+    before: str
+    after: str
+
+
+@dataclass(frozen=True, slots=True)
+class RestitutionLaw:
+    span: Span
+    value: object
+    a: PointRef
+    b: PointRef | None
+    along: object
+    before: str
+    after: str
+
+
+@dataclass(frozen=True, slots=True)
+class UserEquation:
+    span: Span
+    left: object
+    right: object
+
+
+@dataclass(frozen=True, slots=True)
+class FindItem:
+    span: Span
+    name: str | None
+    expr: object
+    unit: str | None
+    unit_span: Span | None
+
+
+@dataclass(frozen=True, slots=True)
+class Find:
+    span: Span
+    items: tuple[FindItem, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Document:
+    source: Source
+    statements: tuple
+
+
+# ---- the parser ---------------------------------------------------------------------------
+def grammar_text() -> str:
+    """The grammar, from inside the installed package or from the repository."""
+    try:
+        from importlib.resources import files
+
+        res = files("momentum_cli").joinpath("momentum.lark")
+        if res.is_file():
+            return res.read_text(encoding="utf-8")
+    except (ModuleNotFoundError, FileNotFoundError, OSError):
+        pass
+    return (Path(__file__).resolve().parent.parent / "grammar" / "momentum.lark").read_text(
+        encoding="utf-8"
+    )
+
+
+def _cache_path(text: str) -> str | bool:
+    import lark
+
+    key = hashlib.sha256((text + lark.__version__).encode()).hexdigest()[:16]
+    base = os.environ.get("MOMENTUM_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
+        "momentum",
+    )
+    try:
+        os.makedirs(base, exist_ok=True)
+        probe = os.path.join(base, f"grammar-{key}.lark-cache")
+        if os.access(base, os.W_OK) or os.path.exists(probe):
+            return probe
+    except OSError:
+        pass
+    return False
+
+
+@functools.lru_cache(maxsize=1)
+def parser():
+    """The LALR parser, built once and cached on disk (lark's `cache=`)."""
+    from lark import Lark
+    from lark.indenter import Indenter
+
+    class _Indenter(Indenter):
+        NL_type = "_NL"
+        OPEN_PAREN_types = ["LPAR", "LSQB", "LBRACE"]
+        CLOSE_PAREN_types = ["RPAR", "RSQB", "RBRACE"]
+        INDENT_type = "_INDENT"
+        DEDENT_type = "_DEDENT"
+        tab_len = 8
+
+    text = grammar_text()
+    kw = dict(parser="lalr", postlex=_Indenter(), propagate_positions=True,
+              maybe_placeholders=False)
+    cache = _cache_path(text)
+    if cache:
+        try:
+            return Lark(text, cache=cache, **kw)
+        except Exception:  # an unreadable or stale cache must not stop the user
+            pass
+    return Lark(text, **kw)
+
+
+def parse(source: Source) -> Document:
+    """Parse a problem file into a `Document`, or raise `ProblemError` at a location."""
+    from lark.exceptions import LarkError, UnexpectedInput, VisitError
+
+    text = source.text
+    if len(text) > MAX_BYTES:
+        raise ProblemError(f"file too large ({len(text)} characters; the limit is {MAX_BYTES})",
+                           code="too-large")
+    if "\x00" in text:
+        raise ProblemError("not a text file (it contains NUL bytes)", code="binary")
+    if not text.strip():
+        raise ProblemError("empty problem file: nothing to solve", code="empty",
+                           notes=["a problem needs at least a body, a state and a `find` line"])
+    _check_depth(source)
+    try:
+        tree = parser().parse(text if text.endswith("\n") else text + "\n")
+    except UnexpectedInput as exc:
+        raise _syntax_error(source, exc) from None
+    except LarkError as exc:  # indentation errors and the like
+        raise ProblemError(f"syntax error: {_first_line(exc)}", code="syntax") from None
+    try:
+        statements = _ToNodes().transform(tree)
+    except VisitError as exc:
+        if isinstance(exc.orig_exc, ProblemError):
+            raise exc.orig_exc from None
+        raise
+    return Document(source, tuple(statements.children))
+
+
+def _first_line(exc: Exception) -> str:
+    return (str(exc).strip().splitlines() or ["invalid input"])[0]
+
+
+def _check_depth(source: Source) -> None:
+    depth = best = 0
+    for i, ch in enumerate(source.text):
+        if ch in "([{":
+            depth += 1
+            if depth > best:
+                best = depth
+                if best > MAX_DEPTH:
+                    line = source.text.count("\n", 0, i) + 1
+                    col = i - source.text.rfind("\n", 0, i)
+                    raise ProblemError(f"expression nested too deeply (more than {MAX_DEPTH} "
+                                       "brackets)", Span(line, col), code="too-deep")
+        elif ch in ")]}":
+            depth = max(depth - 1, 0)
+
+
+_READABLE = {
+    "_NL": "end of line", "_INDENT": "an indented block", "_DEDENT": "end of block",
+    "NAME": "a name", "NUMBER": "a number", "STATE_ID": "a state number", "UNIT": "a unit",
+    "STRING": "a quoted string", "LPAR": "'('", "RPAR": "')'", "COMMA": "','",
+    "COLON": "':'", "EQUAL": "'='", "SIGN": "'+' or '-'", "MORETHAN": "'>'", "LESSTHAN": "'<'",
+    "LBRACE": "'{'", "RBRACE": "'}'", "LSQB": "'['", "RSQB": "']'", "AT": "'@'", "DOT": "'.'",
+    "STAR": "'*'", "SLASH": "'/'", "PLUS": "'+'", "MINUS": "'-'", "QMARK": "'?'",
+    "VBAR": "'|'", "CIRCUMFLEX": "'^'", "__ANON_0": "'->'",
+}
+
+
+def _readable(name: str) -> str:
+    if name in _READABLE:
+        return _READABLE[name]
+    if name.startswith("__ANON"):
+        return "'->'" if name else name
+    return f"'{name.lower()}'"
+
+
+def _syntax_error(source: Source, exc) -> ProblemError:
+    from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedToken
+
+    expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
+    words = sorted({_readable(e) for e in expected})
+    hint = ""
+    if words:
+        shown = ", ".join(words[:8]) + (", ..." if len(words) > 8 else "")
+        hint = f"; expected {shown}"
+    if isinstance(exc, UnexpectedEOF) or getattr(getattr(exc, "token", None), "type", "") == "$END":
+        lines = source.text.splitlines() or [""]
+        span = Span(len(lines), len(lines[-1]) + 1)
+        return ProblemError("syntax error: unexpected end of file" + hint, span, code="syntax")
+    line, col = getattr(exc, "line", 1), getattr(exc, "column", 1)
+    if line is None or line < 1:
+        line, col = 1, 1
+    if isinstance(exc, UnexpectedCharacters):
+        ch = source.line_text(line)[col - 1 : col] or "?"
+        return ProblemError(f"syntax error: unexpected character '{ch}'" + hint,
+                            Span(line, col), code="syntax")
+    if isinstance(exc, UnexpectedToken):
+        tok = exc.token
+        if tok.type == "_NL":
+            what = "end of line"
+        elif tok.type in ("_INDENT", "_DEDENT"):
+            what = "indentation"
+        else:
+            what = f"'{tok}'"
+        end = Span(line, col, line, col + len(str(tok))) if tok.type not in (
+            "_NL", "_INDENT", "_DEDENT") else Span(line, col)
+        return ProblemError(f"syntax error: unexpected {what}" + hint, end, code="syntax")
+    return ProblemError(f"syntax error: {_first_line(exc)}", Span(line, col), code="syntax")
+
+
+# ---- tree -> nodes ------------------------------------------------------------------------
+def _span(meta) -> Span:
+    return Span(meta.line, meta.column, meta.end_line, meta.end_column)
+
+
+def _tspan(tok) -> Span:
+    return Span(tok.line, tok.column, tok.end_line, tok.end_column)
+
+
+def _make_transformer():
+    from lark import Token, Transformer, v_args
+
+    @v_args(meta=True)
+    class ToNodes(Transformer):
+        # -- expressions
+        def quantity(self, meta, ch):
+            num = ch[0]
+            try:
+                value = float(num)
+            except ValueError:
+                raise ProblemError(f"cannot read number '{num}'", _tspan(num), code="syntax")
+            if len(ch) > 1:
+                u = ch[1]
+                return Num(_span(meta), value, str(u[0]), u[1])
+            return Num(_span(meta), value)
+
+        def unit(self, meta, ch):
+            return (str(ch[0]), _tspan(ch[0]))
+
+        def unit_inch(self, meta, ch):
+            return ("in", _span(meta))
+
+        def ref(self, meta, ch):
+            name = str(ch[0])
+            index = member = None
+            at: tuple[str, ...] = ()
+            for c in ch[1:]:
+                kind, val = c
+                if kind == "index":
+                    index = val
+                elif kind == "member":
+                    member = val
+                else:
+                    at = val
+            return Ref(_span(meta), name, index, member, at)
+
+        def ref_index(self, meta, ch):
+            return ("index", str(ch[0]))
+
+        def ref_member(self, meta, ch):
+            return ("member", str(ch[0]))
+
+        def ref_at(self, meta, ch):
+            return ("at", tuple(str(c) for c in ch))
+
+        def _bin(op):
+            def f(self, meta, ch):
+                return BinOp(_span(meta), op, ch[0], ch[-1])
+            return f
+
+        add, sub, mul, div, pow = _bin("+"), _bin("-"), _bin("*"), _bin("/"), _bin("^")
+
+        def neg(self, meta, ch):
+            return Neg(_span(meta), ch[0])
+
+        def unary(self, meta, ch):  # unary plus
+            return ch[-1]
+
+        def call(self, meta, ch):
+            return Call(_span(meta), str(ch[0]), tuple(ch[1:]), _tspan(ch[0]))
+
+        def vec_lit(self, meta, ch):
+            return VecLit(_span(meta), ch[0], ch[1])
+
+        def magnitude(self, meta, ch):
+            return Mag(_span(meta), ch[0])
+
+        def vector(self, meta, ch):
+            return ch[0]
+
+        # -- header
+        def problem_stmt(self, meta, ch):
+            return Problem(_span(meta), str(ch[0])[1:-1])
+
+        def gravity_stmt(self, meta, ch):
+            d = ch[1]
+            return Gravity(_span(meta), ch[0], d[0], d[1])
+
+        def dir_down(self, meta, ch):
+            return ("down", None)
+
+        def dir_up(self, meta, ch):
+            return ("up", None)
+
+        def dir_left(self, meta, ch):
+            return ("left", None)
+
+        def dir_right(self, meta, ch):
+            return ("right", None)
+
+        def dir_plane(self, meta, ch):
+            return ("plane", None)
+
+        def dir_vector(self, meta, ch):
+            return ("vector", ch[0])
+
+        def let_stmt(self, meta, ch):
+            return Let(_span(meta), str(ch[0]), ch[1])
+
+        def unknown_stmt(self, meta, ch):
+            unit = ch[1] if len(ch) > 1 else (None, None)
+            return UnknownDecl(_span(meta), str(ch[0]), unit[0], unit[1])
+
+        # -- bodies and points
+        def arg(self, meta, ch):
+            return Arg(_span(meta), str(ch[0]), ch[1])
+
+        def shape(self, meta, ch):
+            return Shape(_span(meta), str(ch[0]), tuple(c for c in ch[1:] if c is not None))
+
+        def part(self, meta, ch):
+            shape, at, rot = ch[0], None, None
+            for kind, val in ch[1:]:
+                if kind == "at":
+                    at = val
+                else:
+                    rot = val
+            return Shape(shape.span, shape.kind, shape.args, at, rot)
+
+        def place_at(self, meta, ch):
+            return ("at", ch[0])
+
+        def place_rotated(self, meta, ch):
+            return ("rotated", ch[0])
+
+        def body_simple(self, meta, ch):
+            return BodyDecl(_span(meta), str(ch[0]), (ch[1],), False)
+
+        def body_composite(self, meta, ch):
+            return BodyDecl(_span(meta), str(ch[0]), tuple(ch[1:]), True)
+
+        def point_stmt(self, meta, ch):
+            name, d = str(ch[0]), ch[1]
+            if isinstance(d, PointRef):
+                return PointDecl(_span(meta), name, None, None, d)
+            return PointDecl(_span(meta), name, d[0], d[1])
+
+        def point_at(self, meta, ch):
+            return (str(ch[0]), ch[1])
+
+        def point_alias(self, meta, ch):
+            return ch[0]
+
+        def pref_name(self, meta, ch):
+            return PointRef(_span(meta), str(ch[0]))
+
+        def pref_member(self, meta, ch):
+            return PointRef(_span(meta), str(ch[0]), member=str(ch[1]))
+
+        def pref_end(self, meta, ch):
+            return PointRef(_span(meta), str(ch[0]), end=str(ch[1]))
+
+        def surface_stmt(self, meta, ch):
+            found = dict(c for c in ch[1:])
+            return SurfaceDecl(_span(meta), str(ch[0]), found.get("normal"), found.get("at"))
+
+        def surface_normal(self, meta, ch):
+            return ("normal", ch[0])
+
+        def surface_at(self, meta, ch):
+            return ("at", ch[0])
+
+        def label(self, meta, ch):
+            return ("label", str(ch[0]))
+
+        def _joint(kind):
+            def f(self, meta, ch):
+                label = None
+                if ch and isinstance(ch[0], tuple) and ch[0][0] == "label":
+                    label, ch = ch[0][1], ch[1:]
+                a, b, rest = ch[0], ch[1], ch[2:]
+                kw = {}
+                if kind == "pin" and rest:
+                    kw["at"] = rest[0]
+                elif kind == "link":
+                    kw["along"] = rest[0]
+                elif kind == "spring":
+                    kw["stiffness"] = rest[0]
+                    if len(rest) > 1:
+                        kw["length"] = rest[1]
+                return Joint(_span(meta), kind, label, a, b, **kw)
+            return f
+
+        pin_stmt, weld_stmt = _joint("pin"), _joint("weld")
+        link_stmt, spring_stmt = _joint("link"), _joint("spring")
+
+        # -- states
+        def qty_ref(self, meta, ch):
+            return (str(ch[0]), str(ch[1]), _span(meta))
+
+        def _given(rel):
+            def f(self, meta, ch):
+                body, qty, qspan = ch[0]
+                return Given(_span(meta), body, qty, qspan, ch[1], rel)
+            return f
+
+        given, hint_below, hint_above = _given("="), _given("<"), _given(">")
+
+        def at_rest(self, meta, ch):
+            return AtRest(_span(meta), str(ch[0]))
+
+        def state_rolls(self, meta, ch):
+            return RollsIn(_span(meta), str(ch[0]), str(ch[1]))
+
+        def state_items(self, meta, ch):
+            return list(ch)
+
+        def state_stmt(self, meta, ch):
+            sid = str(ch[0])
+            label = None
+            items = []
+            for c in ch[1:]:
+                if isinstance(c, Token) and c.type == "STRING":
+                    label = str(c)[1:-1]
+                elif isinstance(c, list):
+                    items.extend(c)
+            return StateDecl(_span(meta), sid, label, tuple(items))
+
+        # -- transitions
+        def kind_impact(self, meta, ch):
+            return "impact"
+
+        def kind_interval(self, meta, ch):
+            return "interval"
+
+        def kind_energy(self, meta, ch):
+            return "energy"
+
+        def transition_stmt(self, meta, ch):
+            kind, a, b = ch[0], ch[1], ch[2]
+            return Transition(_span(meta), kind, str(a), str(b), tuple(ch[3:]), _tspan(a),
+                              _tspan(b))
+
+        def target_ground(self, meta, ch):
+            return None
+
+        def target_point(self, meta, ch):
+            return ch[0]
+
+        def contact_clause(self, meta, ch):
+            label = None
+            if ch and isinstance(ch[0], tuple) and ch[0][0] == "label":
+                label, ch = ch[0][1], ch[1:]
+            a, b = ch[0], ch[1]
+            normal, props = None, ()
+            for c in ch[2:]:
+                if isinstance(c, list):
+                    props = tuple(c)
+                else:
+                    normal = c
+            return Contact(_span(meta), label, a, b, normal, props)
+
+        def contact_props(self, meta, ch):
+            return list(ch)
+
+        def prop_restitution(self, meta, ch):
+            return Prop(_span(meta), "restitution", ch[0])
+
+        def prop_restitution_unknown(self, meta, ch):
+            return Prop(_span(meta), "restitution?")
+
+        def prop_smooth(self, meta, ch):
+            return Prop(_span(meta), "smooth")
+
+        def prop_rough(self, meta, ch):
+            return Prop(_span(meta), "rough")
+
+        def prop_friction(self, meta, ch):
+            return Prop(_span(meta), "friction", ch[0])
+
+        def prop_slip(self, meta, ch):
+            return Prop(_span(meta), "slip", ch[0])
+
+        def bearing_friction(self, meta, ch):
+            return Clause(_span(meta), "bearing-friction", (str(ch[0]),))
+
+        def stops_relative(self, meta, ch):
+            return Clause(_span(meta), "stops-relative", (str(ch[0]), str(ch[1])))
+
+        def stops(self, meta, ch):
+            return Clause(_span(meta), "stops", (str(ch[0]),))
+
+        def rolls(self, meta, ch):
+            return Clause(_span(meta), "rolls", (str(ch[0]), str(ch[1])))
+
+        def force_clause(self, meta, ch):
+            return Clause(_span(meta), "force", value=ch[0], point=ch[1])
+
+        def moment_clause(self, meta, ch):
+            return Clause(_span(meta), "moment", (str(ch[1]),), value=ch[0])
+
+        def duration_clause(self, meta, ch):
+            return Clause(_span(meta), "duration", value=ch[0])
+
+        def free_body(self, meta, ch):
+            return Clause(_span(meta), "free", (str(ch[0]),))
+
+        # -- principles
+        def axis_x(self, meta, ch):
+            return "x"
+
+        def axis_y(self, meta, ch):
+            return "y"
+
+        def axis_vector(self, meta, ch):
+            return ch[0]
+
+        def body_set(self, meta, ch):
+            return tuple(str(c) for c in ch)
+
+        def conserve_momentum_stmt(self, meta, ch):
+            return ConserveMomentum(_span(meta), ch[0], ch[1], str(ch[2]), str(ch[3]))
+
+        def conserve_angular_stmt(self, meta, ch):
+            return ConserveAngular(_span(meta), ch[0], ch[1], str(ch[2]), str(ch[3]))
+
+        def restitution_stmt(self, meta, ch):
+            return RestitutionLaw(_span(meta), ch[0], ch[1], ch[2], ch[3], str(ch[4]),
+                                  str(ch[5]))
+
+        def equation_stmt(self, meta, ch):
+            return UserEquation(_span(meta), ch[0], ch[1])
+
+        # -- find
+        def find_named(self, meta, ch):
+            return (str(ch[0]), ch[1])
+
+        def find_expr(self, meta, ch):
+            return (None, ch[0])
+
+        def find_item(self, meta, ch):
+            name, expr = ch[0]
+            unit = ch[1] if len(ch) > 1 else (None, None)
+            return FindItem(_span(meta), name, expr, unit[0], unit[1])
+
+        def find_stmt(self, meta, ch):
+            return Find(_span(meta), tuple(ch))
+
+    return ToNodes
+
+
+@functools.lru_cache(maxsize=1)
+def _transformer_class():
+    return _make_transformer()
+
+
+def _ToNodes():
+    return _transformer_class()()
