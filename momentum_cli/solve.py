@@ -113,7 +113,12 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
         names.add(site.jn)
         if site.jt:
             names.add(site.jt)
-    return sorted(names)
+    # the report's energy check for each impact needs the velocities on both sides
+    for t in system.transitions:
+        if t.kind == "impact":
+            for sid in (t.before, t.after):
+                variables(system.state_energy[sid], names)
+    return sorted(n for n in names if n not in structure.under)
 
 
 def _solve(system: System, structure: Structure, solve_all: bool) -> Solution:
@@ -246,28 +251,17 @@ def _solve_block(system: System, structure: Structure, block, values) -> BlockRe
 
 
 def solve_linear(rows, rhs, eqs, names):
-    """Equilibrated dense solve; returns (x, condition number of the scaled matrix)."""
-    import numpy as np
+    """Equilibrated dense solve; returns (x, 1-norm condition number of the scaled matrix)."""
+    from .linalg import SingularError, solve_dense
 
-    A = np.array(rows, dtype=float)
-    b = np.array(rhs, dtype=float)
-    if not (np.isfinite(A).all() and np.isfinite(b).all()):
+    if not all(math.isfinite(x) for row in rows for x in row) or \
+            not all(math.isfinite(x) for x in rhs):
         raise ProblemError("the equations contain a number that is not finite", eqs[0].span,
                            code="number")
-    # row and column equilibration: the unknowns mix N*s, m/s and rad/s
-    r = np.max(np.abs(A), axis=1)
-    r[r == 0] = 1.0
-    A1 = A / r[:, None]
-    c = np.max(np.abs(A1), axis=0)
-    c[c == 0] = 1.0
-    A2 = A1 / c[None, :]
-    b2 = b / r
-    cond = float(np.linalg.cond(A2))
-    if not math.isfinite(cond) or cond > 1e15:
-        raise _singular(eqs, names, cond)
-    y = np.linalg.solve(A2, b2)
-    x = y / c
-    return [float(v) for v in x], cond
+    try:
+        return solve_dense(rows, rhs)
+    except SingularError as exc:
+        raise _singular(eqs, names, exc.cond) from None
 
 
 def _singular(eqs, names, cond=None) -> ProblemError:
@@ -313,19 +307,20 @@ def _satisfies(system: System, names, x) -> bool:
     return True
 
 
-def _newton(system: System, block, eqs: list[Equation], names: list[str], values) -> BlockReport:
-    import numpy as np
+def _close(x, y) -> bool:
+    return all(abs(a - b) <= 1e-7 * max(abs(a), abs(b)) + 1e-9 for a, b in zip(x, y))
 
+
+def _newton(system: System, block, eqs: list[Equation], names: list[str], values) -> BlockReport:
     F = [e.residual for e in eqs]
     J = [[diff(f, n) for n in names] for f in F]
     roots = []
-    best_iters = 0
     for x0 in _starts(system, names, values):
         r = _newton_from(F, J, names, values, x0)
         if r is None:
             continue
         x, iters = r
-        if not any(np.allclose(x, y, rtol=1e-7, atol=1e-9) for y, _ in roots):
+        if not any(_close(x, y) for y, _ in roots):
             roots.append((x, iters))
     lines = sorted({e.span.line for e in eqs if e.span})
     where = f"line{'s' if len(lines) > 1 else ''} {', '.join(map(str, lines))}"
@@ -337,74 +332,76 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
     hinted = [r for r in roots if _satisfies(system, names, r[0])]
     has_hint = any(system.unknowns[n].hints and system.unknowns[n].kind not in
                    ("impulse", "duration") for n in names)
+
+    def listing():
+        return "; ".join(", ".join(f"{n} = {fmt_num(v, 4)}" for n, v in zip(names, x))
+                         for x, _ in roots)
+
     if not hinted:
-        shown = "; ".join(", ".join(f"{n} = {fmt_num(v, 4)}" for n, v in zip(names, x))
-                          for x, _ in roots)
         raise ProblemError(f"no solution of {eqs[0].principle} satisfies the hints", eqs[0].span,
-                           code="no-solution", notes=[f"solutions found: {shown}"])
+                           code="no-solution", notes=[f"solutions found: {listing()}"])
     if len(hinted) > 1 or (len(roots) > 1 and not has_hint):
-        shown = "; ".join(", ".join(f"{n} = {fmt_num(v, 4)}" for n, v in zip(names, x))
-                          for x, _ in roots)
-        first = names[0]
-        u = system.unknowns[first]
+        u = system.unknowns[names[0]]
         where_hint = f" in state {u.state}" if u.state else ""
-        qty = f"{u.body}.{u.qty}" if u.body else first
+        qty = f"{u.body}.{u.qty}" if u.body else names[0]
         raise ProblemError(f"more than one solution for {', '.join(names)}", eqs[0].span,
                            code="ambiguous",
-                           notes=[f"solutions: {shown}",
+                           notes=[f"solutions: {listing()}",
                                   f"choose one with a hint such as `{qty} < 0`{where_hint}"])
     x, iters = hinted[0]
     for n, v in zip(names, x):
         values[n] = float(v)
     res = max(abs(evaluate(f, values)) for f in F)
-    best_iters = iters
-    return BlockReport(block.index, names, block.equations, "newton", None, best_iters, res)
+    return BlockReport(block.index, names, block.equations, "newton", None, iters, res)
 
 
 def _newton_from(F, J, names, values, x0):
-    import numpy as np
+    """Damped Newton from x0; (x, iterations) on convergence, else None."""
+    from .linalg import lstsq_small
 
-    x = np.array(x0, dtype=float)
     env = dict(values)
+    x = [float(v) for v in x0]
 
     def resid(xv):
         for n, v in zip(names, xv):
-            env[n] = float(v)
+            env[n] = v
         try:
-            return np.array([evaluate(f, env) for f in F])
+            out = [evaluate(f, env) for f in F]
         except (ValueError, ZeroDivisionError, OverflowError):
             return None
+        return out if all(math.isfinite(v) for v in out) else None
+
+    def norm(v):
+        return math.sqrt(sum(a * a for a in v))
 
     r = resid(x)
     if r is None:
         return None
     for it in range(1, 101):
-        scale = max(1.0, float(np.max(np.abs(x))))
+        scale = max(1.0, max(abs(v) for v in x))
+        if max(abs(v) for v in r) == 0.0:
+            return x, it - 1
         try:
-            Jm = np.array([[evaluate(d, env) for d in row] for row in J])
-        except (ValueError, ZeroDivisionError, OverflowError):
+            Jm = [[evaluate(d, env) for d in row] for row in J]
+            dx = lstsq_small(Jm, [-v for v in r])
+        except (ValueError, ZeroDivisionError, OverflowError, ArithmeticError):
             return None
-        if not np.isfinite(Jm).all():
+        if not all(math.isfinite(v) for v in dx):
             return None
-        dx = np.linalg.lstsq(Jm, -r, rcond=None)[0]
-        step = 1.0
-        norm0 = float(np.linalg.norm(r))
+        step, norm0 = 1.0, norm(r)
         while step > 1e-6:
-            xn = x + step * dx
+            xn = [a + step * d for a, d in zip(x, dx)]
             rn = resid(xn)
-            if rn is not None and np.isfinite(rn).all() and np.linalg.norm(rn) < norm0 * (1 - 1e-4 * step) + 1e-300:
+            if rn is not None and norm(rn) < norm0 * (1 - 1e-4 * step):
                 break
             step /= 2
         else:
             resid(x)
             return (x, it) if norm0 <= 1e-10 * scale else None
-        x = xn
-        r = rn
-        if float(np.max(np.abs(step * dx))) <= 1e-13 * scale and float(np.max(np.abs(r))) < 1e-8 * scale:
+        x, r = xn, rn
+        if max(abs(step * d) for d in dx) <= 1e-14 * scale:
             return x, it
-        if float(np.max(np.abs(r))) == 0.0:
-            return x, it
-    return (x, 100) if float(np.max(np.abs(r))) < 1e-9 * max(1.0, float(np.max(np.abs(x)))) else None
+    return (x, 100) if max(abs(v) for v in r) < 1e-9 * max(1.0, max(abs(v) for v in x)) else None
 
 
 def _hint_checks(sol: Solution) -> None:

@@ -1,0 +1,251 @@
+"""The command-line interface (typer): solve / check. No physics here.
+
+Parses flags, reads files, picks a renderer, and maps results to exit codes:
+0 solved, 1 a problem in a file, 2 usage or unreadable file, 3 internal error,
+130 interrupted. Heavy modules (rich, numpy) are imported only when needed.
+"""
+from __future__ import annotations
+
+import os
+import sys
+from enum import Enum
+from typing import List, Optional
+
+import typer
+
+from .diagnostics import Diagnostic, ExitCode
+
+app = typer.Typer(
+    name="momentum",
+    help="Solve planar rigid-body impulse, momentum and impact problems written in the "
+         "momentum problem language, and show the solution step by step.\n\n"
+         "Exit codes: 0 solved, 1 a problem in a file (syntax, units, under-determined, "
+         "inconsistent), 2 usage error or unreadable file, 3 internal error, 130 interrupted.",
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+class Format(str, Enum):
+    auto = "auto"
+    rich = "rich"
+    plain = "plain"
+    json = "json"
+
+
+def _version_callback(value: bool) -> None:
+    if value:
+        from . import __version__
+
+        typer.echo(f"momentum {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: Optional[bool] = typer.Option(None, "--version", "-V", is_eager=True,
+                                           callback=_version_callback,
+                                           help="Print the version and exit."),
+) -> None:
+    """momentum: impulse, momentum and impact problems, solved step by step."""
+
+
+def _pick_format(fmt: Format, json_flag: bool, plain: bool) -> str:
+    if json_flag:
+        return "json"
+    if plain:
+        return "plain"
+    if fmt != Format.auto:
+        return fmt.value
+    return "rich" if sys.stdout.isatty() and os.environ.get("TERM") != "dumb" else "plain"
+
+
+def _read_all(files: List[str]):
+    """Yield (name, Source | None, Diagnostic | None) for each path, `-` read once."""
+    from .run import read_source
+
+    if files.count("-") > 1:
+        raise typer.BadParameter("'-' (standard input) may be given only once")
+    stdin_text = None
+    if "-" in files:
+        if sys.stdin is None or sys.stdin.isatty():
+            raise typer.BadParameter("'-' reads a problem from standard input, but standard "
+                                     "input is a terminal")
+        stdin_text = sys.stdin.read()
+    for path in files:
+        try:
+            yield path, read_source(path, stdin_text), None
+        except IsADirectoryError:
+            yield path, None, Diagnostic("error", "unreadable", "is a directory, not a file")
+        except FileNotFoundError:
+            yield path, None, Diagnostic("error", "unreadable", "no such file")
+        except PermissionError:
+            yield path, None, Diagnostic("error", "unreadable", "permission denied")
+        except UnicodeDecodeError as exc:
+            yield path, None, Diagnostic("error", "unreadable",
+                                         f"not UTF-8 text (byte {exc.start})")
+        except OSError as exc:
+            yield path, None, Diagnostic("error", "unreadable", exc.strerror or str(exc))
+
+
+def _print_diagnostics(res, err) -> None:
+    for d in res.diagnostics:
+        if res.source is None:
+            err.write(f"{res.name}: {d.severity}: {d.message}\n")
+        else:
+            err.write(d.format(res.source) + "\n")
+
+
+def _internal(name: str, exc: BaseException, traceback_flag: bool):
+    from .run import FileResult
+
+    if traceback_flag:
+        raise exc
+    return FileResult(name, "internal", None, None, [Diagnostic(
+        "error", "internal", f"internal error: {type(exc).__name__}: {exc} (this is a bug in "
+        "momentum; rerun with --traceback and report it)")])
+
+
+@app.command()
+def solve(
+    files: List[str] = typer.Argument(..., metavar="FILE...",
+                                      help="Problem files (.mom); '-' reads standard input."),
+    fmt: Format = typer.Option(Format.auto, "--format", "-f",
+                               help="auto: rich on a terminal, plain when piped."),
+    json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
+    plain: bool = typer.Option(False, "--plain", help="Deterministic plain text (the golden "
+                                                      "format)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only `name = value unit`."),
+    solve_all: bool = typer.Option(False, "--all", help="Solve every determined block, not only "
+                                                        "those the `find` lines need."),
+    digits: int = typer.Option(6, "--digits", "-p", min=1, max=17,
+                               help="Significant figures in printed numbers."),
+    traceback_flag: bool = typer.Option(False, "--traceback", help="Show Python tracebacks of "
+                                                                   "internal errors."),
+) -> None:
+    """Solve problem files and print the solution step by step.
+
+    \b
+    Examples:
+      momentum solve examples/seed_rod_drop_smooth.mom
+      momentum solve --json examples/*.mom
+      cat problem.mom | momentum solve -q -
+    """
+    from .run import FileResult, solve_source
+
+    mode = _pick_format(fmt, json_flag, plain)
+    out, err = sys.stdout, sys.stderr
+    results = []
+    console = None
+    worst = ExitCode.OK
+    many = len(files) > 1
+    for i, (name, source, problem) in enumerate(_read_all(files)):
+        if source is None:
+            res = FileResult(name, "unreadable", None, None, [problem])
+        else:
+            try:
+                res = solve_source(source, solve_all, digits)
+            except (KeyboardInterrupt, typer.Exit):
+                raise
+            except Exception as exc:  # a bug: report it as one line, keep going
+                res = _internal(name, exc, traceback_flag)
+        code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
+        worst = max(worst, code)
+        if mode == "json":
+            from .report.json_out import result_dict
+
+            results.append(result_dict(name, res.status if res.status != "internal" else "error",
+                                       res.report, res.diagnostics))
+            continue
+        _print_diagnostics(res, err)
+        if res.report is None:
+            continue
+        if quiet:
+            from .report.text import render_quiet
+
+            if many:
+                out.write(f"==> {name} <==\n")
+            out.write(render_quiet(res.report, digits))
+        elif mode == "rich":
+            if console is None:
+                from rich.console import Console
+
+                console = Console()
+            from .report.rich_out import render
+
+            render(res.report, console, digits)
+        else:
+            from .report.text import render
+
+            if i:
+                out.write("\n")
+            out.write(render(res.report, digits))
+    if mode == "json":
+        from . import __version__
+        from .report.json_out import document
+
+        out.write(document(results, __version__))
+    out.flush()
+    raise typer.Exit(int(worst))
+
+
+@app.command()
+def check(
+    files: List[str] = typer.Argument(..., metavar="FILE...",
+                                      help="Problem files (.mom); '-' reads standard input."),
+    json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
+) -> None:
+    """Parse, build and analyse problem files without solving them.
+
+    Prints the counts of unknowns and equations and the under- or over-determined parts,
+    and every error of every file.
+
+    \b
+    Examples:
+      momentum check examples/*.mom
+      momentum check --json problem.mom
+    """
+    from .run import FileResult, check_source
+
+    out, err = sys.stdout, sys.stderr
+    worst = ExitCode.OK
+    results = []
+    for name, source, problem in _read_all(files):
+        if source is None:
+            res = FileResult(name, "unreadable", None, None, [problem])
+        else:
+            try:
+                res = check_source(source)
+            except Exception as exc:
+                res = _internal(name, exc, False)
+        code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
+        worst = max(worst, code)
+        if json_flag:
+            from .report.json_out import result_dict
+
+            results.append(result_dict(name, res.status if res.status != "internal" else "error",
+                                       None, res.diagnostics, res.counts))
+            continue
+        _print_diagnostics(res, err)
+        if res.counts is not None:
+            c = res.counts
+            out.write(f"{name}: {'ok' if res.status == 'checked' else 'error'}: "
+                      f"{c['unknowns']} unknowns, {c['equations']} equations, {c['blocks']} "
+                      f"blocks; {c['redundant']} redundant (checked after solving); "
+                      f"{c['undetermined']} not determined\n")
+    if json_flag:
+        from . import __version__
+        from .report.json_out import document
+
+        out.write(document(results, __version__))
+    raise typer.Exit(int(worst))
+
+
+def main() -> None:
+    """Entry point of the `momentum` command."""
+    try:
+        app()
+    except KeyboardInterrupt:
+        sys.exit(int(ExitCode.INTERRUPTED))

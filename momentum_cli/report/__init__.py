@@ -1,0 +1,1 @@
+"""Report: one result model rendered as plain text, rich tables, or JSON."""

@@ -1,0 +1,53 @@
+"""JSON output: one document, a stable schema (`schema_version` "1"), never NaN.
+
+The schema ships as `momentum_cli/schema/momentum-result.schema.json` and the tests
+validate every example's output against it.
+"""
+from __future__ import annotations
+
+import json
+import math
+
+SCHEMA_VERSION = "1"
+
+
+def clean(x):
+    """Replace non-finite floats by None, recursively (JSON has no NaN)."""
+    if isinstance(x, float):
+        return x if math.isfinite(x) else None
+    if isinstance(x, dict):
+        return {k: clean(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [clean(v) for v in x]
+    return x
+
+
+def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=None) -> dict:
+    d: dict = {"file": file, "status": status, "title": rep.title if rep else None,
+               "answers": [], "unknowns": [], "equations": [], "checks": [],
+               "diagnostics": [x.to_json() for x in diagnostics]}
+    if rep is not None:
+        d["answers"] = [dict(a) for a in rep.answers]
+        d["unknowns"] = [dict(u) for u in rep.unknowns]
+        rows = [r for t in rep.transitions for r in t["equations"]]
+        rows += [r for rs in rep.other_equations.values() for r in rs]
+        rows.sort(key=lambda r: r.index)
+        d["equations"] = [dict(index=r.index + 1, principle=r.principle, group=r.group,
+                               line=r.line, symbolic=r.symbolic, numeric=r.numeric,
+                               kind=r.kind, role=r.role) for r in rows]
+        d["checks"] = [dict(name=c.name, status=c.status, detail=c.detail, value=c.value)
+                       for c in rep.checks]
+        d["blocks"] = [dict(b) for b in rep.blocks]
+        d["transitions"] = [dict(kind=t["kind"], before=t["before"], after=t["after"],
+                                 line=t["line"], why=t["why"]) for t in rep.transitions]
+        d["regimes"] = list(rep.regimes)
+        d["counts"] = dict(rep.counts)
+    if check_counts is not None:
+        d["counts"] = dict(check_counts)
+    return d
+
+
+def document(results: list[dict], version: str) -> str:
+    doc = {"schema_version": SCHEMA_VERSION, "momentum_version": version,
+           "results": clean(results)}
+    return json.dumps(doc, allow_nan=False, indent=2, ensure_ascii=False) + "\n"

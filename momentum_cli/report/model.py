@@ -1,0 +1,198 @@
+"""The report model: everything a renderer shows, as plain data (strings and floats).
+
+Built once from a `Solution`; the plain, rich and JSON renderers only lay it out, so
+the three outputs cannot disagree about a number.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..compile import System
+from ..expr import evaluate, magnitude, variables
+from ..numbers import fmt_num
+from ..solve import CheckReport, Solution
+from ..units import si_label
+
+
+@dataclass
+class EquationRow:
+    index: int
+    principle: str
+    group: str
+    line: int | None
+    symbolic: str
+    numeric: str
+    kind: str
+    role: str  # solved | check | not needed | undetermined
+
+
+@dataclass
+class Report:
+    file: str
+    title: str
+    bodies: list[dict]
+    effects: list[str]
+    knowns: list[dict]  # per state: id, label, items [(name, value, unit)]
+    transitions: list[dict]  # kind, key, line, why, equations (EquationRow list)
+    other_equations: dict[str, list[EquationRow]]
+    blocks: list[dict]
+    unknowns: list[dict]  # name, si_value, unit
+    checks: list[CheckReport]
+    answers: list[dict]
+    regimes: list[dict]
+    diagnostics: list = field(default_factory=list)
+    counts: dict = field(default_factory=dict)
+
+
+def _finite(x: float | None) -> float | None:
+    if x is None or not isinstance(x, (int, float)) or not math.isfinite(x):
+        return None
+    return 0.0 if x == 0 else float(x)
+
+
+def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
+    system: System = sol.system
+    sc = system.scene
+    st = sol.structure
+    values = sol.values
+    solved_eqs = {k for b in sol.blocks for k in b.equations}
+    role = {}
+    for k, e in enumerate(system.equations):
+        if k in solved_eqs:
+            role[k] = "solved"
+        elif k in st.redundant or k in st.constant_eqs:
+            role[k] = "check"
+        elif k in st.under_eqs:
+            role[k] = "undetermined"
+        else:
+            role[k] = "not needed"
+    rows = [EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
+                        e.text(), e.text(numeric=True), e.kind, role[k])
+            for k, e in enumerate(system.equations)]
+    bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
+                   formula=b.inertia_formula, particle=b.is_particle,
+                   weight=b.weight_given) for b in sc.bodies.values()]
+    effects = []
+    if sc.gravity is not None:
+        g = math.hypot(*sc.gravity)
+        effects.append(f"gravity {fmt_num(g, sig)} m/s^2 along "
+                       f"({fmt_num(sc.gravity[0] / g, 4)}, {fmt_num(sc.gravity[1] / g, 4)})")
+    elif sc.g is not None:
+        effects.append(f"g = {fmt_num(sc.g, sig)} m/s^2 (into the plane: weights only, no "
+                       "planar force)")
+    else:
+        effects.append("no gravity (none declared)")
+    for j in sc.joints:
+        what = {"pin": "pin", "weld": "weld", "link": "link (two-force member)",
+                "spring": "spring"}[j.kind]
+        other = j.b.name if j.b.body else "ground"
+        effects.append(f"{what} {j.label}: {j.a.name} to {other}")
+    knowns = []
+    for sid, spec in sc.states.items():
+        items = []
+        for (body, q), (v, _) in spec.givens.items():
+            unit = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
+                    "omega": "rad/s"}[q]
+            items.append((f"{body}.{q}", v, unit))
+        for (body, q), hs in spec.hints.items():
+            for rel, v, _ in hs:
+                items.append((f"{body}.{q} {rel}", v, "hint"))
+        knowns.append(dict(id=sid, label=spec.label or "", items=items))
+    transitions = []
+    used_groups = set()
+    for t in system.transitions:
+        group = f"{t.kind} {t.before} -> {t.after}"
+        used_groups.add(group)
+        transitions.append(dict(kind=t.kind, key=t.key, before=t.before, after=t.after,
+                                line=t.span.line, why=list(t.why),
+                                equations=[r for r in rows if r.group == group]))
+    other: dict[str, list[EquationRow]] = {}
+    for r in rows:
+        if r.group not in used_groups:
+            other.setdefault(r.group, []).append(r)
+    blocks = []
+    for b in sol.blocks:
+        d = dict(index=len(blocks) + 1, unknowns=list(b.unknowns), method=b.method,
+                 condition_number=_finite(b.cond), iterations=b.iterations,
+                 residual=_finite(b.residual),
+                 lines=sorted({system.equations[k].span.line for k in b.equations
+                               if system.equations[k].span}))
+        if b.matrix is not None and len(b.unknowns) > 1:
+            d["matrix"] = [[_finite(x) for x in row] for row in b.matrix]
+            d["rhs"] = [_finite(x) for x in b.rhs]
+        blocks.append(d)
+    unknowns = [dict(name=n, si_value=_finite(values[n]), unit=u.unit)
+                for n, u in system.unknowns.items() if n in values]
+    checks = list(sol.checks) + _energy_checks(sol, sig) + _residual_checks(sol)
+    for b in sol.blocks:
+        if b.method == "linear" and b.cond is not None and len(b.unknowns) > 1:
+            status = "ok" if b.cond < 1e8 else "warning"
+            checks.append(CheckReport(f"condition number, block {', '.join(b.unknowns[:3])}"
+                                      f"{'...' if len(b.unknowns) > 3 else ''}", status,
+                                      f"{fmt_num(b.cond, 3)} (1-norm, after equilibration)",
+                                      b.cond))
+    answers = [dict(name=n, value=_finite(v), unit=u, si_value=_finite(si))
+               for n, v, u, si in sol.answers]
+    regimes = [dict(contact=s.label, transition=s.transition,
+                    regime="stick" if s.regime == "stick" else "slide")
+               for s in system.friction]
+    counts = dict(unknowns=len(system.unknowns), equations=len(system.equations),
+                  blocks=len(st.blocks), solved_blocks=len(sol.blocks),
+                  redundant=len(st.redundant) + len(st.constant_eqs),
+                  undetermined=len(st.under))
+    return Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
+                  checks, answers, regimes, list(sol.diagnostics), counts)
+
+
+def _energy_checks(sol: Solution, sig: int) -> list[CheckReport]:
+    out = []
+    system, values = sol.system, sol.values
+    for t in system.transitions:
+        if t.kind != "impact":
+            continue
+        T1, T2 = system.state_energy[t.before], system.state_energy[t.after]
+        if not (variables(T1) <= values.keys() and variables(T2) <= values.keys()):
+            out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", "info",
+                                   "not all velocities were solved (use --all)"))
+            continue
+        a, b = evaluate(T1, values), evaluate(T2, values)
+        lost = a - b
+        frac = lost / a if a > 0 else 0.0
+        tol = 1e-9 * max(a, b, 1e-300)
+        if lost < -tol:
+            status, what = "warning", "GAINED (not physical for an impact)"
+        else:
+            status, what = "ok", "lost"
+        out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", status,
+                               f"T{t.before} = {fmt_num(a, sig)} J, T{t.after} = "
+                               f"{fmt_num(b, sig)} J, {what} {fmt_num(abs(lost) if abs(lost) > tol else 0.0, sig)} J "
+                               f"({fmt_num(abs(frac) * 100 if abs(lost) > tol else 0.0, 4)} %)",
+                               _finite(frac)))
+    return out
+
+
+def _residual_checks(sol: Solution) -> list[CheckReport]:
+    """The largest relative residual of the momentum equations that were solved."""
+    system, values = sol.system, sol.values
+    worst = 0.0
+    n = 0
+    for b in sol.blocks:
+        for k in b.equations:
+            e = system.equations[k]
+            if "impulse-momentum" not in e.principle:
+                continue
+            r = abs(evaluate(e.residual, values))
+            s = magnitude(e.residual, values)
+            worst = max(worst, r / s if s > 0 else r)
+            n += 1
+    if not n:
+        return []
+    status = "ok" if worst < 1e-9 else "warning"
+    return [CheckReport("momentum residuals", status,
+                        f"largest relative residual {fmt_num(worst, 3)} over {n} impulse-momentum "
+                        "equations", worst)]
+
+
+def si_of(dim) -> str:
+    return si_label(dim)

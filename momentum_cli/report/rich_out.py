@@ -1,0 +1,97 @@
+"""Rich rendering for a terminal: the same content as the plain report, as tables.
+
+Imported only when stdout is a terminal (or `--format rich`): rich costs ~70 ms to
+import, which plain and JSON output never pay.
+"""
+from __future__ import annotations
+
+from ..numbers import fmt_num
+from .model import Report
+
+
+def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
+    from rich import box
+    from rich.markup import escape
+    from rich.table import Table
+    from rich.text import Text
+
+    f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
+    console.rule(Text(f"{rep.file}: {rep.title or '(untitled problem)'}", style="bold"))
+    if steps:
+        t = Table(title="Bodies", box=box.SIMPLE_HEAD, title_justify="left")
+        for h in ("body", "shape", "mass (kg)", "I_G (kg·m²)", "inertia formula"):
+            t.add_column(h, justify="right" if "(" in h else "left")
+        for b in rep.bodies:
+            t.add_row(escape(b["name"]), b["shape"], f(b["mass"]),
+                      "-" if b["particle"] else f(b["inertia"]),
+                      escape(b["formula"] + (" (mass = W/g)" if b["weight"] else "")))
+        console.print(t)
+        for e in rep.effects:
+            console.print(f"  [dim]•[/dim] {escape(e)}")
+        t = Table(title="Knowns (SI)", box=box.SIMPLE_HEAD, title_justify="left")
+        t.add_column("state")
+        t.add_column("given")
+        for k in rep.knowns:
+            items = ", ".join(f"{n} = {f(v)} {u}".rstrip() if u != "hint" else f"{n} {f(v)}"
+                              for n, v, u in k["items"]) or "(nothing given)"
+            t.add_row(escape(f"{k['id']} {k['label']}".strip()), escape(items))
+        console.print(t)
+        sections = [(f"{t['kind'].capitalize()} {t['before']} → {t['after']} (line {t['line']})",
+                     t["why"], t["equations"]) for t in rep.transitions]
+        sections += [(g[0].upper() + g[1:], [], rows) for g, rows in rep.other_equations.items()]
+        for title, why, rows in sections:
+            console.print(Text(title, style="bold cyan"))
+            for w in why:
+                console.print(f"  [green]why:[/green] {escape(w)}")
+            t = Table(box=box.SIMPLE, show_header=True, pad_edge=False)
+            t.add_column("#", justify="right", style="dim")
+            t.add_column("principle")
+            t.add_column("equation (symbolic / numbers)")
+            for r in rows:
+                tag = "" if r.role == "solved" else f" [dim]\\[{r.role}][/dim]"
+                eqn = escape(r.symbolic)
+                if r.numeric != r.symbolic:
+                    eqn += "\n[dim]" + escape(r.numeric) + "[/dim]"
+                line = f"line {r.line}" if r.line else "scene"
+                t.add_row(str(r.index + 1), escape(f"{r.principle} ({line})") + tag, eqn)
+            console.print(t)
+        console.print(Text("Solving, block by block", style="bold cyan"))
+        for b in rep.blocks:
+            how = (f"linear, cond {f(b['condition_number'])}" if b["method"] == "linear"
+                   else f"Newton, {b['iterations']} iterations")
+            console.print(f"  block {b['index']}: [bold]{escape(', '.join(b['unknowns']))}[/bold]"
+                          f" ({how})")
+            if "matrix" in b:
+                t = Table(box=box.MINIMAL, pad_edge=False)
+                for u in b["unknowns"]:
+                    t.add_column(escape(u), justify="right")
+                t.add_column("rhs", justify="right", style="yellow")
+                for row, rhs in zip(b["matrix"], b["rhs"]):
+                    t.add_row(*[f(x) for x in row], f(rhs))
+                console.print(t)
+        t = Table(title="Solution (SI)", box=box.SIMPLE_HEAD, title_justify="left")
+        t.add_column("unknown")
+        t.add_column("value", justify="right")
+        t.add_column("unit")
+        for u in rep.unknowns:
+            t.add_row(escape(u["name"]), f(u["si_value"]), u["unit"])
+        console.print(t)
+        t = Table(title="Checks", box=box.SIMPLE_HEAD, title_justify="left")
+        t.add_column("check")
+        t.add_column("status")
+        t.add_column("detail")
+        colours = {"ok": "green", "warning": "yellow", "error": "red", "info": "blue"}
+        for c in rep.checks:
+            t.add_row(escape(c.name), f"[{colours.get(c.status, 'white')}]{c.status}[/]",
+                      escape(c.detail))
+        console.print(t)
+        for r in rep.regimes:
+            console.print(f"  friction at {escape(r['contact'])} ({r['transition']}): "
+                          f"[bold]{r['regime']}[/bold]")
+    t = Table(title="Answers", box=box.ROUNDED, title_justify="left")
+    t.add_column("quantity", style="bold")
+    t.add_column("value", justify="right")
+    t.add_column("unit")
+    for a in rep.answers:
+        t.add_row(escape(a["name"]), f(a["value"]), escape(a["unit"]))
+    console.print(t)

@@ -1,0 +1,30 @@
+"""Shared test fixtures: the golden-file update flag and helpers to run the CLI."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+
+
+def pytest_addoption(parser):
+    parser.addoption("--update-golden", action="store_true", default=False,
+                     help="rewrite examples/*.out and *.json from the current output")
+
+
+@pytest.fixture
+def update_golden(request) -> bool:
+    return request.config.getoption("--update-golden")
+
+
+@pytest.fixture(autouse=True)
+def _fixed_env(monkeypatch, tmp_path_factory):
+    """Goldens must not depend on the terminal: no colour, fixed width, UTF-8."""
+    monkeypatch.setenv("NO_COLOR", "1")
+    monkeypatch.setenv("COLUMNS", "100")
+    monkeypatch.setenv("PYTHONIOENCODING", "utf-8")
+    if "MOMENTUM_CACHE_DIR" not in os.environ:
+        monkeypatch.setenv("MOMENTUM_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "cache"))
