@@ -48,11 +48,21 @@ class Structure:
 
     def undetermined_for(self, names) -> list[str]:
         """The under-determined unknowns that `names` need (directly or through blocks)."""
-        out = [n for n in names if n in self.under]
+        out = {n for n in names if n in self.under}
         for b in self.needed_blocks(names):
             for e in self.blocks[b].equations:
-                out.extend(v for v in self.incidence[e] if v in self.under)
-        return sorted(set(out))
+                out.update(v for v in self.incidence[e] if v in self.under)
+        # the unknowns coupled with them through the undetermined equations
+        todo = list(out)
+        while todo:
+            v = todo.pop()
+            for k in self.under_eqs:
+                if v in self.incidence[k]:
+                    for w in self.incidence[k]:
+                        if w in self.under and w not in out:
+                            out.add(w)
+                            todo.append(w)
+        return sorted(out)
 
 
 def analyse(system: System) -> Structure:

@@ -561,10 +561,10 @@ class _Compiler:
             if bodies is not None and b not in bodies:
                 continue
             v = self.vel(b, sid)
-            T = add(T, mul(Const(0.5 * body.mass), v.dot(v)))
+            T = add(T, mul(Const(0.5), mul(Known(f"m_{b}", body.mass), v.dot(v))))
             if not body.is_particle:
                 w = self.sv(b, "omega", sid)
-                T = add(T, mul(Const(0.5 * body.inertia), mul(w, w)))
+                T = add(T, mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
         return T
 
     def _potential(self, sid: str) -> E:
@@ -572,9 +572,13 @@ class _Compiler:
         V: E = ZERO
         if sc.gravity is not None:
             gx, gy = sc.gravity
+            g = Known("g", sc.g)
             for b, body in sc.bodies.items():
                 r = self.pos(b, sid)
-                V = add(V, mul(Const(-body.mass), add(mul(Const(gx), r.x), mul(Const(gy), r.y))))
+                m = Known(f"m_{b}", body.mass)
+                # V = -m g_vec . r: with gravity `down` this is m*g*y
+                h = add(mul(Const(-gx / sc.g), r.x), mul(Const(-gy / sc.g), r.y))
+                V = add(V, mul(mul(m, g), h))
         for jt in sc.joints:
             if jt.kind != "spring":
                 continue

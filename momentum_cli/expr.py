@@ -395,7 +395,14 @@ def _txt(e: E, numeric: bool, sig: int) -> tuple[str, int]:
             for f in items:
                 s, p = _txt(f, numeric, sig)
                 out.append(f"({s})" if p < _PREC["mul"] or (p == _PREC["add"]) else s)
-            return "*".join(out) if out else "1"
+            # x*x prints as x^2
+            merged: list[str] = []
+            for s in out:
+                if merged and merged[-1] == s:
+                    merged[-1] = f"{s}^2"
+                else:
+                    merged.append(s)
+            return "*".join(merged) if merged else "1"
         s = join(num)
         if den:
             d = join(den)

@@ -245,8 +245,10 @@ def _solve_block(system: System, structure: Structure, block, values) -> BlockRe
         return BlockReport(block.index, names, block.equations, "linear", 1.0, 0, 0.0,
                            [[a]], [b])
     x, cond = solve_linear(rows, rhs, eqs, names)
+    big = max(abs(v) for v in x)
     for n, v in zip(names, x):
-        values[n] = v
+        # round-off against the block's largest value prints as 0 (stable goldens)
+        values[n] = 0.0 if abs(v) <= 1e-14 * big else v
     return BlockReport(block.index, names, block.equations, "linear", cond, 0, 0.0, rows, rhs)
 
 
@@ -447,6 +449,9 @@ def _answers(system: System, values) -> list[tuple[str, float, str, float]]:
         except (ValueError, ZeroDivisionError, OverflowError):
             raise ProblemError(f"{f.name} is not a finite number", f.span, code="number") \
                 from None
+        # a value that is round-off against the size of its terms is exactly zero
+        if si != 0.0 and abs(si) <= 1e-12 * magnitude(f.expr, values):
+            si = 0.0
         out.append((f.name, si / f.factor, f.unit, si))
     return out
 
