@@ -8,13 +8,13 @@ matched graph give the block-lower-triangular order in which the rest is solved.
 from __future__ import annotations
 
 import sys
-from dataclasses import dataclass
 
 from .compile import Equation, System
 from .expr import variables
+from .records import record
 
 
-@dataclass
+@record
 class Block:
     index: int
     equations: list[int]  # equation indices
@@ -22,7 +22,7 @@ class Block:
     depends: set[int]  # indices of blocks this one needs first
 
 
-@dataclass
+@record
 class Structure:
     incidence: list[set[str]]  # unknowns of each equation
     match_eq: dict[int, str]  # equation -> its matched unknown

@@ -11,21 +11,57 @@ start configuration for the moment arms (constant forces, constant geometry).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from . import syntax as S
 from .diagnostics import Collector, ProblemError, did_you_mean
-from .expr import (ZERO, Const, E, Known, V2, Var, add, evaluate, is_zero, mul, neg,
-                   omega_cross, power, rotate, to_text, variables)
+from .expr import (
+    V2,
+    ZERO,
+    Const,
+    E,
+    Known,
+    Var,
+    add,
+    evaluate,
+    mul,
+    neg,
+    omega_cross,
+    power,
+    rotate,
+    to_text,
+    variables,
+)
 from .quantity import Evaluator, Q
-from .scene import (STATE_QTYS, Body, Contact, Joint, PointOn, Scene, StatedAngular,
-                    StatedMomentum, StatedRestitution, TransitionSpec)
+from .records import record
+from .scene import (
+    STATE_QTYS,
+    Contact,
+    Joint,
+    PointOn,
+    Scene,
+    StatedAngular,
+    StatedMomentum,
+    StatedRestitution,
+    TransitionSpec,
+)
 from .source import Span
-from .units import (ACCELERATION, ANGULAR_IMPULSE, IMPULSE, LENGTH, MOMENT, NONE, RATE, TIME,
-                    VELOCITY, Dim, describe, si_label)
+from .units import (
+    ACCELERATION,
+    ANGULAR_IMPULSE,
+    IMPULSE,
+    LENGTH,
+    MOMENT,
+    NONE,
+    TIME,
+    VELOCITY,
+    Dim,
+    describe,
+    si_label,
+)
 
 
-@dataclass
+@record
 class Unknown:
     name: str
     dim: Dim
@@ -37,7 +73,7 @@ class Unknown:
     qty: str | None = None
 
 
-@dataclass
+@record
 class Equation:
     lhs: E
     rhs: E
@@ -55,7 +91,7 @@ class Equation:
         return f"{to_text(self.lhs, numeric)} = {to_text(self.rhs, numeric)}"
 
 
-@dataclass
+@record
 class FindSpec:
     name: str
     expr: E
@@ -65,7 +101,7 @@ class FindSpec:
     span: Span
 
 
-@dataclass
+@record
 class Source_:
     """An impulse source acting during a transition, for 'why a principle holds'."""
 
@@ -76,7 +112,7 @@ class Source_:
     what: str = ""
 
 
-@dataclass
+@record
 class FrictionSite:
     """A contact whose tangential law depends on a regime chosen at solve time."""
 
@@ -91,7 +127,7 @@ class FrictionSite:
     span: Span
 
 
-@dataclass
+@record
 class TransitionInfo:
     kind: str
     key: str
@@ -102,7 +138,7 @@ class TransitionInfo:
     contacts: list[tuple[str, E, E]]  # label, approach normal velocity, separation velocity
 
 
-@dataclass
+@record
 class System:
     scene: Scene
     unknowns: dict[str, Unknown]
@@ -831,7 +867,7 @@ class _Compiler:
         d = self.unknown(ref.text, dim, "derived", "m" if q != "dtheta" else "rad")
         a1, a2 = self.sv(b, comp, i), self.sv(b, comp, j)
         self.eq(d, mul(mul(Const(0.5), add(a1, a2)), t),
-                f"constant acceleration: displacement = (start + end velocity)/2 * t",
+                "constant acceleration: displacement = (start + end velocity)/2 * t",
                 f"interval {i} -> {j}", ref.span)
         return Q(d, dim)
 

@@ -6,9 +6,10 @@ only `cli.py` turns them into exit codes.
 from __future__ import annotations
 
 import difflib
-from dataclasses import dataclass, field
+from dataclasses import field
 from enum import IntEnum
 
+from .records import record
 from .source import Source, Span, render_snippet
 
 
@@ -20,7 +21,7 @@ class ExitCode(IntEnum):
     INTERRUPTED = 130  # Ctrl-C
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Diagnostic:
     """One message about a problem file, with an optional location and notes."""
 
@@ -78,7 +79,7 @@ def did_you_mean(name: str, candidates) -> str:
     return f"; did you mean '{close[0]}'?" if close else ""
 
 
-@dataclass
+@record
 class Collector:
     """Collects warnings and notes while a stage runs (errors are raised)."""
 

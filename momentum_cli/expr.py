@@ -9,9 +9,9 @@ linear in a block, and its derivatives for Newton's method.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 from .numbers import fmt_num
+from .records import record
 
 
 class E:
@@ -50,12 +50,12 @@ class E:
         return power(self, float(p))
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@record(frozen=True, identity=True)
 class Const(E):
     value: float
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@record(frozen=True, identity=True)
 class Known(E):
     """A given value that prints by its name symbolically (`m_rod`, `rod.omega@2`)."""
 
@@ -63,30 +63,30 @@ class Known(E):
     value: float
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@record(frozen=True, identity=True)
 class Var(E):
     """An unknown, named as the DSL writes it (`rod.omega@3`, `J_n[A]@2->3`)."""
 
     name: str
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@record(frozen=True, identity=True)
 class Add(E):
     terms: tuple
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@record(frozen=True, identity=True)
 class Mul(E):
     factors: tuple
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@record(frozen=True, identity=True)
 class Pow(E):
     base: E
     exp: float
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@record(frozen=True, identity=True)
 class Fn(E):
     name: str
     arg: E
@@ -421,7 +421,7 @@ def _txt(e: E, numeric: bool, sig: int) -> tuple[str, int]:
 
 
 # ---- planar vectors of expressions ------------------------------------------------------------
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class V2:
     """A planar vector of expressions; `cross` is the z-component of a x b."""
 

@@ -7,16 +7,26 @@ evaluator serves constants in `build` and unknowns in `compile`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Callable
 
 from . import syntax as S
 from .diagnostics import ProblemError
-from .expr import Const, E, V2, add, fn, lift, mul, neg, power
-from .units import NONE, Dim, UnitError, describe, dim_div, dim_mul, dim_pow, parse_unit, reading_for
+from .expr import V2, Const, E, add, fn, lift, mul, neg, power
+from .records import record
+from .units import (
+    NONE,
+    Dim,
+    UnitError,
+    describe,
+    dim_div,
+    dim_mul,
+    dim_pow,
+    parse_unit,
+    reading_for,
+)
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Q:
     value: E | V2
     dim: Dim

@@ -5,13 +5,14 @@
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from .diagnostics import Diagnostic, ExitCode, ProblemError
+from .records import record
 from .source import Source
 
 
-@dataclass
+@record
 class FileResult:
     name: str
     status: str  # solved | checked | error | unreadable

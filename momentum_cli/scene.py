@@ -7,15 +7,30 @@ parallel-axis theorem. Weights become masses with the file's own g.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from . import syntax as S
 from .diagnostics import Collector, ProblemError, did_you_mean
 from .expr import Const
 from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
+from .records import record
 from .source import Span
-from .units import (ACCELERATION, ANGULAR_IMPULSE, FORCE, IMPULSE, INERTIA, LENGTH, MASS, MOMENT,
-                    NONE, RATE, STIFFNESS, TIME, VELOCITY, Dim, describe, si_label)
+from .units import (
+    ACCELERATION,
+    FORCE,
+    INERTIA,
+    LENGTH,
+    MASS,
+    MOMENT,
+    NONE,
+    RATE,
+    STIFFNESS,
+    TIME,
+    VELOCITY,
+    Dim,
+    describe,
+    si_label,
+)
 
 # quantity name in a state -> (dimension, SI unit label)
 STATE_QTYS: dict[str, tuple[Dim, str]] = {
@@ -26,7 +41,7 @@ VECTOR_QTYS = {"v": ("vx", "vy"), "pos": ("x", "y")}
 ROTATION_QTYS = ("angle", "omega")
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Body:
     name: str
     span: Span
@@ -41,7 +56,7 @@ class Body:
     weight_given: bool = False
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class PointOn:
     """A point of a body (offset from G in the body frame) or of the ground (world)."""
 
@@ -52,7 +67,7 @@ class PointOn:
     round_contact: bool = False  # a round body's contact point: G - r n, in the world frame
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Joint:
     kind: str  # pin | weld | link | spring
     label: str
@@ -64,7 +79,7 @@ class Joint:
     length: float | None = None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Contact:
     label: str
     span: Span
@@ -80,7 +95,7 @@ class Contact:
     restitution_name: str | None = None  # a declared `unknown` used as this contact's e
 
 
-@dataclass
+@record
 class StateSpec:
     id: str
     label: str | None
@@ -90,7 +105,7 @@ class StateSpec:
     rolls: list[tuple[str, str, Span]] = field(default_factory=list)
 
 
-@dataclass
+@record
 class TransitionSpec:
     kind: str
     before: str
@@ -110,7 +125,7 @@ class TransitionSpec:
         return f"{self.before}->{self.after}"
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Surface:
     name: str
     normal: tuple[float, float] | None
@@ -118,7 +133,7 @@ class Surface:
     span: Span
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class StatedMomentum:
     span: Span
     direction: tuple[float, float]
@@ -128,7 +143,7 @@ class StatedMomentum:
     after: str
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class StatedAngular:
     span: Span
     bodies: tuple[str, ...]
@@ -137,7 +152,7 @@ class StatedAngular:
     after: str
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class StatedRestitution:
     span: Span
     value: float
@@ -148,7 +163,7 @@ class StatedRestitution:
     after: str
 
 
-@dataclass
+@record
 class Scene:
     title: str
     gravity: tuple[float, float] | None  # the planar gravity vector (None: no planar effect)

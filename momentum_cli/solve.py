@@ -9,19 +9,20 @@ Friction contacts are solved as stick first and switched to sliding where
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
 from .expr import E, NonLinear, affine, diff, evaluate, magnitude, to_text
 from .numbers import fmt_num
+from .records import record
 from .scene import Scene
 
 REL_TOL = 1e-9  # residual tolerance relative to the size of an equation's terms
 
 
-@dataclass
+@record
 class BlockReport:
     index: int
     unknowns: list[str]
@@ -34,7 +35,7 @@ class BlockReport:
     rhs: list[float] | None = None
 
 
-@dataclass
+@record
 class CheckReport:
     name: str
     status: str  # ok | warning | error | info
@@ -42,7 +43,7 @@ class CheckReport:
     value: float | None = None
 
 
-@dataclass
+@record
 class Solution:
     system: System
     structure: Structure

@@ -5,10 +5,10 @@ A `Source` is a file's name and text; a `Span` is a 1-based line:column range in
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from .records import record
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Span:
     """A 1-based range in a source file (end is inclusive of the last character)."""
 
@@ -21,7 +21,7 @@ class Span:
         return f"{self.line}:{self.column}"
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Source:
     """A problem file's name (as the user gave it; `<stdin>` for `-`) and text."""
 

@@ -9,10 +9,10 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
-from dataclasses import dataclass
 from pathlib import Path
 
 from .diagnostics import ProblemError
+from .records import record
 from .source import Source, Span
 
 MAX_BYTES = 1_000_000  # larger problem files are refused with a clear error
@@ -20,7 +20,7 @@ MAX_DEPTH = 200  # expression nesting bound (keeps recursion far from Python's l
 
 
 # ---- expression nodes ---------------------------------------------------------------
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Num:
     span: Span
     value: float
@@ -28,7 +28,7 @@ class Num:
     unit_span: Span | None = None
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Ref:
     """A name, maybe indexed, with a member and states: `rod.omega@3`, `J_n[A]@2->3`."""
 
@@ -50,7 +50,7 @@ class Ref:
         return s
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class BinOp:
     span: Span
     op: str  # + - * / ^
@@ -58,13 +58,13 @@ class BinOp:
     right: object
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Neg:
     span: Span
     arg: object
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Call:
     span: Span
     fn: str
@@ -72,27 +72,27 @@ class Call:
     fn_span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class VecLit:
     span: Span
     x: object
     y: object
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Mag:
     span: Span
     arg: object
 
 
 # ---- statements -------------------------------------------------------------------------
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Problem:
     span: Span
     title: str
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Gravity:
     span: Span
     magnitude: object
@@ -100,14 +100,14 @@ class Gravity:
     vector: object = None
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Let:
     span: Span
     name: str
     value: object
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class UnknownDecl:
     span: Span
     name: str
@@ -115,14 +115,14 @@ class UnknownDecl:
     unit_span: Span | None
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Arg:
     span: Span
     name: str
     value: object
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Shape:
     span: Span
     kind: str
@@ -131,7 +131,7 @@ class Shape:
     rotated: object = None
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class BodyDecl:
     span: Span
     name: str
@@ -139,7 +139,7 @@ class BodyDecl:
     composite: bool
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class PointRef:
     span: Span
     name: str
@@ -153,7 +153,7 @@ class PointRef:
         return f"{self.name}.{self.member}" if self.member else self.name
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class PointDecl:
     span: Span
     name: str
@@ -162,7 +162,7 @@ class PointDecl:
     alias: PointRef | None = None  # `point A = rod.end(-)`
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class SurfaceDecl:
     span: Span
     name: str
@@ -170,7 +170,7 @@ class SurfaceDecl:
     at: object
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Joint:
     """`pin`, `weld`, `link` (a two-force strut) and `spring` between two points."""
 
@@ -185,7 +185,7 @@ class Joint:
     length: object = None  # spring free length
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Given:
     span: Span
     body: str
@@ -195,20 +195,20 @@ class Given:
     relation: str = "="  # "=" given, "<" / ">" branch hints
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class AtRest:
     span: Span
     body: str
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class RollsIn:
     span: Span
     body: str
     surface: str
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class StateDecl:
     span: Span
     id: str
@@ -216,7 +216,7 @@ class StateDecl:
     items: tuple
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Contact:
     span: Span
     label: str | None
@@ -226,14 +226,14 @@ class Contact:
     props: tuple  # of Prop
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Prop:
     span: Span
     kind: str  # restitution | restitution? | smooth | rough | friction | slip
     value: object = None
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Clause:
     """A non-contact clause in a transition: stops, rolls, force, moment, duration..."""
 
@@ -244,7 +244,7 @@ class Clause:
     point: PointRef | None = None
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Transition:
     span: Span
     kind: str  # impact | interval | energy
@@ -255,7 +255,7 @@ class Transition:
     after_span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class ConserveMomentum:
     span: Span
     axis: object  # "x" | "y" | vector expression
@@ -264,7 +264,7 @@ class ConserveMomentum:
     after: str
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class ConserveAngular:
     span: Span
     bodies: tuple[str, ...]
@@ -273,7 +273,7 @@ class ConserveAngular:
     after: str
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class RestitutionLaw:
     span: Span
     value: object
@@ -284,14 +284,14 @@ class RestitutionLaw:
     after: str
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class UserEquation:
     span: Span
     left: object
     right: object
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class FindItem:
     span: Span
     name: str | None
@@ -300,13 +300,13 @@ class FindItem:
     unit_span: Span | None
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Find:
     span: Span
     items: tuple[FindItem, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@record(frozen=True)
 class Document:
     source: Source
     statements: tuple

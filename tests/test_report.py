@@ -4,12 +4,12 @@ from __future__ import annotations
 import io
 import re
 
-from momentum_cli.report.model import build_report
-from momentum_cli.report.text import render, render_quiet
-from momentum_cli.numbers import fmt_num
-
 from conftest import EXAMPLES
 from helpers import solve_text
+
+from momentum_cli.numbers import fmt_num
+from momentum_cli.report.model import build_report
+from momentum_cli.report.text import render, render_quiet
 
 SMOOTH = (EXAMPLES / "seed_rod_drop_smooth.mom").read_text()
 

@@ -7,11 +7,10 @@ from __future__ import annotations
 import math
 
 import pytest
+from helpers import answers, error_of, solve_text
 
 from momentum_cli.diagnostics import ProblemError
 from momentum_cli.linalg import SingularError, solve_dense
-
-from helpers import answers, error_of, solve_text
 
 
 def test_plain_python_and_numpy_solves_agree():

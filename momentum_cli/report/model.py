@@ -6,16 +6,17 @@ the three outputs cannot disagree about a number.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from ..compile import System
 from ..expr import evaluate, magnitude, variables
 from ..numbers import fmt_num
+from ..records import record
 from ..solve import CheckReport, Solution
 from ..units import si_label
 
 
-@dataclass
+@record
 class EquationRow:
     index: int
     principle: str
@@ -27,7 +28,7 @@ class EquationRow:
     role: str  # solved | check | not needed | undetermined
 
 
-@dataclass
+@record
 class Report:
     file: str
     title: str
