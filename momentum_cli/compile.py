@@ -528,7 +528,8 @@ class _Compiler:
         Jy = self.unknown(f"Jy[{jt.label}]@{key}", IMPULSE, "impulse")
         J = V2(Jx, Jy)
         M = None
-        if jt.kind == "weld":
+        # a weld also transmits a moment, unless one side is a particle (then it is a pin)
+        if jt.kind == "weld" and not self._has_particle(jt):
             M = self.unknown(f"M[{jt.label}]@{key}", ANGULAR_IMPULSE, "angular-impulse")
         apply(jt.a, J, M)
         if jt.b.body is not None:
@@ -538,6 +539,10 @@ class _Compiler:
         if M is not None:
             sources.append(Source_((jt.a.body, jt.b.body), jt.a.name, None, True,
                                    f"weld moment {jt.label}"))
+
+    def _has_particle(self, jt: Joint) -> bool:
+        bodies = self.scene.bodies
+        return any(p.body is not None and bodies[p.body].is_particle for p in (jt.a, jt.b))
 
     # ---- constraints at every state ---------------------------------------------------------
     def _state_constraints(self, sid: str) -> None:
@@ -556,13 +561,10 @@ class _Compiler:
                 for comp, x1, x2 in (("x", va.x, vb.x), ("y", va.y, vb.y)):
                     self.eq(x1, x2, f"{jt.kind} {jt.label}: same velocity ({comp})", group,
                             jt.span)
-                if jt.kind == "weld":
+                if jt.kind == "weld" and not self._has_particle(jt):
                     wb = self.sv(b.body, "omega", sid) if b.body else ZERO
                     self.eq(self.sv(a.body, "omega", sid), wb,
                             f"weld {jt.label}: same angular velocity", group, jt.span)
-                    if b.body:
-                        ab = self.sv(b.body, "angle", sid)
-                        del ab  # relative angle is fixed but its value is not given
             elif jt.kind == "link":
                 d = V2(Const(jt.along[0]), Const(jt.along[1]))
                 va, vb = self.point_velocity(a, sid), self.point_velocity(b, sid)

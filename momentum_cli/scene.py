@@ -567,9 +567,6 @@ class _Builder:
                 raise ProblemError("`at` places a pin to the ground; a pin between bodies is "
                                    "where its two points meet", s.at.span, code="name")
             b = PointOn(None, self.vector(s.at, LENGTH, "a pin's position"), b.name, b.span)
-        if s.kind in ("pin", "weld") and self.bodies[a.body].is_particle and a.body and \
-                s.kind == "weld":
-            raise ProblemError("a particle cannot be welded; use a pin", s.span, code="name")
         along = self.unit_vector(s.along, "a link's direction") if s.along is not None else None
         k = length = None
         if s.kind == "spring":

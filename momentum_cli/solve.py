@@ -148,6 +148,16 @@ def _solve(system: System, structure: Structure, solve_all: bool) -> Solution:
         e = eqs[k]
         if all(v in values for v in structure.incidence[k]):
             _check_equation(e, values, checks, system, structure)
+    for k, e in enumerate(eqs):
+        if e.kind in ("stated", "user") and (k in structure.redundant or k in structure.under_eqs):
+            missing = sorted(v for v in structure.incidence[k] if v not in values)
+            if missing:
+                where = f"line {e.span.line}" if e.span else "the scene"
+                checks.append(CheckReport(e.principle, "info",
+                                          f"not checked ({where}): it needs "
+                                          f"{', '.join(missing)}, which "
+                                          f"{'is' if len(missing) == 1 else 'are'} not "
+                                          "determined"))
     sol = Solution(system, structure, values, reports, checks, diags, {}, [], solve_all)
     _hint_checks(sol)
     sol.answers = _answers(system, values)
