@@ -291,30 +291,63 @@ class _Compiler:
                       self.notes, self.invalid, energy)
 
     def _positions(self) -> None:
-        """Positions are unchanged by impacts; intervals keep their start configuration."""
+        """Identify variables that a transition cannot change.
+
+        Positions are unchanged by impacts; intervals keep their start configuration.
+        A body that no impulse reaches in an impact (or, in an interval, no force)
+        keeps its velocity: its variables are shared rather than tied by `m*(v2 - v1)
+        = 0`, so a sequence of N impacts stays O(N).
+        """
         sc = self.scene
         for t in sc.transitions:
             if t.kind == "energy":
                 continue
-            for b in sc.bodies:
-                for q in ("x", "y", "angle"):
+            idle = self._idle_bodies(t)
+            for b, body in sc.bodies.items():
+                qtys = ["x", "y", "angle"]
+                if b in idle:
+                    qtys += ["vx", "vy", "omega"]
+                for q in qtys:
+                    if body.is_particle and q in ("angle", "omega"):
+                        continue
                     a, c = (b, q, t.before), (b, q, t.after)
-                    if t.kind == "interval" and self._given(c) is not None:
+                    ga, gc = self._given(a), self._given(c)
+                    if t.kind == "interval" and gc is not None and q in ("x", "y", "angle"):
+                        continue
+                    if ga is not None and gc is not None:
+                        if ga[0] != gc[0]:
+                            why = ("positions unchanged during an impact" if q in
+                                   ("x", "y", "angle") else f"no impulse acts on {b}: its "
+                                   "velocity is unchanged")
+                            self.eq(Known(f"{b}.{q}@{t.after}", gc[0]),
+                                    Known(f"{b}.{q}@{t.before}", ga[0]), why,
+                                    f"{t.kind} {t.before} -> {t.after}", gc[1], "consistency")
                         continue
                     self._union(a, c)
-        for t in sc.transitions:
-            if t.kind != "impact":
-                continue
-            for b, body in sc.bodies.items():
-                for q in ("x", "y", "angle"):
-                    if body.is_particle and q == "angle":
-                        continue
-                    ga, gc = self._given((b, q, t.before)), self._given((b, q, t.after))
-                    if ga is not None and gc is not None and ga[0] != gc[0]:
-                        self.eq(Known(f"{b}.{q}@{t.after}", gc[0]),
-                                Known(f"{b}.{q}@{t.before}", ga[0]),
-                                "positions unchanged during an impact",
-                                f"impact {t.key}", gc[1], "consistency")
+        self._idle = {t.key: self._idle_bodies(t) for t in sc.transitions if t.kind != "energy"}
+
+    def _idle_bodies(self, t: TransitionSpec) -> set[str]:
+        """Bodies on which nothing acts during an impact or interval."""
+        sc = self.scene
+        if t.kind == "interval" and sc.gravity is not None:
+            return set()
+        busy: set[str | None] = set()
+        for c in t.contacts:
+            busy.update((c.a.body, c.b.body if c.b else None))
+        for jt in sc.joints:
+            if jt.kind != "spring":
+                busy.update((jt.a.body, jt.b.body))
+        for _, p, _ in t.forces:
+            busy.add(p.body)
+        for _, b, _ in t.moments:
+            busy.add(b)
+        for body, _, _ in t.rolls:
+            busy.add(body)
+        for a, b, _ in t.stops_relative:
+            busy.update((a, b))
+        for a, _ in t.stops:
+            busy.add(a)
+        return set(sc.bodies) - busy
 
     # ---- impacts and intervals ----------------------------------------------------------------
     def _impulse_phase(self, t: TransitionSpec) -> None:
@@ -381,8 +414,11 @@ class _Compiler:
                 sources.append(Source_((b, None), b, None, True, f"moment on {b}"))
         elif t.forces or t.moments:
             pass
-        # impulse-momentum for each body
+        # impulse-momentum for each body that something acts on
+        idle = self._idle.get(key, set())
         for b, body in sc.bodies.items():
+            if b in idle:
+                continue
             v1, v2 = self.vel(b, i), self.vel(b, j)
             m = Known(f"m_{b}", body.mass)
             for comp, a1, a2, jsum in (("x", v1.x, v2.x, [J.x for J in lin[b]]),
