@@ -26,3 +26,13 @@ def fmt_num(x: float, sig: int = DEFAULT_SIG) -> str:
     if s in ("-0",):
         return "0"
     return s
+
+
+def fmt_tiny(x: float, sig: int = 2, floor: float = 1e-14) -> str:
+    """A round-off-sized figure (residual, error bound): below `floor` it prints as
+    `< 1e-14`, so that golden files do not depend on the last bits of a float."""
+    if x is None:
+        return "-"
+    if abs(x) < floor:
+        return f"< {fmt_num(floor, 1)}"
+    return fmt_num(x, sig)

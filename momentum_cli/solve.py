@@ -15,7 +15,7 @@ from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
 from .expr import E, NonLinear, affine, diff, evaluate, magnitude, to_text
-from .numbers import fmt_num
+from .numbers import fmt_num, fmt_tiny
 from .records import record
 from .scene import Scene
 
@@ -33,6 +33,7 @@ class BlockReport:
     residual: float = 0.0
     matrix: list[list[float]] | None = None
     rhs: list[float] | None = None
+    quality: object = None  # linalg.Quality of a linear block
 
 
 @record
@@ -55,9 +56,11 @@ class Solution:
     answers: list[tuple[str, float, str, float]]  # name, display value, unit, SI value
     solved_all: bool = False
     regime_notes: list[str] = field(default_factory=list)
+    precision: str = "float"
 
 
-def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8) -> Solution:
+def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
+                precision: str = "float") -> Solution:
     """Compile, analyse and solve, iterating the friction regimes until they hold."""
     regimes: dict[str, str] = {}
     tried: set[tuple] = set()
@@ -65,7 +68,7 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8) -> S
     for _ in range(max_rounds):
         system = compile_scene(scene, regimes)
         structure = analyse(system)
-        sol = _solve(system, structure, solve_all)
+        sol = _solve(system, structure, solve_all, precision)
         changed = _update_regimes(sol, regimes)
         key = tuple(sorted(regimes.items()))
         if not changed or key in tried:
@@ -122,7 +125,8 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
     return sorted(n for n in names if n not in structure.under)
 
 
-def _solve(system: System, structure: Structure, solve_all: bool) -> Solution:
+def _solve(system: System, structure: Structure, solve_all: bool,
+           precision: str = "float") -> Solution:
     eqs = system.equations
     diags: list[Diagnostic] = list(system.notes.items)
     checks: list[CheckReport] = []
@@ -143,7 +147,7 @@ def _solve(system: System, structure: Structure, solve_all: bool) -> Solution:
     blocks_needed = structure.needed_blocks([n for n in needed if n not in structure.under])
     reports = []
     for b in blocks_needed:
-        reports.append(_solve_block(system, structure, structure.blocks[b], values))
+        reports.append(_solve_block(system, structure, structure.blocks[b], values, precision))
     for k in structure.redundant:
         e = eqs[k]
         if all(v in values for v in structure.incidence[k]):
@@ -159,6 +163,7 @@ def _solve(system: System, structure: Structure, solve_all: bool) -> Solution:
                                           f"{'is' if len(missing) == 1 else 'are'} not "
                                           "determined"))
     sol = Solution(system, structure, values, reports, checks, diags, {}, [], solve_all)
+    sol.precision = precision
     _hint_checks(sol)
     sol.answers = _answers(system, values)
     return sol
@@ -182,7 +187,7 @@ def _check_equation(e: Equation, values, checks, system, structure, constant=Fal
     if ok:
         if e.kind in ("stated", "user", "consistency") or not constant:
             checks.append(CheckReport(f"{e.principle}", "ok",
-                                      f"holds (redundant; {where}; residual {fmt_num(r, 3)})", r))
+                                      f"holds (redundant; {where}; residual {fmt_tiny(r)})", r))
         return
     others = set()
     for v in structure.incidence[e.index]:
@@ -233,55 +238,63 @@ def _under_determined(system: System, structure: Structure, missing: list[str]) 
                         first_line, code="under-determined", notes=notes, caret=False)
 
 
-def _solve_block(system: System, structure: Structure, block, values) -> BlockReport:
+def _solve_block(system: System, structure: Structure, block, values,
+                 precision: str = "float") -> BlockReport:
     eqs = [system.equations[k] for k in block.equations]
     names = block.unknowns
     bset = set(names)
+    col = {n: j for j, n in enumerate(names)}
     rows, rhs = [], []
     try:
         for e in eqs:
             coef, const = affine(e.residual, bset, values)
-            rows.append([coef.get(n, 0.0) for n in names])
+            rows.append({col[n]: v for n, v in coef.items() if v != 0.0})
             rhs.append(-const)
     except NonLinear:
         return _newton(system, block, eqs, names, values)
     except (KeyError, ValueError, ZeroDivisionError, OverflowError) as exc:
         raise ProblemError(f"cannot evaluate {eqs[0].principle}: {exc}", eqs[0].span,
                            code="number") from None
-    if len(names) == 1:
-        a, b = rows[0][0], rhs[0]
-        if a == 0 or not math.isfinite(a) or not math.isfinite(b):
-            raise _singular(eqs, names)
-        values[names[0]] = b / a
-        return BlockReport(block.index, names, block.equations, "linear", 1.0, 0, 0.0,
-                           [[a]], [b])
-    x, cond = solve_linear(rows, rhs, eqs, names)
+    x, quality = solve_linear(rows, rhs, eqs, names, precision)
     big = max(abs(v) for v in x)
     for n, v in zip(names, x):
         # round-off against the block's largest value prints as 0 (stable goldens)
-        values[n] = 0.0 if abs(v) <= 1e-14 * big else v
-    return BlockReport(block.index, names, block.equations, "linear", cond, 0, 0.0, rows, rhs)
+        values[n] = 0.0 if abs(v) <= 1e-14 * big and precision == "float" else v
+    n = len(names)
+    matrix = [[row.get(j, 0.0) for j in range(n)] for row in rows] if n <= 12 else None
+    return BlockReport(block.index, names, block.equations, "linear", quality.cond, 0, 0.0,
+                       matrix, rhs if matrix is not None else None, quality)
 
 
-def solve_linear(rows, rhs, eqs, names):
-    """Equilibrated dense solve; returns (x, 1-norm condition number of the scaled matrix)."""
-    from .linalg import SingularError, solve_dense
+def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
+    """Solve one linear block; a singular one is named by an exact rank test."""
+    from .linalg import SingularError, exact_rank_test, solve
 
-    if not all(math.isfinite(x) for row in rows for x in row) or \
+    if not all(math.isfinite(x) for row in rows for x in row.values()) or \
             not all(math.isfinite(x) for x in rhs):
         raise ProblemError("the equations contain a number that is not finite", eqs[0].span,
                            code="number")
     try:
-        return solve_dense(rows, rhs)
+        return solve(rows, rhs, len(names), precision)
     except SingularError as exc:
-        raise _singular(eqs, names, exc.cond) from None
+        free = exc.free if exc.exact else exact_rank_test(rows, rhs, len(names))
+        if free:
+            raise _singular(eqs, [names[j] for j in free], exc.cond, exact=True) from None
+        raise ProblemError(
+            f"ill-conditioned beyond float64: the equations for {', '.join(names[:6])}"
+            f"{'...' if len(names) > 6 else ''} have condition number {fmt_num(exc.cond, 3)}",
+            eqs[0].span, code="ill-conditioned",
+            notes=["the block is not singular in exact arithmetic: solve it with "
+                   "`--precision exact`"]) from None
 
 
-def _singular(eqs, names, cond=None) -> ProblemError:
+def _singular(eqs, names, cond=None, exact=False) -> ProblemError:
     lines = sorted({e.span.line for e in eqs if e.span})
-    c = f" (condition number {fmt_num(cond, 3)})" if cond is not None else ""
-    return ProblemError(f"singular: the equations for {', '.join(names)} do not determine them"
-                        f"{c}", eqs[0].span, code="singular",
+    c = f" (condition number {fmt_num(cond, 3)})" if cond is not None and math.isfinite(cond) \
+        else ""
+    how = "rank-deficient: " if exact else "singular: "
+    return ProblemError(f"{how}the equations do not determine {', '.join(names)}{c}",
+                        eqs[0].span, code="singular",
                         notes=[f"equations from line{'s' if len(lines) > 1 else ''} "
                                f"{', '.join(map(str, lines))} are dependent; a contact or "
                                "constraint may be declared twice, or a normal is parallel to "
@@ -364,7 +377,8 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
     x, iters = hinted[0]
     for n, v in zip(names, x):
         values[n] = float(v)
-    res = max(abs(evaluate(f, values)) for f in F)
+    # the residual relative to the size of each equation's terms
+    res = max(abs(evaluate(f, values)) / max(magnitude(f, values), 1e-300) for f in F)
     return BlockReport(block.index, names, block.equations, "newton", None, iters, res)
 
 
@@ -465,10 +479,6 @@ def _answers(system: System, values) -> list[tuple[str, float, str, float]]:
             si = 0.0
         out.append((f.name, si / f.factor, f.unit, si))
     return out
-
-
-def solve_problem(scene: Scene, solve_all: bool = False) -> Solution:
-    return solve_scene(scene, solve_all)
 
 
 __all__ = ["solve_scene", "Solution", "analyse", "to_text", "E"]

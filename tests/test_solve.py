@@ -10,24 +10,45 @@ import pytest
 from helpers import answers, error_of, solve_text
 
 from momentum_cli.diagnostics import ProblemError
-from momentum_cli.linalg import SingularError, solve_dense
+from momentum_cli.linalg import SingularError, solve
 
 
-def test_plain_python_and_numpy_solves_agree():
+def rows_of(A):
+    return [{j: float(v) for j, v in enumerate(row) if v} for row in A]
+
+
+@pytest.mark.parametrize("precision", ["float", "refine", "exact"])
+def test_python_lapack_sparse_and_exact_solves_agree(precision):
     import numpy as np
 
     rng = np.random.default_rng(1)
-    for n in (2, 5, 12, 20):
+    for n in (2, 5, 12, 20, 80):
         A = rng.normal(size=(n, n)) * np.logspace(-6, 6, n)
+        if n == 80:  # sparse: a banded chain goes to the sparse LU
+            A = np.triu(np.tril(A, 1), -1) + np.eye(n)
         b = rng.normal(size=n)
-        x, cond = solve_dense(A.tolist(), b.tolist())
+        x, q = solve(rows_of(A), b.tolist(), n, precision)
         assert np.allclose(A @ np.array(x), b, rtol=1e-9, atol=1e-9 * np.abs(b).max())
-        assert cond >= 1.0
+        assert q.cond >= 1.0 and q.precision == precision
 
 
 def test_a_singular_block_is_refused():
     with pytest.raises(SingularError):
-        solve_dense([[1.0, 2.0], [2.0, 4.0]], [1.0, 2.0])
+        solve(rows_of([[1.0, 2.0], [2.0, 4.0]]), [1.0, 2.0], 2)
+
+
+def test_exact_elimination_is_the_correctly_rounded_answer():
+    from fractions import Fraction
+
+    A = [[1.0, 1e-17], [1e-17, 1.0]]
+    b = [1.0, 0.1]
+    x, q = solve(rows_of(A), b, 2, "exact")
+    # Cramer's rule in rationals on the same data
+    a, bb, c, d = (Fraction(v) for v in (1.0, 1e-17, 1e-17, 1.0))
+    det = a * d - bb * c
+    want = [(Fraction(1.0) * d - bb * Fraction(0.1)) / det,
+            (a * Fraction(0.1) - c * Fraction(1.0)) / det]
+    assert x == [float(w) for w in want] and q.bound == 0.0
 
 
 ROD = """

@@ -10,7 +10,7 @@ from dataclasses import field
 
 from ..compile import System
 from ..expr import evaluate, magnitude, variables
-from ..numbers import fmt_num
+from ..numbers import fmt_num, fmt_tiny
 from ..records import record
 from ..solve import CheckReport, Solution
 from ..units import si_label
@@ -119,6 +119,12 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                  residual=_finite(b.residual),
                  lines=sorted({system.equations[k].span.line for k in b.equations
                                if system.equations[k].span}))
+        q = b.quality
+        if q is not None:
+            d["quality"] = dict(method=q.method, precision=q.precision,
+                                condition_number=_finite(q.cond),
+                                backward_error=_finite(q.backward),
+                                error_bound=_finite(q.bound), iterations=q.iterations)
         if b.matrix is not None and len(b.unknowns) > 1:
             d["matrix"] = [[_finite(x) for x in row] for row in b.matrix]
             d["rhs"] = [_finite(x) for x in b.rhs]
@@ -126,13 +132,7 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
     unknowns = [dict(name=n, si_value=_finite(values[n]), unit=u.unit)
                 for n, u in system.unknowns.items() if n in values]
     checks = list(sol.checks) + _energy_checks(sol, sig) + _residual_checks(sol)
-    for b in sol.blocks:
-        if b.method == "linear" and b.cond is not None and len(b.unknowns) > 1:
-            status = "ok" if b.cond < 1e8 else "warning"
-            checks.append(CheckReport(f"condition number, block {', '.join(b.unknowns[:3])}"
-                                      f"{'...' if len(b.unknowns) > 3 else ''}", status,
-                                      f"{fmt_num(b.cond, 3)} (1-norm, after equilibration)",
-                                      b.cond))
+    checks += _error_estimates(sol)
     answers = [dict(name=n, value=_finite(v), unit=u, si_value=_finite(si))
                for n, v, u, si in sol.answers]
     regimes = [dict(contact=s.label, transition=s.transition,
@@ -144,6 +144,32 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                   undetermined=len(st.under))
     return Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
                   checks, answers, regimes, list(sol.diagnostics), counts)
+
+
+def fmt_bound(x: float) -> str:
+    t = fmt_tiny(x)
+    return t if t.startswith("<") else f"<= {t}"
+
+
+def _error_estimates(sol: Solution) -> list[CheckReport]:
+    """Each linear block's conditioning and error bound; a warning above 1e-6."""
+    out = []
+    for b in sol.blocks:
+        q = b.quality
+        if q is None or len(b.unknowns) < 2:
+            continue
+        name = f"error estimate, block {', '.join(b.unknowns[:3])}" + \
+            ("..." if len(b.unknowns) > 3 else "")
+        detail = (f"cond {fmt_num(q.cond, 3)} (1-norm, equilibrated), backward error "
+                  f"{fmt_tiny(q.backward)}, relative error {fmt_bound(q.bound)} "
+                  f"({q.precision}, {q.method}"
+                  + (f", {q.iterations} refinement steps" if q.iterations else "") + ")")
+        status = "ok"
+        if q.bound > 1e-6:
+            status = "warning"
+            detail += "; digits may be lost: try --precision refine or --precision exact"
+        out.append(CheckReport(name, status, detail, _finite(q.bound)))
+    return out
 
 
 def _energy_checks(sol: Solution, sig: int) -> list[CheckReport]:
@@ -191,7 +217,7 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
         return []
     status = "ok" if worst < 1e-9 else "warning"
     return [CheckReport("momentum residuals", status,
-                        f"largest relative residual {fmt_num(worst, 3)} over {n} impulse-momentum "
+                        f"largest relative residual {fmt_tiny(worst)} over {n} impulse-momentum "
                         "equations", worst)]
 
 

@@ -5,7 +5,7 @@ rich report, laid out with spaces so that locale and terminal width cannot chang
 """
 from __future__ import annotations
 
-from ..numbers import fmt_num
+from ..numbers import fmt_num, fmt_tiny
 from .model import Report
 
 
@@ -65,7 +65,7 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
         for b in rep.blocks:
             how = (f"linear, condition number {f(b['condition_number'])}"
                    if b["method"] == "linear" else
-                   f"Newton, {b['iterations']} iterations, residual {fmt_num(b['residual'] or 0, 3)}")
+                   f"Newton, {b['iterations']} iterations, residual {fmt_tiny(b['residual'] or 0)}")
             lines = ", ".join(map(str, b["lines"]))
             out.append(f"  block {b['index']}: {', '.join(b['unknowns'])} ({how}; lines {lines})")
             if "matrix" in b:
