@@ -28,6 +28,12 @@ app = typer.Typer(
 )
 
 
+class Precision(str, Enum):
+    float = "float"
+    refine = "refine"
+    exact = "exact"
+
+
 class Format(str, Enum):
     auto = "auto"
     rich = "rich"
@@ -63,31 +69,56 @@ def _pick_format(fmt: Format, json_flag: bool, plain: bool) -> str:
 
 
 def _read_all(files: List[str]):
-    """Yield (name, Source | None, Diagnostic | None) for each path, `-` read once."""
-    from .run import read_source
+    """Yield (name, Source, None), or (name, None, FileResult) for a file that cannot be
+    used, for each path; `-` (named `<stdin>`) is read once."""
+    from .run import FileResult, SourceTextError, read_source
 
     if files.count("-") > 1:
         raise typer.BadParameter("'-' (standard input) may be given only once")
-    stdin_text = None
+    stdin_data = None
     if "-" in files:
         if sys.stdin is None or sys.stdin.isatty():
             raise typer.BadParameter("'-' reads a problem from standard input, but standard "
                                      "input is a terminal")
-        stdin_text = sys.stdin.read()
+        # bytes, decoded like a file's (not with the locale's encoding)
+        buffer = getattr(sys.stdin, "buffer", None)
+        stdin_data = buffer.read() if buffer is not None else sys.stdin.read()
     for path in files:
+        name = "<stdin>" if path == "-" else path
+        problem = None
         try:
-            yield path, read_source(path, stdin_text), None
+            source = read_source(path, stdin_data)
+        except SourceTextError as exc:
+            yield name, None, FileResult(name, "error", exc.source, None, exc.diagnostics)
+            continue
         except IsADirectoryError:
-            yield path, None, Diagnostic("error", "unreadable", "is a directory, not a file")
+            problem = "is a directory, not a file"
         except FileNotFoundError:
-            yield path, None, Diagnostic("error", "unreadable", "no such file")
+            problem = "no such file"
         except PermissionError:
-            yield path, None, Diagnostic("error", "unreadable", "permission denied")
-        except UnicodeDecodeError as exc:
-            yield path, None, Diagnostic("error", "unreadable",
-                                         f"not UTF-8 text (byte {exc.start})")
+            problem = "permission denied"
         except OSError as exc:
-            yield path, None, Diagnostic("error", "unreadable", exc.strerror or str(exc))
+            problem = exc.strerror or str(exc)
+        if problem is not None:
+            yield name, None, FileResult(name, "unreadable", None, None,
+                                         [Diagnostic("error", "unreadable", problem)])
+        else:
+            yield name, source, None
+
+
+def _safe_streams() -> None:
+    """Text from a problem file that stdout's encoding lacks (a title with '—' under an
+    ASCII locale) prints as a \\u escape instead of failing."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.reconfigure(errors="backslashreplace")
+        except (AttributeError, ValueError, OSError):
+            pass
+
+
+def _is_utf8(stream) -> bool:
+    return (getattr(stream, "encoding", None) or "").lower().replace("-", "").replace(
+        "_", "") in ("utf8", "utf8sig")
 
 
 def _print_diagnostics(res, err) -> None:
@@ -110,7 +141,7 @@ def _internal(name: str, exc: BaseException, traceback_flag: bool):
 
 @app.command()
 def solve(
-    files: List[str] = typer.Argument(..., metavar="FILE...",
+    files: List[str] = typer.Argument(..., metavar="FILE",
                                       help="Problem files (.mom); '-' reads standard input."),
     fmt: Format = typer.Option(Format.auto, "--format", "-f",
                                help="auto: rich on a terminal, plain when piped."),
@@ -122,6 +153,9 @@ def solve(
                                                         "those the `find` lines need."),
     digits: int = typer.Option(6, "--digits", "-p", min=1, max=17,
                                help="Significant figures in printed numbers."),
+    precision: Precision = typer.Option(Precision.float, "--precision",
+                                        help="Linear blocks in float64, float64 refined with "
+                                             "exact residuals, or exact rationals."),
     traceback_flag: bool = typer.Option(False, "--traceback", help="Show Python tracebacks of "
                                                                    "internal errors."),
 ) -> None:
@@ -133,20 +167,19 @@ def solve(
       momentum solve --json examples/*.mom
       cat problem.mom | momentum solve -q -
     """
-    from .run import FileResult, solve_source
+    from .run import solve_source
 
     mode = _pick_format(fmt, json_flag, plain)
+    _safe_streams()
     out, err = sys.stdout, sys.stderr
     results = []
     console = None
     worst = ExitCode.OK
     many = len(files) > 1
-    for i, (name, source, problem) in enumerate(_read_all(files)):
-        if source is None:
-            res = FileResult(name, "unreadable", None, None, [problem])
-        else:
+    for i, (name, source, res) in enumerate(_read_all(files)):
+        if res is None:
             try:
-                res = solve_source(source, solve_all, digits)
+                res = solve_source(source, solve_all, digits, precision.value)
             except (KeyboardInterrupt, typer.Exit):
                 raise
             except Exception as exc:  # a bug: report it as one line, keep going
@@ -186,14 +219,14 @@ def solve(
         from . import __version__
         from .report.json_out import document
 
-        out.write(document(results, __version__))
+        out.write(document(results, __version__, not _is_utf8(out)))
     out.flush()
     raise typer.Exit(int(worst))
 
 
 @app.command()
 def check(
-    files: List[str] = typer.Argument(..., metavar="FILE...",
+    files: List[str] = typer.Argument(..., metavar="FILE",
                                       help="Problem files (.mom); '-' reads standard input."),
     json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
 ) -> None:
@@ -207,15 +240,14 @@ def check(
       momentum check examples/*.mom
       momentum check --json problem.mom
     """
-    from .run import FileResult, check_source
+    from .run import check_source
 
+    _safe_streams()
     out, err = sys.stdout, sys.stderr
     worst = ExitCode.OK
     results = []
-    for name, source, problem in _read_all(files):
-        if source is None:
-            res = FileResult(name, "unreadable", None, None, [problem])
-        else:
+    for name, source, res in _read_all(files):
+        if res is None:
             try:
                 res = check_source(source)
             except Exception as exc:
@@ -239,13 +271,15 @@ def check(
         from . import __version__
         from .report.json_out import document
 
-        out.write(document(results, __version__))
+        out.write(document(results, __version__, not _is_utf8(out)))
     raise typer.Exit(int(worst))
 
 
 def main() -> None:
     """Entry point of the `momentum` command."""
     try:
-        app()
+        # a fixed name: usage lines and shell completion (`_MOMENTUM_COMPLETE`) say
+        # `momentum` also under `python -m momentum_cli`
+        app(prog_name="momentum")
     except KeyboardInterrupt:
         sys.exit(int(ExitCode.INTERRUPTED))

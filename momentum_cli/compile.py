@@ -125,6 +125,7 @@ class FrictionSite:
     regime: str  # stick | slide+ | slide-
     slip_expr: E | None  # tangential slip velocity whose sign the slide must oppose
     span: Span
+    decided: bool = True  # False: the slip direction is re-checked after solving
 
 
 @record
@@ -136,6 +137,7 @@ class TransitionInfo:
     span: Span
     why: list[str]
     contacts: list[tuple[str, E, E]]  # label, approach normal velocity, separation velocity
+    energy: tuple[E, E] | None = None  # kinetic energy of the bodies it moves, before/after
 
 
 @record
@@ -148,7 +150,6 @@ class System:
     friction: list[FrictionSite]
     notes: Collector
     invalid_stated: list[tuple[Span, str]]
-    state_energy: dict[str, E]  # kinetic energy of every body at each state
 
 
 def compile_scene(scene: Scene, regimes: dict[str, str] | None = None) -> System:
@@ -286,9 +287,8 @@ class _Compiler:
         for ue in sc.equations:
             self._user_equation(ue)
         finds = self._finds()
-        energy = {sid: self._kinetic(sid) for sid in sc.states}
         return System(sc, self.unknowns, self.equations, finds, self.transitions, self.friction,
-                      self.notes, self.invalid, energy)
+                      self.notes, self.invalid)
 
     def _positions(self) -> None:
         """Identify variables that a transition cannot change.
@@ -456,7 +456,10 @@ class _Compiler:
             self._rolling(body, surface, j, group, span, normal)
         self.sources[key] = sources
         why = self._why(sources, t)
-        self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info))
+        moved = [b for b in sc.bodies if b not in idle]
+        energy = (self._kinetic(i, moved), self._kinetic(j, moved))
+        self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info,
+                                               energy))
 
     def _contact(self, t: TransitionSpec, c: Contact, apply, sources, contacts_info, dur) -> None:
         i, j, key = t.before, t.after, t.key
@@ -518,6 +521,7 @@ class _Compiler:
             if c.mode == "friction":
                 s = self._slip_sign(c, vt1, t)
                 site = f"{key}:{c.label}"
+                decided = s is not None
                 if s is None:
                     regime = self.regimes.get(site, "slide+")
                     s = 1.0 if regime == "slide+" else -1.0
@@ -527,7 +531,7 @@ class _Compiler:
                         f"kinetic friction at {c.label}: J_t = -mu J_n against the slip", group,
                         c.span)
                 self.friction.append(FrictionSite(site, c.label, key, c.mu, Jn.name, Jt.name,
-                                                  regime, vt1, c.span))
+                                                  regime, vt1, c.span, decided))
 
     def _slip_sign(self, c: Contact, vt1: E, t: TransitionSpec) -> float | None:
         if c.slip is not None:
@@ -682,11 +686,18 @@ class _Compiler:
 
     # ---- why a principle holds --------------------------------------------------------------------
     def _why(self, sources: list[Source_], t: TransitionSpec) -> list[str]:
+        """For the bodies the transition moves, together and one by one (up to six)."""
         out = []
-        bodies = list(self.scene.bodies)
+        idle = self._idle.get(t.key, set())
+        bodies = [b for b in self.scene.bodies if b not in idle]
+        if not bodies:
+            return ["nothing acts: every body keeps its velocity"]
         system = set(bodies)
-        groups = [(f"{{{', '.join(bodies)}}}", system)]
-        if len(bodies) > 1:
+        shown = bodies if len(bodies) <= 6 else bodies[:3] + ["..."] + bodies[-2:]
+        label = f"{{{', '.join(shown)}}}" + (f" ({len(bodies)} bodies)" if len(bodies) > 6
+                                               else "")
+        groups = [(label, system)]
+        if 1 < len(bodies) <= 6:
             groups += [(b, {b}) for b in bodies]
         for label, members in groups:
             ext = [s for s in sources if _acts_on(s, members) and not _internal(s, members)]
@@ -815,6 +826,14 @@ class _Compiler:
                     return Q(Var(name), self.unknowns[name].dim)
             if member and len(at) == 1 and name in sc.bodies:
                 return self._body_ref(ref)
+            if member in ("v", "vx", "vy", "speed") and len(at) == 1 and name in sc.points:
+                self._state_exists(at[0], ref)
+                v = self.point_velocity(sc.points[name], at[0])
+                if member == "v":
+                    return Q(v, VELOCITY)
+                if member == "speed":
+                    return Q(power(v.dot(v), 0.5), VELOCITY)
+                return Q(v.x if member == "vx" else v.y, VELOCITY)
             if member is None and idx is None and len(at) == 1 and name == "T":
                 self._state_exists(at[0], ref)
                 return Q(self._kinetic(at[0]), MOMENT)
@@ -976,6 +995,8 @@ def _display_unit(unknowns, item, q: Q) -> tuple[str, float]:
         return "rad/s", 1.0
     if isinstance(item.expr, S.Ref) and item.expr.member in ("angle", "dtheta"):
         return "rad", 1.0
+    if isinstance(item.expr, S.Ref) and item.expr.member == "alpha":
+        return "rad/s^2", 1.0
     return si_label(q.dim), 1.0
 
 
@@ -986,7 +1007,7 @@ def _expr_text(node) -> str:
 
 
 def _ref_help(ref: S.Ref) -> list[str]:
-    return ["quantities: BODY.omega@S, BODY.v@S, BODY.vx@S, BODY.angle@S, BODY.speed@S, "
+    return ["quantities: BODY.omega@S, BODY.v@S, POINT.v@S, BODY.vx@S, BODY.angle@S, BODY.speed@S, "
             "t@S->S, J_n[CONTACT]@S->S, e[CONTACT], T@S, T_lost@S->S, BODY.dtheta@S->S"]
 
 

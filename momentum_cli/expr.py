@@ -50,46 +50,71 @@ class E:
         return power(self, float(p))
 
 
-@record(frozen=True, identity=True)
+# The nodes are plain slotted classes with hand-written constructors: they are the
+# most numerous objects (a 1,000-ball chain builds ~10^5), and immutable by convention.
 class Const(E):
-    value: float
+    __slots__ = ("value",)
+
+    def __init__(self, value: float):
+        self.value = value
+
+    def __repr__(self):
+        return f"Const({self.value!r})"
 
 
-@record(frozen=True, identity=True)
 class Known(E):
     """A given value that prints by its name symbolically (`m_rod`, `rod.omega@2`)."""
 
-    name: str
-    value: float
+    __slots__ = ("name", "value")
+
+    def __init__(self, name: str, value: float):
+        self.name = name
+        self.value = value
+
+    def __repr__(self):
+        return f"Known({self.name!r}, {self.value!r})"
 
 
-@record(frozen=True, identity=True)
 class Var(E):
     """An unknown, named as the DSL writes it (`rod.omega@3`, `J_n[A]@2->3`)."""
 
-    name: str
+    __slots__ = ("name",)
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def __repr__(self):
+        return f"Var({self.name!r})"
 
 
-@record(frozen=True, identity=True)
 class Add(E):
-    terms: tuple
+    __slots__ = ("terms",)
+
+    def __init__(self, terms: tuple):
+        self.terms = terms
 
 
-@record(frozen=True, identity=True)
 class Mul(E):
-    factors: tuple
+    __slots__ = ("factors",)
+
+    def __init__(self, factors: tuple):
+        self.factors = factors
 
 
-@record(frozen=True, identity=True)
 class Pow(E):
-    base: E
-    exp: float
+    __slots__ = ("base", "exp")
+
+    def __init__(self, base: E, exp: float):
+        self.base = base
+        self.exp = exp
 
 
-@record(frozen=True, identity=True)
 class Fn(E):
-    name: str
-    arg: E
+    __slots__ = ("name", "arg")
+
+    def __init__(self, name: str, arg: E):
+        self.name = name
+        self.arg = arg
 
 
 ZERO = Const(0.0)
@@ -193,8 +218,12 @@ def evaluate(e: E, values: dict[str, float]) -> float:
     if t is Add:
         return math.fsum(evaluate(x, values) for x in e.terms)
     if t is Mul:
+        fs = e.factors
+        for f in fs:  # a zero known factor hides its partners (as in `variables`)
+            if (type(f) is Known or type(f) is Const) and f.value == 0.0:
+                return 0.0
         r = 1.0
-        for f in e.factors:
+        for f in fs:
             r *= evaluate(f, values)
         return r
     if t is Pow:

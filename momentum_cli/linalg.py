@@ -6,7 +6,7 @@ and solved in one of three precisions:
 
 - `float`: float64. Blocks of up to SMALL unknowns by plain-Python Gauss-Jordan
   (importing numpy costs ~140 ms, more than such a solve), larger dense ones by
-  LAPACK, large sparse ones (ball chains) by a sparse LU (scipy's SuperLU).
+  LAPACK, large sparse ones (ball chains) by our sparse elimination, O(n) on chains.
 - `refine`: the float solution, then iterative refinement with residuals computed
   exactly (error-free products summed by `math.fsum`), until the correction stops
   shrinking.
@@ -147,30 +147,13 @@ def _lapack(A: Rows, b: list[float], n: int):
 
 
 def _sparse_lu(A: Rows, b: list[float], n: int):
-    """Sparse LU (SuperLU) for large sparse blocks: O(n) for chains of contacts."""
-    import numpy as np
-    from scipy.sparse import csc_matrix
-    from scipy.sparse.linalg import LinearOperator, onenormest, splu
-
-    ri, ci, vals = [], [], []
-    for i, row in enumerate(A):
-        for j, v in row.items():
-            ri.append(i)
-            ci.append(j)
-            vals.append(v)
-    M = csc_matrix((vals, (ri, ci)), shape=(n, n))
-    try:
-        lu = splu(M)
-    except RuntimeError:
-        raise SingularError(math.inf) from None
-    y = lu.solve(np.array(b))
-    inv = LinearOperator((n, n), matvec=lu.solve, rmatvec=lambda v: lu.solve(v, trans="T"),
-                         dtype=float)
-    cond = float(onenormest(M) * onenormest(inv)) if n > 4 else float(
-        np.linalg.cond(M.toarray(), 1))
-    if not math.isfinite(cond) or cond > SINGULAR_COND or not np.isfinite(y).all():
+    """Sparse elimination for large sparse blocks: O(n) for chains of contacts."""
+    lu = SparseLU(A, n, exact=False)
+    y = lu.solve(b)
+    cond = lu.norm1 * lu.inverse_norm1_estimate()
+    if not math.isfinite(cond) or cond > SINGULAR_COND or not all(map(math.isfinite, y)):
         raise SingularError(cond)
-    return [float(v) for v in y], cond
+    return y, cond
 
 
 def _cond(A: Rows, n: int) -> float:
@@ -246,54 +229,110 @@ def _refine(A: Rows, b: list[float], y: list[float], n: int):
     return y, _backward(A, b, y), iters, last
 
 
-# ---- exact elimination --------------------------------------------------------------------------
+# ---- sparse elimination (floats or exact rationals) ------------------------------------------
+class SparseLU:
+    """Gaussian elimination on sparse rows with a Markowitz-style pivot order.
+
+    The column with the fewest remaining entries is eliminated first (little fill-in:
+    a chain of contacts stays O(n)); among its rows the shortest whose pivot is at
+    least a tenth of the column's largest entry (threshold pivoting; any non-zero in
+    exact arithmetic). The recorded steps replay on any right-hand side.
+    """
+
+    def __init__(self, A: Rows, n: int, exact: bool):
+        conv = Fraction if exact else float
+        rows = [{j: conv(v) for j, v in row.items() if v != 0.0} for row in A]
+        self.n = n
+        self.norm1 = max((sum(abs(float(r.get(j, 0.0))) for r in A) for j in range(n)),
+                         default=0.0) if n <= SMALL else _norm1(A, n)
+        col_rows: dict[int, set[int]] = {j: set() for j in range(n)}
+        for i, row in enumerate(rows):
+            for j in row:
+                col_rows[j].add(i)
+        self.steps: list[tuple[int, int, list[tuple[int, object]]]] = []
+        self.leftover = set(range(len(rows)))
+        for _ in range(n):
+            j = min((c for c in col_rows if col_rows[c]), key=lambda c: len(col_rows[c]),
+                    default=None)
+            if j is None:
+                free = list(col_rows)
+                raise SingularError(math.inf, exact=exact,
+                                    free=_null_support(rows, [(i, c) for i, c, _ in self.steps],
+                                                       free) if exact else free)
+            cands = col_rows[j]
+            if exact:
+                i = min(cands, key=lambda k: len(rows[k]))
+            else:
+                big = max(abs(rows[k][j]) for k in cands)
+                i = min((k for k in cands if abs(rows[k][j]) >= 0.1 * big),
+                        key=lambda k: (len(rows[k]), -abs(rows[k][j])))
+            piv_row, piv = rows[i], rows[i][j]
+            self.leftover.discard(i)
+            ops = []
+            for k in list(cands):
+                if k == i:
+                    continue
+                f = rows[k][j] / piv
+                rk = rows[k]
+                for c, v in piv_row.items():
+                    nv = rk.get(c, 0) - f * v
+                    if c == j or not nv:
+                        if c in rk:
+                            del rk[c]
+                            col_rows[c].discard(k)
+                    else:
+                        if c not in rk:
+                            col_rows[c].add(k)
+                        rk[c] = nv
+                ops.append((k, f))
+            for c in piv_row:
+                col_rows[c].discard(i)
+            del col_rows[j]
+            self.steps.append((i, j, ops))
+        self.rows = rows
+        self.zero = Fraction(0) if exact else 0.0
+        self.conv = conv
+
+    def solve(self, b):
+        rhs = [self.conv(v) for v in b]
+        for i, _j, ops in self.steps:
+            ri = rhs[i]
+            if ri:
+                for k, f in ops:
+                    rhs[k] -= f * ri
+        x = {}
+        for i, j, _ in reversed(self.steps):
+            row = self.rows[i]
+            s = rhs[i] - sum(v * x[c] for c, v in row.items() if c != j)
+            x[j] = s / row[j]
+        for k in self.leftover:  # equations beyond n must hold exactly
+            if rhs[k] - sum(v * x[c] for c, v in self.rows[k].items()) != 0:
+                raise SingularError(math.inf, exact=True)
+        return [x[j] for j in range(self.n)]
+
+    def inverse_norm1_estimate(self) -> float:
+        """A lower estimate of |A^-1|_1 from a few solves (LINPACK style)."""
+        best = 0.0
+        n = self.n
+        for pattern in (lambda k: 1.0, lambda k: (-1.0) ** k, lambda k: (-1.0) ** (k // 2),
+                        lambda k: 1.0 + k / n):
+            b = [pattern(k) for k in range(n)]
+            x = self.solve(b)
+            best = max(best, sum(abs(v) for v in x) / sum(abs(v) for v in b))
+        return best
+
+
+def _norm1(A: Rows, n: int) -> float:
+    cols = [0.0] * n
+    for row in A:
+        for j, v in row.items():
+            cols[j] += abs(v)
+    return max(cols, default=0.0)
+
+
 def _exact(A: Rows, b: list[float], n: int) -> list[Fraction]:
-    """Sparse Gaussian elimination in rationals (fewest-entries pivot, for chains)."""
-    rows = [{j: Fraction(v) for j, v in row.items() if v != 0.0} for row in A]
-    rhs = [Fraction(v) for v in b]
-    col_rows: dict[int, set[int]] = {j: set() for j in range(n)}
-    for i, row in enumerate(rows):
-        for j in row:
-            col_rows[j].add(i)
-    active = set(range(len(rows)))
-    order: list[tuple[int, int]] = []
-    for _ in range(n):
-        # the column with the fewest active rows, then its shortest row: little fill-in
-        j = min((c for c in col_rows if col_rows[c]), key=lambda c: len(col_rows[c]),
-                default=None)
-        if j is None:
-            raise SingularError(math.inf, exact=True,
-                                free=_null_support(rows, order, list(col_rows)))
-        i = min(col_rows[j], key=lambda k: len(rows[k]))
-        piv_row, piv = rows[i], rows[i][j]
-        active.discard(i)
-        for k in list(col_rows[j]):
-            if k == i:
-                continue
-            f = rows[k][j] / piv
-            rk = rows[k]
-            for c, v in piv_row.items():
-                nv = rk.get(c, 0) - f * v
-                if nv:
-                    if c not in rk:
-                        col_rows[c].add(k)
-                    rk[c] = nv
-                elif c in rk:
-                    del rk[c]
-                    col_rows[c].discard(k)
-            rhs[k] -= f * rhs[i]
-        for c in piv_row:
-            col_rows[c].discard(i)
-        del col_rows[j]
-        order.append((i, j))
-    x: dict[int, Fraction] = {}
-    for i, j in reversed(order):
-        s = rhs[i] - sum(v * x[c] for c, v in rows[i].items() if c != j)
-        x[j] = s / rows[i][j]
-    for k in active:  # leftover equations must hold exactly
-        if rhs[k] - sum(v * x[c] for c, v in rows[k].items()) != 0:
-            raise SingularError(math.inf, exact=True)
-    return [x[j] for j in range(n)]
+    """Gaussian elimination in rationals: the exact solution of the block's data."""
+    return SparseLU(A, n, exact=True).solve(b)
 
 
 def _null_support(rows, order, free: list[int]) -> list[int]:

@@ -43,15 +43,33 @@ KNOWN_FUNCS = sorted(_FUNCS_DIMLESS | {"sqrt", "atan2", "abs", "norm", "dot", "c
                                        "max"})
 
 
+# Words of the language that the grammar reads as a unit when they follow a number
+# (`restitution 0.5 smooth`): the likely mistake is a missing comma, not a unit.
+_KEYWORDS = {"smooth", "rough", "friction", "restitution", "slip", "normal", "at", "on",
+             "with", "over", "along", "about", "of", "to", "stiffness", "length", "rotated",
+             "down", "up", "left", "right", "into", "contact", "stops", "rolls", "rest"}
+
+
 def unit_readings(unit: str, span) -> list[tuple[float, Dim]]:
     try:
-        return parse_unit(unit)
+        readings = parse_unit(unit)
+    except OverflowError:  # `ft^-999`: the factor is not a float
+        raise ProblemError(f"unit '{unit}' is out of range (an exponent is too large)", span,
+                           code="units") from None
     except UnitError as exc:
         from .source import Span
 
         col = span.column + exc.offset if span else None
         where = Span(span.line, col, span.line, col + 1) if span else None
-        raise ProblemError(str(exc), where, code="units") from None
+        notes = []
+        if unit in _KEYWORDS:
+            notes.append(f"a unit follows its number directly: is a ',' missing before "
+                         f"'{unit}'?")
+        raise ProblemError(str(exc), where, code="units", notes=notes) from None
+    if not all(math.isfinite(f) and f != 0 for f, _ in readings):
+        raise ProblemError(f"unit '{unit}' is out of range (an exponent is too large)", span,
+                           code="units")
+    return readings
 
 
 class Evaluator:
@@ -112,7 +130,8 @@ class Evaluator:
             dim = _common_dim(a, b, node, "add" if op == "+" else "subtract")
             if a.is_vector:
                 return Q(a.value + b.value if op == "+" else a.value - b.value, dim)
-            return Q(add(a.value, b.value if op == "+" else neg(b.value)), dim)
+            return Q(_finite(add(a.value, b.value if op == "+" else neg(b.value)), node, a, b),
+                     dim)
         a = self.ev(node.left)
         b = self.ev(node.right)
         if op == "*":
@@ -124,17 +143,17 @@ class Evaluator:
                 return Q(a.value.scale(b.value), dim)
             if b.is_vector:
                 return Q(b.value.scale(a.value), dim)
-            return Q(mul(a.value, b.value), dim)
+            return Q(_finite(mul(a.value, b.value), node, a, b), dim)
         if op == "/":
             if b.is_vector:
                 raise ProblemError("cannot divide by a vector", node.right.span, code="type")
             if isinstance(b.value, Const) and b.value.value == 0.0:
                 raise ProblemError("division by zero", node.right.span, code="number")
-            inv = power(b.value, -1.0)
+            inv = _finite(power(b.value, -1.0), node, b)
             dim = dim_div(a.dim, b.dim)
             if a.is_vector:
                 return Q(a.value.scale(inv), dim)
-            return Q(mul(a.value, inv), dim)
+            return Q(_finite(mul(a.value, inv), node, a, b), dim)
         # power
         if a.is_vector or b.is_vector:
             raise ProblemError("cannot raise a vector to a power", node.span, code="type")
@@ -153,9 +172,7 @@ class Evaluator:
                                code="number")
         if isinstance(a.value, Const) and a.value.value == 0 and p < 0:
             raise ProblemError("division by zero", node.span, code="number")
-        r = power(a.value, p)
-        _finite(r, node)
-        return Q(r, dim)
+        return Q(_finite(power(a.value, p), node, a), dim)
 
     def _call(self, node: S.Call) -> Q:
         name = node.fn
@@ -217,20 +234,25 @@ class Evaluator:
         if name in ("ln", "log") and isinstance(a.value, Const) and a.value.value <= 0:
             raise ProblemError(f"{name}() of a number that is not positive", node.span,
                                code="number")
-        r = fn(name, a.value)
-        _finite(r, node)
-        return Q(r, NONE)
+        return Q(_finite(fn(name, a.value), node, a), NONE)
 
 
-def _finite(r: E, node) -> None:
-    if isinstance(r, Const) and not math.isfinite(r.value):
+def _finite(r: E, node, *operands: Q) -> E:
+    """`r`, unless it is a constant that overflowed: not finite, or left unevaluated by
+    `power`/`fn` (they keep a constant expression symbolic when Python overflows)."""
+    overflowed = operands and all(isinstance(q.value, Const) for q in operands) and \
+        not isinstance(r, Const)
+    if overflowed or (isinstance(r, Const) and not math.isfinite(r.value)):
         raise ProblemError("the result is too large or not a number", node.span, code="number")
+    return r
 
 
 def _atan2(y: E, x: E, node) -> E:
     if isinstance(y, Const) and isinstance(x, Const):
         return Const(math.atan2(y.value, x.value))
-    raise ProblemError("atan2() takes constants", node.span, code="type")
+    # atan2(y, x) = 2 atan(y / (sqrt(x^2 + y^2) + x)), exact except on the negative x axis
+    r = power(add(mul(x, x), mul(y, y)), 0.5)
+    return mul(Const(2.0), fn("atan", mul(y, power(add(r, x), -1.0))))
 
 
 def _common_dim(a: Q, b: Q, node, verb: str) -> Dim:

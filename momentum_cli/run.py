@@ -9,7 +9,12 @@ from dataclasses import field
 
 from .diagnostics import Diagnostic, ExitCode, ProblemError
 from .records import record
-from .source import Source
+from .source import Source, Span
+from .syntax import MAX_BYTES
+
+# Bytes read from a file: one more than MAX_BYTES characters can take (4 bytes each),
+# so that `parse` sees any file over the limit as too large, never cut short.
+READ_LIMIT = 4 * MAX_BYTES + 1
 
 
 @record
@@ -30,18 +35,52 @@ class FileResult:
         return ExitCode.OK
 
 
-def read_source(path: str, stdin_text: str | None = None) -> Source:
-    """Read a problem file (`-` is standard input). Raises OSError or UnicodeDecodeError."""
+class SourceTextError(ProblemError):
+    """A file that was read but is not UTF-8 text; `source` holds it with U+FFFD for
+    the undecodable bytes, so that the diagnostic can show the line."""
+
+    def __init__(self, source: Source, message: str, span: Span):
+        super().__init__(message, span, code="encoding",
+                         notes=["a problem file is UTF-8 text; re-save it as UTF-8"])
+        self.source = source
+
+
+def read_source(path: str, stdin_data: bytes | str | None = None) -> Source:
+    """Read a problem file (`-` is standard input, given as `stdin_data`).
+
+    Raises OSError if the file cannot be read, SourceTextError if it is not UTF-8.
+    """
     if path == "-":
-        return Source("<stdin>", stdin_text if stdin_text is not None else "")
+        return decode_source("<stdin>", stdin_data if stdin_data is not None else b"")
     with open(path, "rb") as fh:
-        data = fh.read(2_000_001)
-    if b"\x00" in data:
-        return Source(path, "\x00")
-    return Source(path, data.decode("utf-8"))
+        data = fh.read(READ_LIMIT)
+    return decode_source(path, data)
 
 
-def solve_source(source: Source, solve_all: bool = False, sig: int = 6) -> FileResult:
+def decode_source(name: str, data: bytes | str) -> Source:
+    """Problem text from a file's bytes: UTF-8, a leading byte order mark dropped.
+
+    Text with NUL bytes (a binary file) or over the size limit is kept, with U+FFFD
+    for undecodable bytes, for `parse` to refuse with its own message.
+    """
+    if isinstance(data, str):
+        return Source(name, data.removeprefix("\ufeff"))
+    data = data.removeprefix(b"\xef\xbb\xbf")
+    if b"\x00" in data or len(data) >= READ_LIMIT:
+        return Source(name, data.decode("utf-8", errors="replace"))
+    try:
+        return Source(name, data.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        good = data[: exc.start].decode("utf-8", errors="replace")
+        line = good.count("\n") + 1
+        span = Span(line, len(good) - good.rfind("\n"))
+        raise SourceTextError(Source(name, data.decode("utf-8", errors="replace")),
+                              f"not UTF-8 text: byte 0x{data[exc.start]:02x} cannot be decoded",
+                              span) from None
+
+
+def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
+                 precision: str = "float") -> FileResult:
     from .report.model import build_report
     from .scene import build
     from .solve import solve_scene
@@ -49,14 +88,19 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6) -> FileR
 
     try:
         scene = build(parse(source))
-        sol = solve_scene(scene, solve_all)
+        sol = solve_scene(scene, solve_all, precision=precision)
         rep = build_report(source.name, sol, sig)
         return FileResult(source.name, "solved", source, rep, list(sol.diagnostics))
     except ProblemError as exc:
         return FileResult(source.name, "error", source, None, list(exc.diagnostics))
-    except RecursionError:
-        return FileResult(source.name, "error", source, None,
-                          [Diagnostic("error", "too-deep", "expression nested too deeply")])
+    except RecursionError:  # `parse` bounds the depth; this is the last line of defence
+        return _too_deep(source)
+
+
+def _too_deep(source: Source) -> FileResult:
+    return FileResult(source.name, "error", source, None,
+                      [Diagnostic("error", "too-deep", "expression too long or nested too deeply",
+                                  None, ("split it into parts with `let`",))])
 
 
 def check_source(source: Source) -> FileResult:
@@ -72,6 +116,8 @@ def check_source(source: Source) -> FileResult:
         st = analyse(system)
     except ProblemError as exc:
         return FileResult(source.name, "error", source, None, list(exc.diagnostics))
+    except RecursionError:
+        return _too_deep(source)
     diags = list(system.notes.items)
     if st.under:
         names = sorted(st.under)

@@ -76,6 +76,7 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
         tried.add(key)
     assert sol is not None
     sol.regimes = dict(regimes)
+    _hint_checks(sol)
     return sol
 
 
@@ -92,7 +93,7 @@ def _update_regimes(sol: Solution, regimes: dict[str, str]) -> bool:
             if abs(jt) > site.mu * jn * (1 + 1e-12) + 1e-300:
                 regimes[site.key] = "slide+" if jt < 0 else "slide-"
                 changed = True
-        elif site.slip_expr is not None and site.key in regimes:
+        elif site.slip_expr is not None and not site.decided:
             try:
                 slip = evaluate(site.slip_expr, v)
             except KeyError:
@@ -117,11 +118,15 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
         names.add(site.jn)
         if site.jt:
             names.add(site.jt)
+    # stated principles and user equations are checked when redundant: solve what they need
+    for k in structure.redundant:
+        if system.equations[k].kind in ("stated", "user", "consistency"):
+            names |= structure.incidence[k]
     # the report's energy check for each impact needs the velocities on both sides
     for t in system.transitions:
-        if t.kind == "impact":
-            for sid in (t.before, t.after):
-                variables(system.state_energy[sid], names)
+        if t.kind == "impact" and t.energy is not None:
+            for T in t.energy:
+                variables(T, names)
     return sorted(n for n in names if n not in structure.under)
 
 
@@ -164,7 +169,6 @@ def _solve(system: System, structure: Structure, solve_all: bool,
                                           "determined"))
     sol = Solution(system, structure, values, reports, checks, diags, {}, [], solve_all)
     sol.precision = precision
-    _hint_checks(sol)
     sol.answers = _answers(system, values)
     return sol
 
@@ -446,6 +450,14 @@ def _hint_checks(sol: Solution) -> None:
             sol.checks.append(CheckReport(f"contact {name}", "warning",
                                           f"normal impulse {fmt_num(v[name], 4)} N*s < 0: the "
                                           "contact would pull; the bodies are separating", v[name]))
+        if u.kind == "state" and u.hints:
+            for rel, bound, span in u.hints:
+                if (rel == ">" and not v[name] > bound) or (rel == "<" and not v[name] < bound):
+                    sol.diagnostics.append(Diagnostic(
+                        "warning", "hint", f"{name} = {fmt_num(v[name], 4)} {u.unit}, but the "
+                        f"file says {u.body}.{u.qty} {rel} {fmt_num(bound, 4)}", span,
+                        ("the equations have only this solution: check the hint or the "
+                         "givens",)))
     for site in sysm.friction:
         if site.jn not in v:
             continue

@@ -360,6 +360,19 @@ def parser():
         DEDENT_type = "_DEDENT"
         tab_len = 8
 
+        def handle_NL(self, token):
+            from lark.indenter import DedentError
+
+            levels = " or ".join(str(n) for n in self.indent_level)
+            try:
+                yield from Indenter.handle_NL(self, token)
+            except DedentError:
+                # the NL token ends where the badly indented line's text starts
+                raise ProblemError("syntax error: the indentation of this line matches no "
+                                   f"enclosing block (indent it by {levels} columns)",
+                                   Span(token.end_line, token.end_column), code="syntax") \
+                    from None
+
     text = grammar_text()
     kw = dict(parser="lalr", postlex=_Indenter(), propagate_positions=True,
               maybe_placeholders=False)
@@ -377,21 +390,26 @@ def parse(source: Source) -> Document:
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
     text = source.text
+    nul = text.find("\x00")
+    if nul >= 0:  # before the size check: a large binary file is a binary file
+        raise ProblemError("not a text file (it contains NUL bytes)", _span_at(text, nul),
+                           code="binary", caret=False,
+                           notes=["a problem file is UTF-8 text"])
     if len(text) > MAX_BYTES:
         raise ProblemError(f"file too large ({len(text)} characters; the limit is {MAX_BYTES})",
                            code="too-large")
-    if "\x00" in text:
-        raise ProblemError("not a text file (it contains NUL bytes)", code="binary")
     if not text.strip():
-        raise ProblemError("empty problem file: nothing to solve", code="empty",
+        raise ProblemError("empty problem file: nothing to solve", Span(1, 1), code="empty",
                            notes=["a problem needs at least a body, a state and a `find` line"])
     _check_depth(source)
     try:
         tree = parser().parse(text if text.endswith("\n") else text + "\n")
     except UnexpectedInput as exc:
         raise _syntax_error(source, exc) from None
-    except LarkError as exc:  # indentation errors and the like
-        raise ProblemError(f"syntax error: {_first_line(exc)}", code="syntax") from None
+    except LarkError as exc:  # anything else lark reports is still the file's syntax
+        raise ProblemError(f"syntax error: {_first_line(exc)}", Span(1, 1), code="syntax") \
+            from None
+    _check_tree_depth(tree)
     try:
         statements = _ToNodes().transform(tree)
     except VisitError as exc:
@@ -399,6 +417,39 @@ def parse(source: Source) -> Document:
             raise exc.orig_exc from None
         raise
     return Document(source, tuple(statements.children))
+
+
+def _span_at(text: str, index: int) -> Span:
+    """The 1-based line:column of a character offset (lark counts lines by '\\n')."""
+    line = text.count("\n", 0, index) + 1
+    return Span(line, index - text.rfind("\n", 0, index))
+
+
+def _check_tree_depth(tree) -> None:
+    """Refuse parse trees deeper than MAX_DEPTH, iteratively, before anything recurses.
+
+    `1 + 1 + ... + 1` with thousands of terms has no brackets but is as deep as it
+    is long; transforming, evaluating and printing it recurse once per level.
+    """
+    from lark import Tree
+
+    stack = [(tree, 0, None)]  # node, depth, the outermost expression around it
+    while stack:
+        node, depth, top = stack.pop()
+        if top is None and node.data in _EXPRESSION_RULES:
+            top = node
+        if depth > MAX_DEPTH + 8:  # a few levels of statement structure above expressions
+            meta = (top or node).meta
+            span = None if meta.empty else Span(meta.line, meta.column, meta.end_line,
+                                                 meta.end_column)
+            raise ProblemError(f"expression too long or nested too deeply (more than "
+                               f"{MAX_DEPTH} operations in one expression)", span,
+                               code="too-deep", notes=["split it into parts with `let`"])
+        stack.extend((c, depth + 1, top) for c in node.children if isinstance(c, Tree))
+
+
+_EXPRESSION_RULES = {"add", "sub", "mul", "div", "pow", "neg", "unary", "call", "vec_lit",
+                     "magnitude"}
 
 
 def _first_line(exc: Exception) -> str:
@@ -428,7 +479,7 @@ _READABLE = {
     "COLON": "':'", "EQUAL": "'='", "SIGN": "'+' or '-'", "MORETHAN": "'>'", "LESSTHAN": "'<'",
     "LBRACE": "'{'", "RBRACE": "'}'", "LSQB": "'['", "RSQB": "']'", "AT": "'@'", "DOT": "'.'",
     "STAR": "'*'", "SLASH": "'/'", "PLUS": "'+'", "MINUS": "'-'", "QMARK": "'?'",
-    "VBAR": "'|'", "CIRCUMFLEX": "'^'", "__ANON_0": "'->'",
+    "VBAR": "'|'", "CIRCUMFLEX": "'^'", "__ANON_0": "'->'", "$END": "end of file",
 }
 
 
@@ -450,28 +501,62 @@ def _syntax_error(source: Source, exc) -> ProblemError:
         shown = ", ".join(words[:8]) + (", ..." if len(words) > 8 else "")
         hint = f"; expected {shown}"
     if isinstance(exc, UnexpectedEOF) or getattr(getattr(exc, "token", None), "type", "") == "$END":
-        lines = source.text.splitlines() or [""]
-        span = Span(len(lines), len(lines[-1]) + 1)
-        return ProblemError("syntax error: unexpected end of file" + hint, span, code="syntax")
+        # just past the last character that is not white space
+        text = source.text.rstrip()
+        return ProblemError("syntax error: unexpected end of file" + hint,
+                            _span_at(text, len(text)), code="syntax")
     line, col = getattr(exc, "line", 1), getattr(exc, "column", 1)
-    if line is None or line < 1:
+    if line is None or line < 1 or col is None or col < 1:
         line, col = 1, 1
     if isinstance(exc, UnexpectedCharacters):
-        ch = source.line_text(line)[col - 1 : col] or "?"
-        return ProblemError(f"syntax error: unexpected character '{ch}'" + hint,
+        ch = source.line_text(line)[col - 1 : col]
+        return ProblemError(f"syntax error: unexpected character {_show_char(ch)}" + hint,
                             Span(line, col), code="syntax")
     if isinstance(exc, UnexpectedToken):
         tok = exc.token
+        if tok.type == "_INDENT":
+            # the indent token sits where the previous line ended
+            return ProblemError("syntax error: unexpected indented block after this line; is a "
+                                "':' missing here?", Span(line, col), code="syntax")
+        opener = _block_opener(source, line, col)
+        if opener is not None:
+            return ProblemError(f"syntax error: expected an indented block after the ':' on "
+                                f"line {opener}", Span(line, col, line, col + len(str(tok))),
+                                code="syntax")
         if tok.type == "_NL":
             what = "end of line"
-        elif tok.type in ("_INDENT", "_DEDENT"):
-            what = "indentation"
+        elif tok.type == "_DEDENT":
+            what = "end of the indented block"
         else:
             what = f"'{tok}'"
         end = Span(line, col, line, col + len(str(tok))) if tok.type not in (
             "_NL", "_INDENT", "_DEDENT") else Span(line, col)
         return ProblemError(f"syntax error: unexpected {what}" + hint, end, code="syntax")
     return ProblemError(f"syntax error: {_first_line(exc)}", Span(line, col), code="syntax")
+
+
+def _block_opener(source: Source, line: int, col: int) -> int | None:
+    """The line before `line` if it ends with ':' and `line` starts unindented at `col`."""
+    if col != 1 or line < 2:
+        return None
+    for n in range(line - 1, 0, -1):
+        prev = source.line_text(n).split("#", 1)[0].rstrip()
+        if prev:
+            return n if prev.endswith(":") else None
+    return None
+
+
+def _show_char(ch: str) -> str:
+    """A character for a message: quoted if printable, else its code point."""
+    import unicodedata
+
+    if not ch:
+        return "(end of line)"
+    if ch.isprintable() and not ch.isspace():
+        return f"'{ch}'"
+    name = unicodedata.name(ch, "") or {"\r": "CARRIAGE RETURN", "\x0b": "LINE TABULATION",
+                                        "\x1b": "ESCAPE"}.get(ch, "control character")
+    return f"U+{ord(ch):04X} ({name.lower()})"
 
 
 # ---- tree -> nodes ------------------------------------------------------------------------

@@ -178,7 +178,7 @@ def _energy_checks(sol: Solution, sig: int) -> list[CheckReport]:
     for t in system.transitions:
         if t.kind != "impact":
             continue
-        T1, T2 = system.state_energy[t.before], system.state_energy[t.after]
+        T1, T2 = t.energy
         if not (variables(T1) <= values.keys() and variables(T2) <= values.keys()):
             out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", "info",
                                    "not all velocities were solved (use --all)"))
