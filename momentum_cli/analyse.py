@@ -7,7 +7,6 @@ matched graph give the block-lower-triangular order in which the rest is solved.
 """
 from __future__ import annotations
 
-import sys
 
 from .compile import Equation, System
 from .expr import variables
@@ -216,5 +215,3 @@ def describe_equation(e: Equation) -> str:
     line = f"line {e.span.line}" if e.span else "the scene"
     return f"{e.principle} ({line})"
 
-
-sys.setrecursionlimit(max(sys.getrecursionlimit(), 10000))

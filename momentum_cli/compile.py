@@ -11,6 +11,7 @@ start configuration for the moment arms (constant forces, constant geometry).
 from __future__ import annotations
 
 import math
+from collections import defaultdict
 from dataclasses import field
 
 from . import syntax as S
@@ -169,7 +170,10 @@ class _Compiler:
         self.invalid: list[tuple[Span, str]] = []
         self.transitions: list[TransitionInfo] = []
         self.sources: dict[str, list[Source_]] = {}
-        self._parent: dict[tuple[str, str, str], tuple[str, str, str]] = {}
+        self._alias: dict[tuple[str, str, str], tuple[str, str, str]] = {}
+        self._into: dict[str, list[TransitionSpec]] = {}
+        self._out: dict[str, list[TransitionSpec]] = {}
+        self._busy: dict[str, set] = {}
         self.tspecs = {t.key: t for t in scene.transitions}
 
     # ---- unknowns and state variables ------------------------------------------------------
@@ -179,22 +183,62 @@ class _Compiler:
         return Var(name)
 
     def _find(self, key):
-        while key in self._parent:
-            key = self._parent[key]
-        return key
+        """The variable a state quantity really is: quantities that a transition cannot
+        change are the same variable on both sides (resolved backwards, memoized, and
+        only for what is referenced, so a sequence of N impacts costs O(N))."""
+        hit = self._alias.get(key)
+        if hit is not None:
+            return hit
+        path = []
+        cur = key
+        while True:
+            if self._given(cur) is not None:
+                break
+            body, qty, sid = cur
+            prev = None
+            for t in self._into.get(sid, ()):
+                if self._linked(body, qty, t):
+                    prev = (body, qty, t.before)
+                    break
+            if prev is None or prev in path or prev == key:
+                break
+            path.append(cur)
+            cur = prev
+            hit = self._alias.get(cur)
+            if hit is not None:
+                cur = hit
+                break
+        if self._given(cur) is None:
+            # the head of the chain: a later state may give it (e.g. only the end velocity)
+            cur = self._forward_given(cur) or cur
+        for k in path:
+            self._alias[k] = cur
+        self._alias[key] = cur
+        return cur
 
-    def _union(self, a, b) -> None:
-        ra, rb = self._find(a), self._find(b)
-        if ra == rb:
-            return
-        ga = self._given(ra)
-        gb = self._given(rb)
-        if ga is not None and gb is not None:
-            return  # both given: a consistency equation is added by the caller
-        if gb is not None:
-            self._parent[ra] = rb
-        else:
-            self._parent[rb] = ra
+    def _forward_given(self, key):
+        body, qty, sid = key
+        seen = {sid}
+        while True:
+            nxt = None
+            for t in self._out.get(sid, ()):
+                if self._linked(body, qty, t):
+                    nxt = t.after
+                    break
+            if nxt is None or nxt in seen:
+                return None
+            seen.add(nxt)
+            if self._given((body, qty, nxt)) is not None:
+                return (body, qty, nxt)
+            sid = nxt
+
+    def _linked(self, body: str, qty: str, t: TransitionSpec) -> bool:
+        """Whether transition t leaves this quantity of this body unchanged."""
+        if t.kind == "energy":
+            return False
+        if qty in ("x", "y", "angle"):
+            return not (t.kind == "interval" and self._given((body, qty, t.after)) is not None)
+        return body not in self._busy[t.key]
 
     def _given(self, key):
         body, qty, sid = key
@@ -291,47 +335,37 @@ class _Compiler:
                       self.notes, self.invalid)
 
     def _positions(self) -> None:
-        """Identify variables that a transition cannot change.
+        """Which quantities each transition leaves unchanged, and checks of the givens.
 
         Positions are unchanged by impacts; intervals keep their start configuration.
-        A body that no impulse reaches in an impact (or, in an interval, no force)
-        keeps its velocity: its variables are shared rather than tied by `m*(v2 - v1)
-        = 0`, so a sequence of N impacts stays O(N).
+        A body that nothing acts on in an impact (or, in an interval, no force) keeps
+        its velocity. Such quantities share one variable across the transition (see
+        `_find`); where the file gives both sides, they must agree.
         """
         sc = self.scene
         for t in sc.transitions:
             if t.kind == "energy":
                 continue
-            idle = self._idle_bodies(t)
-            for b, body in sc.bodies.items():
-                qtys = ["x", "y", "angle"]
-                if b in idle:
-                    qtys += ["vx", "vy", "omega"]
-                for q in qtys:
-                    if body.is_particle and q in ("angle", "omega"):
+            self._busy[t.key] = self._busy_bodies(t)
+            self._into.setdefault(t.after, []).append(t)
+            self._out.setdefault(t.before, []).append(t)
+        for sid, st in sc.states.items():
+            for (b, q), (value, span) in st.givens.items():
+                for t in self._out.get(sid, ()):
+                    gc = self._given((b, q, t.after))
+                    if gc is None or gc[0] == value or not self._linked(b, q, t):
                         continue
-                    a, c = (b, q, t.before), (b, q, t.after)
-                    ga, gc = self._given(a), self._given(c)
-                    if t.kind == "interval" and gc is not None and q in ("x", "y", "angle"):
-                        continue
-                    if ga is not None and gc is not None:
-                        if ga[0] != gc[0]:
-                            why = ("positions unchanged during an impact" if q in
-                                   ("x", "y", "angle") else f"no impulse acts on {b}: its "
-                                   "velocity is unchanged")
-                            self.eq(Known(f"{b}.{q}@{t.after}", gc[0]),
-                                    Known(f"{b}.{q}@{t.before}", ga[0]), why,
-                                    f"{t.kind} {t.before} -> {t.after}", gc[1], "consistency")
-                        continue
-                    self._union(a, c)
-        self._idle = {t.key: self._idle_bodies(t) for t in sc.transitions if t.kind != "energy"}
+                    why = ("positions unchanged during an impact" if q in ("x", "y", "angle")
+                           else f"no impulse acts on {b}: its velocity is unchanged")
+                    self.eq(Known(f"{b}.{q}@{t.after}", gc[0]), Known(f"{b}.{q}@{sid}", value),
+                            why, f"{t.kind} {t.before} -> {t.after}", gc[1], "consistency")
 
-    def _idle_bodies(self, t: TransitionSpec) -> set[str]:
-        """Bodies on which nothing acts during an impact or interval."""
+    def _busy_bodies(self, t: TransitionSpec) -> set[str]:
+        """Bodies that something acts on during an impact or interval."""
         sc = self.scene
         if t.kind == "interval" and sc.gravity is not None:
-            return set()
-        busy: set[str | None] = set()
+            return set(sc.bodies)
+        busy: set = set()
         for c in t.contacts:
             busy.update((c.a.body, c.b.body if c.b else None))
         for jt in sc.joints:
@@ -347,7 +381,8 @@ class _Compiler:
             busy.update((a, b))
         for a, _ in t.stops:
             busy.add(a)
-        return set(sc.bodies) - busy
+        busy.discard(None)
+        return busy
 
     # ---- impacts and intervals ----------------------------------------------------------------
     def _impulse_phase(self, t: TransitionSpec) -> None:
@@ -357,8 +392,8 @@ class _Compiler:
         group = f"{t.kind} {i} -> {j}"
         is_interval = t.kind == "interval"
         # impulses acting on each body: (arm from G, impulse vector, torque)
-        lin: dict[str, list[V2]] = {b: [] for b in sc.bodies}
-        ang: dict[str, list[E]] = {b: [] for b in sc.bodies}
+        lin: dict[str, list[V2]] = defaultdict(list)
+        ang: dict[str, list[E]] = defaultdict(list)
         sources: list[Source_] = []
         contacts_info = []
         duration: E | None = None
@@ -415,9 +450,9 @@ class _Compiler:
         elif t.forces or t.moments:
             pass
         # impulse-momentum for each body that something acts on
-        idle = self._idle.get(key, set())
+        busy = self._busy[key]
         for b, body in sc.bodies.items():
-            if b in idle:
+            if b not in busy:
                 continue
             v1, v2 = self.vel(b, i), self.vel(b, j)
             m = Known(f"m_{b}", body.mass)
@@ -456,7 +491,7 @@ class _Compiler:
             self._rolling(body, surface, j, group, span, normal)
         self.sources[key] = sources
         why = self._why(sources, t)
-        moved = [b for b in sc.bodies if b not in idle]
+        moved = [b for b in sc.bodies if b in busy]
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
         self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info,
                                                energy))
@@ -688,8 +723,8 @@ class _Compiler:
     def _why(self, sources: list[Source_], t: TransitionSpec) -> list[str]:
         """For the bodies the transition moves, together and one by one (up to six)."""
         out = []
-        idle = self._idle.get(t.key, set())
-        bodies = [b for b in self.scene.bodies if b not in idle]
+        busy = self._busy[t.key]
+        bodies = [b for b in self.scene.bodies if b in busy]
         if not bodies:
             return ["nothing acts: every body keeps its velocity"]
         system = set(bodies)

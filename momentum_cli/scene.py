@@ -339,7 +339,7 @@ class _Builder:
         finds = [i for s in st if isinstance(s, S.Find) for i in s.items]
         if not self.bodies:
             raise ProblemError("no bodies: declare one with `body NAME: rod(mass = ..., length = "
-                               "...)`", None, code="empty")
+                               "...)`", Span(1, 1), code="empty", caret=False)
         if not finds:
             self.notes.note("no `find` line: every determined unknown is solved", None)
         return Scene(title, self.gravity, self.g, self.constants, self.user_unknowns,
@@ -630,11 +630,12 @@ class _Builder:
             spec.hints.setdefault((body.name, it.qty), []).append((it.relation, v, it.span))
 
     # ---- transitions
-    def _states_exist(self, states, a: str, b: str, span: Span) -> None:
-        for sid in (a, b):
+    def _states_exist(self, states, a: str, b: str, span: Span, spans=None) -> None:
+        for k, sid in enumerate((a, b)):
             if sid not in states:
+                where = spans[k] if spans else span
                 raise ProblemError(f"state {sid} is not declared" + did_you_mean(sid, states),
-                                   span, code="name", notes=[f"add a line `state {sid}`"])
+                                   where, code="name", notes=[f"add a line `state {sid}`"])
         if a == b:
             raise ProblemError("a transition goes from one state to another", span, code="name")
 
@@ -644,7 +645,7 @@ class _Builder:
                                span, code="number")
 
     def _transition(self, s: S.Transition, states) -> TransitionSpec:
-        self._states_exist(states, s.before, s.after, s.span)
+        self._states_exist(states, s.before, s.after, s.span, (s.before_span, s.after_span))
         t = TransitionSpec(s.kind, s.before, s.after, s.span)
         labels = set()
         for c in s.clauses:

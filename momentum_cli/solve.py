@@ -119,9 +119,9 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
         if site.jt:
             names.add(site.jt)
     # stated principles and user equations are checked when redundant: solve what they need
+    # every redundant equation is checked (an inconsistent file must never pass silently)
     for k in structure.redundant:
-        if system.equations[k].kind in ("stated", "user", "consistency"):
-            names |= structure.incidence[k]
+        names |= structure.incidence[k]
     # the report's energy check for each impact needs the velocities on both sides
     for t in system.transitions:
         if t.kind == "impact" and t.energy is not None:
@@ -260,14 +260,32 @@ def _solve_block(system: System, structure: Structure, block, values,
         raise ProblemError(f"cannot evaluate {eqs[0].principle}: {exc}", eqs[0].span,
                            code="number") from None
     x, quality = solve_linear(rows, rhs, eqs, names, precision)
-    big = max(abs(v) for v in x)
+    if precision == "float":
+        x = _snap_roundoff(rows, rhs, x)
     for n, v in zip(names, x):
-        # round-off against the block's largest value prints as 0 (stable goldens)
-        values[n] = 0.0 if abs(v) <= 1e-14 * big and precision == "float" else v
+        values[n] = v
     n = len(names)
     matrix = [[row.get(j, 0.0) for j in range(n)] for row in rows] if n <= 12 else None
     return BlockReport(block.index, names, block.equations, "linear", quality.cond, 0, 0.0,
                        matrix, rhs if matrix is not None else None, quality)
+
+
+def _snap_roundoff(rows, rhs, x):
+    """Zero the unknowns whose every term is round-off against its equation's size.
+
+    Compared row by row, in each equation's own units (an impulse is never measured
+    against a velocity), so a true small value is never lost; the goldens then show
+    0 rather than 1e-17.
+    """
+    size = [abs(b) + sum(abs(a * x[j]) for j, a in row.items()) for row, b in zip(rows, rhs)]
+    out = list(x)
+    for j, v in enumerate(x):
+        if v == 0.0:
+            continue
+        terms = [(abs(row[j] * v), size[i]) for i, row in enumerate(rows) if j in row]
+        if terms and all(t <= 1e-15 * s for t, s in terms):
+            out[j] = 0.0
+    return out
 
 
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
@@ -284,9 +302,11 @@ def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
         free = exc.free if exc.exact else exact_rank_test(rows, rhs, len(names))
         if free:
             raise _singular(eqs, [names[j] for j in free], exc.cond, exact=True) from None
+        c = f" have condition number {fmt_num(exc.cond, 3)}" if math.isfinite(exc.cond) else \
+            " are singular in float64"
         raise ProblemError(
             f"ill-conditioned beyond float64: the equations for {', '.join(names[:6])}"
-            f"{'...' if len(names) > 6 else ''} have condition number {fmt_num(exc.cond, 3)}",
+            f"{'...' if len(names) > 6 else ''}{c}",
             eqs[0].span, code="ill-conditioned",
             notes=["the block is not singular in exact arithmetic: solve it with "
                    "`--precision exact`"]) from None

@@ -105,6 +105,8 @@ def parse_unit(text: str) -> list[tuple[float, Dim]]:
         else:
             raise UnitError(unknown_unit_message(name), m.start(2))
         p = int(power) if power else 1
+        if abs(p) > 12:
+            raise UnitError(f"unit power {p} is out of range", m.start(3))
         new = []
         for factor, dim in readings:
             for f, d in options:
