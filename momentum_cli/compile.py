@@ -511,7 +511,9 @@ class _Compiler:
         apply(c.a, J, None, n, 1.0)
         if c.b is not None:
             apply(c.b, -J, None, n, -1.0)
-        where = c.a.name
+        # a round body touches at its rim (G - r n), not at its centre
+        body_a = self.scene.bodies[c.a.body]
+        where = f"{c.label}'s contact point" if c.a.round_contact and body_a.radius else c.a.name
         sources.append(Source_((c.a.body, c.b.body if c.b else None), where,
                                n if c.mode == "smooth" else None, False,
                                f"contact {c.label}"))
