@@ -77,7 +77,7 @@ def analyse(system: System) -> Structure:
     # alternating paths (unknown -> equation containing it -> that equation's unknown).
     var_eqs: dict[str, list[int]] = {n: [] for n in names}
     for k, inc in enumerate(incidence):
-        for v in inc:
+        for v in sorted(inc):  # sorted everywhere: block order must not depend on hashing
             var_eqs.setdefault(v, []).append(k)
     under: set[str] = set()
     under_eqs: set[int] = set()
@@ -96,7 +96,7 @@ def analyse(system: System) -> Structure:
     det = [k for k in order if k in match_eq and k not in under_eqs]
     succ: dict[int, list[int]] = {}
     for k in det:
-        succ[k] = [match_var[v] for v in incidence[k]
+        succ[k] = [match_var[v] for v in sorted(incidence[k])
                    if v in match_var and match_var[v] != k and match_var[v] not in under_eqs]
     comps = _tarjan(det, succ)
     blocks: list[Block] = []
