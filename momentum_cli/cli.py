@@ -275,6 +275,68 @@ def check(
     raise typer.Exit(int(worst))
 
 
+bench_app = typer.Typer(help="Benchmarks: what accuracy costs in time.", no_args_is_help=True,
+                        rich_markup_mode=None)
+app.add_typer(bench_app, name="bench")
+
+
+@bench_app.command("accuracy")
+def bench_accuracy(
+    files: List[str] = typer.Argument(None, metavar="[FILE...]",
+                                      help="Problem files to include (default: the seed and "
+                                           "hard examples when run from the repository)."),
+    sizes: str = typer.Option("10,100,1000,10000", "--sizes",
+                              help="Ball-chain lengths, comma separated."),
+    repeat: int = typer.Option(3, "--repeat", min=1, help="Runs per measurement (best kept)."),
+    json_flag: bool = typer.Option(False, "--json", help="Print JSON."),
+) -> None:
+    """Time every precision mode and measure its error against the exact answer.
+
+    \b
+    Examples:
+      momentum bench accuracy
+      momentum bench accuracy --sizes 10,100 --json examples/seed_*.mom
+    """
+    import glob
+    import json
+
+    from .bench import accuracy, default_problems
+
+    try:
+        ns = [int(s) for s in sizes.split(",") if s.strip()]
+    except ValueError:
+        raise typer.BadParameter("--sizes takes whole numbers separated by commas") from None
+    if not files:
+        files = sorted(glob.glob("examples/seed_*.mom")) + sorted(glob.glob("examples/hard/*.mom"))
+    for f in files:
+        if not os.path.isfile(f):
+            raise typer.BadParameter(f"no such file: {f}")
+    err = sys.stderr
+    rows = accuracy(default_problems(files, ns), repeat,
+                    progress=lambda name, p: err.write(f"  {name}: {p}\n") if
+                    err.isatty() else None)
+    if json_flag:
+        from .report.json_out import clean
+
+        doc = [dict(problem=r.problem, unknowns=r.unknowns, precision=r.precision,
+                    seconds=r.seconds, relative_error=r.rel_error, error_bound=r.error_bound,
+                    note=r.note) for r in rows]
+        sys.stdout.write(json.dumps({"schema_version": "1", "accuracy": clean(doc)},
+                                    indent=2, allow_nan=False) + "\n")
+        return
+    from .numbers import fmt_num
+    from .report.text import table
+
+    out = []
+    for r in rows:
+        err_s = "failed: " + r.note if r.rel_error is None else fmt_num(r.rel_error, 2)
+        out.append([r.problem, str(r.unknowns), r.precision,
+                    "-" if r.rel_error is None else f"{r.seconds * 1e3:.3g}",
+                    err_s, "-" if r.error_bound is None else fmt_num(r.error_bound, 2)])
+    sys.stdout.write("\n".join(table(["problem", "unknowns", "precision", "time (ms)",
+                                       "error vs exact", "estimated bound"], out)) + "\n")
+
+
 def main() -> None:
     """Entry point of the `momentum` command."""
     try:

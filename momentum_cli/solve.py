@@ -278,14 +278,12 @@ def _snap_roundoff(rows, rhs, x):
     0 rather than 1e-17.
     """
     size = [abs(b) + sum(abs(a * x[j]) for j, a in row.items()) for row, b in zip(rows, rhs)]
-    out = list(x)
-    for j, v in enumerate(x):
-        if v == 0.0:
-            continue
-        terms = [(abs(row[j] * v), size[i]) for i, row in enumerate(rows) if j in row]
-        if terms and all(t <= 1e-15 * s for t, s in terms):
-            out[j] = 0.0
-    return out
+    small = [True] * len(x)
+    for i, row in enumerate(rows):
+        for j, a in row.items():
+            if abs(a * x[j]) > 1e-15 * size[i]:
+                small[j] = False
+    return [0.0 if small[j] else v for j, v in enumerate(x)]
 
 
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):

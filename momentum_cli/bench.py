@@ -1,0 +1,128 @@
+"""`momentum bench accuracy`: what each extra digit costs, measured.
+
+For each problem (files given, plus generated chains of colliding balls) every
+precision mode is timed, in process, and its answers compared with the `exact`
+mode's, which are the correctly rounded solution of the stated data. The chains
+are one simultaneous impact of N balls with masses spread over many decades, the
+hardest shape for float64 and the one whose cost must grow linearly with N.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+from .records import record
+
+PRECISIONS = ("float", "refine", "exact")
+
+
+@record
+class BenchRow:
+    problem: str
+    unknowns: int
+    precision: str
+    seconds: float
+    rel_error: float | None  # against the exact mode's answers; None if it failed
+    error_bound: float | None  # the report's own estimate (largest over blocks)
+    note: str = ""
+
+
+def chain_text(n: int, decades: float = 6.0, e: float = 0.5) -> str:
+    """N balls in a row, ball 1 moving, all touching: one simultaneous impact.
+
+    Masses 10^(decades * sin(k)) spread over 2*decades decades; restitution e at
+    every contact.
+    """
+    lines = [f'problem "chain of {n} balls, masses over {2 * decades:g} decades"']
+    for k in range(1, n + 1):
+        lines.append(f"body b{k}: particle(mass = {10 ** (decades * math.sin(k)):.17g} kg)")
+    rest = ", ".join(f"b{k} at rest" for k in range(2, n + 1))
+    lines.append(f"state 1: b1.v = (1 m/s, 0){', ' + rest if rest else ''}")
+    lines.append("state 2")
+    lines.append("impact 1 -> 2:")
+    for k in range(1, n):
+        lines.append(f"    contact b{k + 1} with b{k} normal (1, 0): restitution {e}")
+    lines.append(f"find b1.vx@2, b{n}.vx@2, T_lost@1->2")
+    return "\n".join(lines) + "\n"
+
+
+def hard_chain_text() -> str:
+    """The 49-unknown chain: 25 balls, masses log-spaced from 1e-12 to 1e12 kg."""
+    n = 25
+    lines = ['problem "hard chain: 25 balls, masses 1e-12 .. 1e12 kg"']
+    for k in range(n):
+        lines.append(f"body b{k + 1}: particle(mass = 1e{-12 + k} kg)")
+    lines.append("state 1: b1.v = (1 m/s, 0), " + ", ".join(f"b{k} at rest"
+                                                            for k in range(2, n + 1)))
+    lines.append("state 2")
+    lines.append("impact 1 -> 2:")
+    for k in range(1, n):
+        lines.append(f"    contact b{k + 1} with b{k} normal (1, 0): restitution 0.9")
+    lines.append(f"find b1.vx@2, b{n}.vx@2, b13.vx@2")
+    return "\n".join(lines) + "\n"
+
+
+def _run(text: str, name: str, precision: str):
+    from .scene import build
+    from .solve import solve_scene
+    from .source import Source
+    from .syntax import parse
+
+    t0 = time.perf_counter()
+    sol = solve_scene(build(parse(Source(name, text))), precision=precision)
+    dt = time.perf_counter() - t0
+    bound = max((b.quality.bound for b in sol.blocks if b.quality is not None), default=0.0)
+    return dt, [si for _, _, _, si in sol.answers], len(sol.system.unknowns), bound
+
+
+def _rel_error(got: list[float], want: list[float]) -> float:
+    scale = max((abs(w) for w in want), default=0.0) or 1.0
+    worst = 0.0
+    for g, w in zip(got, want):
+        # relative to the answer itself, or to the problem's scale for a zero answer
+        denom = abs(w) if abs(w) > 1e-300 else scale
+        worst = max(worst, abs(g - w) / denom)
+    return worst
+
+
+def accuracy(problems: list[tuple[str, str]], repeat: int = 3, progress=None) -> list[BenchRow]:
+    """Time each precision on each (name, text) problem; errors against `exact`."""
+    from .diagnostics import ProblemError
+
+    rows: list[BenchRow] = []
+    for name, text in problems:
+        results = {}
+        for p in ("exact", "float", "refine"):
+            best, last, err = math.inf, None, ""
+            for _ in range(repeat):
+                try:
+                    dt, ans, n, bound = _run(text, name, p)
+                except ProblemError as exc:
+                    err = exc.diagnostics[0].message
+                    break
+                best = min(best, dt)
+                last = (ans, n, bound)
+            results[p] = (best, last, err)
+            if progress:
+                progress(name, p)
+        exact = results["exact"][1]
+        for p in PRECISIONS:
+            best, last, err = results[p]
+            if last is None:
+                rows.append(BenchRow(name, 0, p, math.nan, None, None, err))
+                continue
+            ans, n, bound = last
+            rel = _rel_error(ans, exact[0]) if exact is not None else None
+            rows.append(BenchRow(name, n, p, best, rel, bound if p != "exact" else 0.0))
+    return rows
+
+
+def default_problems(files: list[str], sizes: list[int]) -> list[tuple[str, str]]:
+    out = []
+    for f in files:
+        with open(f, encoding="utf-8") as fh:
+            out.append((f, fh.read()))
+    out.append(("hard chain (25 balls, 1e-12..1e12 kg)", hard_chain_text()))
+    for n in sizes:
+        out.append((f"chain of {n} balls", chain_text(n)))
+    return out
