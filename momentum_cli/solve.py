@@ -260,30 +260,12 @@ def _solve_block(system: System, structure: Structure, block, values,
         raise ProblemError(f"cannot evaluate {eqs[0].principle}: {exc}", eqs[0].span,
                            code="number") from None
     x, quality = solve_linear(rows, rhs, eqs, names, precision)
-    if precision == "float":
-        x = _snap_roundoff(rows, rhs, x)
     for n, v in zip(names, x):
         values[n] = v
     n = len(names)
     matrix = [[row.get(j, 0.0) for j in range(n)] for row in rows] if n <= 12 else None
     return BlockReport(block.index, names, block.equations, "linear", quality.cond, 0, 0.0,
                        matrix, rhs if matrix is not None else None, quality)
-
-
-def _snap_roundoff(rows, rhs, x):
-    """Zero the unknowns whose every term is round-off against its equation's size.
-
-    Compared row by row, in each equation's own units (an impulse is never measured
-    against a velocity), so a true small value is never lost; the goldens then show
-    0 rather than 1e-17.
-    """
-    size = [abs(b) + sum(abs(a * x[j]) for j, a in row.items()) for row, b in zip(rows, rhs)]
-    small = [True] * len(x)
-    for i, row in enumerate(rows):
-        for j, a in row.items():
-            if abs(a * x[j]) > 1e-15 * size[i]:
-                small[j] = False
-    return [0.0 if small[j] else v for j, v in enumerate(x)]
 
 
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
