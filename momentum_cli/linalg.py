@@ -19,6 +19,7 @@ matrix, the backward error, and a forward relative error bound.
 """
 from __future__ import annotations
 
+import heapq
 import math
 from fractions import Fraction
 
@@ -281,9 +282,20 @@ class SparseLU:
                 col_rows[j].add(i)
         self.steps: list[tuple[int, int, list[tuple[int, object]]]] = []
         self.leftover = set(range(len(rows)))
+        # columns by how many rows still hold them: a heap with lazy deletion
+        heap = [(len(col_rows[c]), c) for c in col_rows]
+        heapq.heapify(heap)
+
+        def touch(c):
+            heapq.heappush(heap, (len(col_rows[c]), c))
+
         for _ in range(n):
-            j = min((c for c in col_rows if col_rows[c]), key=lambda c: len(col_rows[c]),
-                    default=None)
+            j = None
+            while heap:
+                cnt, c = heapq.heappop(heap)
+                if c in col_rows and len(col_rows[c]) == cnt and cnt > 0:
+                    j = c
+                    break
             if j is None:
                 free = list(col_rows)
                 raise SingularError(math.inf, exact=exact,
@@ -310,13 +322,18 @@ class SparseLU:
                         if c in rk:
                             del rk[c]
                             col_rows[c].discard(k)
+                            if c != j:
+                                touch(c)
                     else:
                         if c not in rk:
                             col_rows[c].add(k)
+                            touch(c)
                         rk[c] = nv
                 ops.append((k, f))
             for c in piv_row:
-                col_rows[c].discard(i)
+                if c != j:
+                    col_rows[c].discard(i)
+                    touch(c)
             del col_rows[j]
             self.steps.append((i, j, ops))
         self.rows = rows

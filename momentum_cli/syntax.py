@@ -15,7 +15,7 @@ from .diagnostics import ProblemError
 from .records import record
 from .source import Source, Span
 
-MAX_BYTES = 1_000_000  # larger problem files are refused with a clear error
+MAX_BYTES = 20_000_000  # larger problem files are refused with a clear error
 MAX_DEPTH = 200  # expression nesting bound (keeps recursion far from Python's limit)
 
 
