@@ -174,6 +174,7 @@ class _Compiler:
         self._into: dict[str, list[TransitionSpec]] = {}
         self._out: dict[str, list[TransitionSpec]] = {}
         self._busy: dict[str, set] = {}
+        self._reach: dict[str, set] | None = None
         self.tspecs = {t.key: t for t in scene.transitions}
 
     # ---- unknowns and state variables ------------------------------------------------------
@@ -369,7 +370,7 @@ class _Compiler:
         for c in t.contacts:
             busy.update((c.a.body, c.b.body if c.b else None))
         for jt in sc.joints:
-            if jt.kind != "spring":
+            if jt.kind != "spring" and self._active(jt, t.before):
                 busy.update((jt.a.body, jt.b.body))
         for _, p, _ in t.forces:
             busy.add(p.body)
@@ -423,7 +424,8 @@ class _Compiler:
         for c in t.contacts:
             self._contact(t, c, apply, sources, contacts_info, dur)
         for jt in sc.joints:
-            self._joint_impulse(t, jt, apply, sources)
+            if self._active(jt, i):
+                self._joint_impulse(t, jt, apply, sources)
         for name, span in t.bearing_friction:
             jt = next(j_ for j_ in sc.joints if j_.label == name)
             M = self.unknown(f"M[{name}]@{key}", ANGULAR_IMPULSE, "angular-impulse")
@@ -617,6 +619,24 @@ class _Compiler:
             sources.append(Source_((jt.a.body, jt.b.body), jt.a.name, None, True,
                                    f"weld moment {jt.label}"))
 
+    def _active(self, jt: Joint, sid: str) -> bool:
+        """Whether a joint holds in a state: always, or from its `from` state on."""
+        if jt.from_state is None:
+            return True
+        if self._reach is None:
+            self._reach = {}
+        seen = self._reach.get(jt.from_state)
+        if seen is None:
+            seen, todo = {jt.from_state}, [jt.from_state]
+            while todo:
+                s = todo.pop()
+                for t in self.scene.transitions:
+                    if t.before == s and t.after not in seen:
+                        seen.add(t.after)
+                        todo.append(t.after)
+            self._reach[jt.from_state] = seen
+        return sid in seen
+
     def _has_particle(self, jt: Joint) -> bool:
         bodies = self.scene.bodies
         return any(p.body is not None and bodies[p.body].is_particle for p in (jt.a, jt.b))
@@ -626,7 +646,7 @@ class _Compiler:
         sc = self.scene
         group = f"state {sid}"
         for jt in sc.joints:
-            if jt.kind == "spring":
+            if jt.kind == "spring" or not self._active(jt, sid):
                 continue
             a, b = jt.a, jt.b
             if jt.kind in ("pin", "weld"):

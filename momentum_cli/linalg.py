@@ -407,15 +407,20 @@ def exact_rank_test(rows: Rows, b: list[float], n: int) -> list[int]:
 
 
 def lstsq_small(J: list[list[float]], r: list[float]) -> list[float]:
-    """A Newton step: solves J dx = r; numpy's least squares if J is singular."""
+    """A Newton step: solves J dx = r (equilibrated elimination, no error analysis);
+    numpy's least squares if J is singular or not square."""
     n = len(r)
-    try:
-        if len(J) == len(J[0]):
-            rows = [{j: v for j, v in enumerate(row) if v != 0.0} for row in J]
-            x, _ = solve(rows, r, n)
-            return x
-    except SingularError:
-        pass
+    if n == 1 and len(J[0]) == 1:
+        if J[0][0] != 0.0:
+            return [r[0] / J[0][0]]
+    elif len(J) == len(J[0]) and n <= SMALL:
+        rows = [{j: v for j, v in enumerate(row) if v != 0.0} for row in J]
+        A, b, _, c = equilibrate(rows, r, n)
+        try:
+            y, _ = _gauss_jordan(A, b, n)
+            return [y[j] / c[j] for j in range(n)]
+        except SingularError:
+            pass
     import numpy as np
 
     return [float(v) for v in np.linalg.lstsq(np.array(J), np.array(r), rcond=None)[0]]

@@ -77,6 +77,7 @@ class Joint:
     along: tuple[float, float] | None = None
     stiffness: float | None = None
     length: float | None = None
+    from_state: str | None = None  # holds only from this state on
 
 
 @record(frozen=True)
@@ -309,6 +310,13 @@ class _Builder:
             labels[j.label] = j.span
         self.joints = joints
         states: dict[str, StateSpec] = {}
+        declared = {s.id for s in st if isinstance(s, S.StateDecl)}
+        for s in st:
+            if isinstance(s, S.Joint) and s.from_state is not None and \
+                    s.from_state not in declared:
+                raise ProblemError(f"state {s.from_state} is not declared" +
+                                   did_you_mean(s.from_state, declared), s.from_span,
+                                   code="name")
         for s in st:
             if isinstance(s, S.StateDecl):
                 if s.id in states:
@@ -576,7 +584,7 @@ class _Builder:
                                    code="number")
             length = self.value(s.length, LENGTH, "a spring's free length") if s.length \
                 is not None else 0.0
-        return Joint(s.kind, label, a, b, s.span, along, k, length)
+        return Joint(s.kind, label, a, b, s.span, along, k, length, s.from_state)
 
     # ---- states
     def _state(self, s: S.StateDecl) -> StateSpec:

@@ -183,6 +183,8 @@ class Joint:
     along: object = None  # link: direction of the strut
     stiffness: object = None  # spring
     length: object = None  # spring free length
+    from_state: str | None = None  # holds only from this state on
+    from_span: Span | None = None
 
 
 @record(frozen=True)
@@ -731,6 +733,9 @@ def _make_transformer():
         def surface_at(self, meta, ch):
             return ("at", ch[0])
 
+        def joint_from(self, meta, ch):
+            return ("from", str(ch[0]), _tspan(ch[0]))
+
         def label(self, meta, ch):
             return ("label", str(ch[0]))
 
@@ -741,6 +746,9 @@ def _make_transformer():
                     label, ch = ch[0][1], ch[1:]
                 a, b, rest = ch[0], ch[1], ch[2:]
                 kw = {}
+                if rest and isinstance(rest[-1], tuple) and rest[-1][0] == "from":
+                    kw["from_state"], kw["from_span"] = rest[-1][1], rest[-1][2]
+                    rest = rest[:-1]
                 if kind == "pin" and rest:
                     kw["at"] = rest[0]
                 elif kind == "link":

@@ -133,3 +133,28 @@ find d.vx@1, d.vy@1
 """
     got = answers(text)
     assert math.isclose(got["d.vx@1"], 1.0) and got["d.vy@1"] == 0.0
+
+
+def test_a_pin_from_a_state_joins_bodies_after_the_impact():
+    text = """
+gravity 9.81 m/s^2 down
+body block: rigid(mass = 4 kg, inertia = 0.02 kg*m^2)
+body bullet: particle(mass = 0.01 kg)
+point O = block at (0, 1 m)
+pin O to ground at (0, 1 m)
+pin bullet to block from 2
+state 1: block.angle = 0, block at rest, bullet.v = (400 m/s, 0)
+state 2
+state 3: block.omega = 0, block.angle > 0
+impact 1 -> 2:
+    contact block with bullet normal (1, 0): restitution 0, rough
+energy 2 -> 3
+find block.omega@2, block.angle@3
+"""
+    m, M, I, L, v, g = 0.01, 4.0, 0.02, 1.0, 400.0, 9.81
+    I_O = I + (M + m) * L * L  # block about the pin, bullet at the block's centre
+    w = m * v * L / I_O
+    theta = math.acos(1 - 0.5 * I_O * w * w / ((M + m) * g * L))
+    got = answers(text)
+    assert math.isclose(got["block.omega@2"], w, rel_tol=1e-12)
+    assert math.isclose(got["block.angle@3"], theta, rel_tol=1e-10)
