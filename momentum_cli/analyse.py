@@ -72,7 +72,13 @@ def analyse(system: System) -> Structure:
     # auto equations first: stated principles then become the checks when redundant
     order = sorted((k for k, inc in enumerate(incidence) if inc),
                    key=lambda k: (eqs[k].kind in ("stated", "user"), k))
-    match_eq, match_var = _max_matching(order, incidence)
+    # auto equations are matched first, on their own; the principles a user states
+    # (and free equations) then only take unknowns the scene left undetermined, so a
+    # redundant statement becomes a check instead of displacing a derived equation
+    auto = [k for k in order if eqs[k].kind not in ("stated", "user")]
+    extra = [k for k in order if eqs[k].kind in ("stated", "user")]
+    match_eq, match_var = _max_matching(auto, incidence)
+    _augment(extra, incidence, match_eq, match_var)
     # Dulmage-Mendelsohn: under-determined = reachable from unmatched unknowns by
     # alternating paths (unknown -> equation containing it -> that equation's unknown).
     var_eqs: dict[str, list[int]] = {n: [] for n in names}
@@ -120,21 +126,33 @@ def _max_matching(order: list[int], incidence: list[set[str]]):
     """Maximum bipartite matching by augmenting paths (equations in the given order)."""
     match_eq: dict[int, str] = {}
     match_var: dict[str, int] = {}
-    adj = {k: sorted(incidence[k]) for k in order}
     # cheap greedy pass first
     for k in order:
-        for v in adj[k]:
+        for v in sorted(incidence[k]):
             if v not in match_var:
                 match_var[v] = k
                 match_eq[k] = v
                 break
+    _augment(order, incidence, match_eq, match_var)
+    return match_eq, match_var
+
+
+def _augment(order: list[int], incidence: list[set[str]], match_eq: dict, match_var: dict):
+    """Extend a matching by augmenting paths from each unmatched equation of `order`."""
+    adj: dict[int, list[str]] = {}
+
+    def nbrs(k):
+        if k not in adj:
+            adj[k] = sorted(incidence[k])
+        return adj[k]
+
     for k in order:
         if k in match_eq:
             continue
         # iterative DFS for an augmenting path from equation k
         visited: set[str] = set()
         parent: dict[str, int] = {}
-        stack = [(k, iter(adj[k]))]
+        stack = [(k, iter(nbrs(k)))]
         found = None
         while stack and found is None:
             e, it = stack[-1]
@@ -146,7 +164,7 @@ def _max_matching(order: list[int], incidence: list[set[str]]):
                 if v not in match_var:
                     found = v
                     break
-                stack.append((match_var[v], iter(adj[match_var[v]])))
+                stack.append((match_var[v], iter(nbrs(match_var[v]))))
                 break
             else:
                 stack.pop()

@@ -608,7 +608,7 @@ def _make_transformer():
             return Ref(_span(meta), name, index, member, at)
 
         def ref_index(self, meta, ch):
-            return ("index", str(ch[0]))
+            return ("index", "-".join(str(c) for c in ch))
 
         def ref_member(self, meta, ch):
             return ("member", str(ch[0]))
