@@ -156,6 +156,14 @@ def _augment(order: list[int], incidence: list[set[str]], match_eq: dict, match_
         found = None
         while stack and found is None:
             e, it = stack[-1]
+            # look ahead: an unmatched unknown of this equation ends the path at once
+            # (keeps chains of contacts linear instead of quadratic)
+            free = next((v for v in nbrs(e) if v not in match_var and v not in visited), None)
+            if free is not None:
+                visited.add(free)
+                parent[free] = e
+                found = free
+                break
             for v in it:
                 if v in visited:
                     continue

@@ -68,8 +68,11 @@ def _run(text: str, name: str, precision: str):
     from .source import Source
     from .syntax import parse
 
+    from .run import _NoCyclicGC
+
     t0 = time.perf_counter()
-    sol = solve_scene(build(parse(Source(name, text))), precision=precision)
+    with _NoCyclicGC():
+        sol = solve_scene(build(parse(Source(name, text))), precision=precision)
     dt = time.perf_counter() - t0
     bound = max((b.quality.bound for b in sol.blocks if b.quality is not None), default=0.0)
     return dt, [si for _, _, _, si in sol.answers], len(sol.system.unknowns), bound

@@ -24,6 +24,7 @@ from .expr import (
     Known,
     Var,
     add,
+    add_all,
     evaluate,
     mul,
     neg,
@@ -460,17 +461,13 @@ class _Compiler:
             m = Known(f"m_{b}", body.mass)
             for comp, a1, a2, jsum in (("x", v1.x, v2.x, [J.x for J in lin[b]]),
                                        ("y", v1.y, v2.y, [J.y for J in lin[b]])):
-                rhs: E = ZERO
-                for x in jsum:
-                    rhs = add(rhs, x)
+                rhs = add_all(jsum)
                 self.eq(mul(m, add(a2, neg(a1))), rhs,
                         f"linear impulse-momentum {comp}: {b}", group, t.span)
             if not body.is_particle:
                 I = Known(f"I_{b}", body.inertia)
                 w1, w2 = self.sv(b, "omega", i), self.sv(b, "omega", j)
-                rhs = ZERO
-                for x in ang[b]:
-                    rhs = add(rhs, x)
+                rhs = add_all(ang[b])
                 self.eq(mul(I, add(w2, neg(w1))), rhs,
                         f"angular impulse-momentum about G: {b}", group, t.span)
         # end conditions
@@ -691,16 +688,16 @@ class _Compiler:
 
     # ---- energy phases ---------------------------------------------------------------------------
     def _kinetic(self, sid: str, bodies=None) -> E:
-        T: E = ZERO
-        for b, body in self.scene.bodies.items():
-            if bodies is not None and b not in bodies:
-                continue
+        terms = []
+        names = self.scene.bodies if bodies is None else bodies
+        for b in names:
+            body = self.scene.bodies[b]
             v = self.vel(b, sid)
-            T = add(T, mul(Const(0.5), mul(Known(f"m_{b}", body.mass), v.dot(v))))
+            terms.append(mul(Const(0.5), mul(Known(f"m_{b}", body.mass), v.dot(v))))
             if not body.is_particle:
                 w = self.sv(b, "omega", sid)
-                T = add(T, mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
-        return T
+                terms.append(mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
+        return add_all(terms)
 
     def _potential(self, sid: str) -> E:
         sc = self.scene

@@ -153,6 +153,22 @@ def add(a: E, b: E) -> E:
     return Add(ta + tb)
 
 
+def add_all(terms) -> E:
+    """The sum of many terms in one node (repeated `add` would copy tuples: O(n^2))."""
+    flat: list = []
+    const = 0.0
+    for t in terms:
+        if type(t) is Const:
+            const += t.value
+        elif type(t) is Add:
+            flat.extend(t.terms)
+        else:
+            flat.append(t)
+    if const != 0.0 or not flat:
+        flat.append(Const(const))
+    return flat[0] if len(flat) == 1 else Add(tuple(flat))
+
+
 def neg(a: E) -> E:
     if isinstance(a, Const):
         return Const(-a.value)

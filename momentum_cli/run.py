@@ -79,6 +79,28 @@ def decode_source(name: str, data: bytes | str) -> Source:
                               span) from None
 
 
+class _NoCyclicGC:
+    """Pause the cyclic garbage collector while one file is solved.
+
+    The pipeline builds ~10^5 short-lived, acyclic objects for a large scene (reference
+    counting frees them); the cyclic collector would rescan the growing heap again
+    and again and make a 10x larger scene cost 16x. Measured: linear without it.
+    """
+
+    def __enter__(self):
+        import gc
+
+        self.was = gc.isenabled()
+        gc.disable()
+
+    def __exit__(self, *exc):
+        import gc
+
+        if self.was:
+            gc.enable()
+        return False
+
+
 def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
                  precision: str = "float") -> FileResult:
     from .report.model import build_report
@@ -87,9 +109,10 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
     from .syntax import parse
 
     try:
-        scene = build(parse(source))
-        sol = solve_scene(scene, solve_all, precision=precision)
-        rep = build_report(source.name, sol, sig)
+        with _NoCyclicGC():
+            scene = build(parse(source))
+            sol = solve_scene(scene, solve_all, precision=precision)
+            rep = build_report(source.name, sol, sig)
         return FileResult(source.name, "solved", source, rep, list(sol.diagnostics))
     except ProblemError as exc:
         return FileResult(source.name, "error", source, None, list(exc.diagnostics))
