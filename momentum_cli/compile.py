@@ -84,13 +84,24 @@ class Equation:
     span: Span | None
     kind: str = "auto"  # auto | stated | user | consistency
     index: int = 0
+    _residual: E | None = None
+    _texts: dict | None = None
 
     @property
     def residual(self) -> E:
-        return add(self.lhs, neg(self.rhs))
+        if self._residual is None:
+            self._residual = add(self.lhs, neg(self.rhs))
+        return self._residual
 
     def text(self, numeric: bool = False) -> str:
-        return f"{to_text(self.lhs, numeric)} = {to_text(self.rhs, numeric)}"
+        """`lhs = rhs`, symbolically or with numbers (printed once, then remembered)."""
+        if self._texts is None:
+            self._texts = {}
+        t = self._texts.get(numeric)
+        if t is None:
+            t = self._texts[numeric] = f"{to_text(self.lhs, numeric)} = " \
+                                       f"{to_text(self.rhs, numeric)}"
+        return t
 
 
 @record

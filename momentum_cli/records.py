@@ -27,7 +27,7 @@ def _build(cls, frozen: bool, identity: bool):
     for base in cls.__mro__[1:]:
         inherited = getattr(base, "_fields", ()) + inherited if hasattr(base, "_fields") else \
             inherited
-    fields = tuple(f for f in own if not f.startswith("_") and own[f] != "ClassVar")
+    fields = tuple(f for f in own if own[f] != "ClassVar")
     all_fields = inherited + fields
     defaults: dict = {}
     factories: dict = {}
