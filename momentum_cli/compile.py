@@ -203,6 +203,7 @@ class _Compiler:
         if hit is not None:
             return hit
         path = []
+        on_path = {key}
         cur = key
         while True:
             if self._given(cur) is not None:
@@ -213,9 +214,10 @@ class _Compiler:
                 if self._linked(body, qty, t):
                     prev = (body, qty, t.before)
                     break
-            if prev is None or prev in path or prev == key:
+            if prev is None or prev in on_path:
                 break
             path.append(cur)
+            on_path.add(prev)
             cur = prev
             hit = self._alias.get(cur)
             if hit is not None:

@@ -53,16 +53,27 @@ class Quality:
     components: list | None = None  # the estimate for each unknown, relative to itself
 
 
+def _pow2(x: float) -> float:
+    """The power of two nearest below |x| (scaling by it is exact in binary floats)."""
+    if x == 0.0 or not math.isfinite(x):
+        return 1.0
+    return math.ldexp(1.0, math.frexp(x)[1] - 1)
+
+
 def equilibrate(rows: Rows, b: list[float], n: int):
-    """Row then column scaling by the largest magnitude: (rows2, b2, r, c)."""
-    r = [max((abs(v) for v in row.values()), default=0.0) or 1.0 for row in rows]
+    """Row then column scaling by powers of two near the largest magnitude.
+
+    Powers of two change no digit of any entry, so the exact and refined solves see
+    the block's data exactly as given: (rows2, b2, r, c).
+    """
+    r = [_pow2(max((abs(v) for v in row.values()), default=0.0)) for row in rows]
     c = [0.0] * n
     for i, row in enumerate(rows):
         for j, v in row.items():
             a = abs(v) / r[i]
             if a > c[j]:
                 c[j] = a
-    c = [x or 1.0 for x in c]
+    c = [_pow2(x) for x in c]
     rows2 = [{j: v / r[i] / c[j] for j, v in row.items()} for i, row in enumerate(rows)]
     return rows2, [b[i] / r[i] for i in range(len(b))], r, c
 

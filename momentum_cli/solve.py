@@ -153,10 +153,16 @@ def _solve(system: System, structure: Structure, solve_all: bool,
     reports = []
     for b in blocks_needed:
         reports.append(_solve_block(system, structure, structure.blocks[b], values, precision))
+    bounds: dict[str, float] = {}
+    for rep in reports:
+        comps = rep.quality.components if rep.quality is not None else None
+        for j, name in enumerate(rep.unknowns):
+            # Newton blocks converge to ~1e-14 of their terms; allow for their conditioning
+            bounds[name] = comps[j] if comps else max(rep.residual * 100, 1e-12)
     for k in structure.redundant:
         e = eqs[k]
         if all(v in values for v in structure.incidence[k]):
-            _check_equation(e, values, checks, system, structure)
+            _check_equation(e, values, checks, system, structure, bounds=bounds)
     for k, e in enumerate(eqs):
         if e.kind in ("stated", "user") and (k in structure.redundant or k in structure.under_eqs):
             missing = sorted(v for v in structure.incidence[k] if v not in values)
@@ -180,13 +186,26 @@ def _scale(e: Equation, values: dict[str, float]) -> float:
         return 0.0
 
 
-def _check_equation(e: Equation, values, checks, system, structure, constant=False) -> None:
+ROUNDOFF = 64 * 2.0**-53  # evaluating a residual from exact values: a few ulps per term
+
+
+def _check_equation(e: Equation, values, checks, system, structure, constant=False,
+                    bounds: dict[str, float] | None = None) -> None:
+    """A redundant equation must hold to within what the solve can promise.
+
+    The tolerance is the residual's own uncertainty: round-off in evaluating it,
+    plus the error bound of each solved unknown it uses (not a fixed fraction, so a
+    badly scaled inconsistency cannot hide behind large cancelling terms).
+    """
     try:
         r = evaluate(e.residual, values)
     except (ValueError, ZeroDivisionError, OverflowError):
         r = math.nan
     scale = _scale(e, values)
-    ok = math.isfinite(r) and abs(r) <= REL_TOL * max(scale, 1e-300) or (scale == 0 and r == 0)
+    err = max((bounds or {}).get(v, 0.0) for v in structure.incidence[e.index]) \
+        if structure.incidence[e.index] else 0.0
+    tol = (ROUNDOFF + min(err, 1.0)) * scale
+    ok = math.isfinite(r) and abs(r) <= tol or (scale == 0 and r == 0)
     where = f"line {e.span.line}" if e.span else "the scene"
     if ok:
         if e.kind in ("stated", "user", "consistency") or not constant:
@@ -202,11 +221,45 @@ def _check_equation(e: Equation, values, checks, system, structure, constant=Fal
     if others:
         notes.append("it conflicts with the equations from line" + ("s " if len(others) > 1 else
                      " ") + ", ".join(str(x) for x in sorted(others)))
+    related = [e] + [system.equations[structure.match_var[v]]
+                     for v in sorted(structure.incidence[e.index]) if v in structure.match_var]
+    given = sorted({g for x in related for g in _given_lines(x, system)},
+                   key=lambda kv: (kv[1], kv[0]))
+    if given:
+        notes.append("it uses the given value" + ("s " if len(given) > 1 else " ") +
+                     ", ".join(f"{name} (line {line})" for name, line in given))
     if constant:
         notes.append("every quantity in it is given: one of the given values is inconsistent "
                      "with it")
     raise ProblemError(f"inconsistent: {e.principle} does not hold", e.span,
                        code="inconsistent", notes=notes)
+
+
+def _given_lines(e: Equation, system: System) -> list[tuple[str, int]]:
+    """The given state values an equation uses, with the lines that give them."""
+    from .expr import Add, Fn, Known, Mul, Pow
+
+    found: dict[str, int] = {}
+    todo = [e.lhs, e.rhs]
+    while todo:
+        x = todo.pop()
+        t = type(x)
+        if t is Known and "@" in x.name and "." in x.name:
+            body_qty, sid = x.name.rsplit("@", 1)
+            body, qty = body_qty.split(".", 1)
+            st = system.scene.states.get(sid)
+            g = st.givens.get((body, qty)) if st else None
+            if g is not None:
+                found[x.name] = g[1].line
+        elif t is Add:
+            todo.extend(x.terms)
+        elif t is Mul:
+            todo.extend(x.factors)
+        elif t is Pow:
+            todo.append(x.base)
+        elif t is Fn:
+            todo.append(x.arg)
+    return sorted(found.items(), key=lambda kv: (kv[1], kv[0]))
 
 
 def _under_determined(system: System, structure: Structure, missing: list[str]) -> ProblemError:
@@ -487,7 +540,7 @@ def _answers(system: System, values) -> list[tuple[str, float, str, float]]:
             raise ProblemError(f"{f.name} is not a finite number", f.span, code="number") \
                 from None
         # a value that is round-off against the size of its terms is exactly zero
-        if si != 0.0 and abs(si) <= 1e-12 * magnitude(f.expr, values):
+        if si != 0.0 and abs(si) <= 64 * 2.0**-53 * magnitude(f.expr, values):
             si = 0.0
         out.append((f.name, si / f.factor, f.unit, si))
     return out
