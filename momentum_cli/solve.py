@@ -152,7 +152,13 @@ def _solve(system: System, structure: Structure, solve_all: bool,
     blocks_needed = structure.needed_blocks([n for n in needed if n not in structure.under])
     reports = []
     for b in blocks_needed:
-        reports.append(_solve_block(system, structure, structure.blocks[b], values, precision))
+        try:
+            reports.append(_solve_block(system, structure, structure.blocks[b], values,
+                                        precision))
+        except ProblemError as exc:
+            if exc.diagnostics[0].code == "singular":
+                _blame_downstream(system, structure, b, values, exc)
+            raise
     bounds: dict[str, float] = {}
     for rep in reports:
         comps = rep.quality.components if rep.quality is not None else None
@@ -343,6 +349,41 @@ def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
             eqs[0].span, code="ill-conditioned",
             notes=["the block is not singular in exact arithmetic: solve it with "
                    "`--precision exact`"]) from None
+
+
+def _blame_downstream(system: System, structure: Structure, b: int, values, exc) -> None:
+    """Name the unknowns a singular block really leaves free.
+
+    A block can be singular because equations repeat (a contact declared twice): its
+    own unknowns may then be fixed while the freedom lies in the blocks that use them
+    (how the impulse splits between the two contacts). The exact null space of the
+    block together with the linear blocks downstream of it says which. Raises the
+    better error, or returns to let the block's own error stand.
+    """
+    from .linalg import exact_rank_test
+
+    down = {b}
+    for blk in structure.blocks:  # blocks come in dependency order
+        if blk.depends & down:
+            down.add(blk.index)
+    names = [n for k in sorted(down) for n in structure.blocks[k].unknowns]
+    if len(names) > 3000:
+        return
+    col = {n: j for j, n in enumerate(names)}
+    rows, rhs, eqs = [], [], []
+    for k in sorted(down):
+        for q in structure.blocks[k].equations:
+            e = system.equations[q]
+            try:
+                coef, const = affine(e.residual, set(names), values)
+            except (NonLinear, KeyError, ValueError, ZeroDivisionError, OverflowError):
+                return
+            rows.append({col[n]: v for n, v in coef.items() if v != 0.0})
+            rhs.append(-const)
+            eqs.append(e)
+    free = exact_rank_test(rows, rhs, len(names))
+    if free:
+        raise _singular(eqs, [names[j] for j in free], None, exact=True) from None
 
 
 def _singular(eqs, names, cond=None, exact=False) -> ProblemError:

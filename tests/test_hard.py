@@ -854,9 +854,6 @@ def test_closed_form(name, precision):
 
 # ---- 7. rank-deficient, under-determined and inconsistent, badly scaled -----------------------
 
-@pytest.mark.xfail(strict=True, reason="BUG: a contact declared twice blames the velocities "
-                   "(barge.vx@2, grain.vx@2), which momentum determines, instead of the two "
-                   "impulses J_n[a], J_n[b]")
 def test_duplicate_contact_names_the_two_impulses():
     d = error_of("bad_duplicate_contact")
     assert d.code == "singular"
