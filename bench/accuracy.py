@@ -27,7 +27,8 @@ def main() -> None:
     args = ap.parse_args()
     root = os.path.join(os.path.dirname(__file__), "..")
     files = sorted(glob.glob(os.path.join(root, "examples", "seed_*.mom")))
-    files += sorted(glob.glob(os.path.join(root, "examples", "hard", "*.mom")))
+    files += sorted(f for f in glob.glob(os.path.join(root, "examples", "hard", "*.mom"))
+                    if not os.path.basename(f).startswith("bad_"))  # error cases: no answer
     sizes = [int(s) for s in args.sizes.split(",")]
     rows = accuracy(default_problems(files, sizes), args.repeat,
                     progress=lambda n, p: print(f"  {n}: {p}", file=sys.stderr))

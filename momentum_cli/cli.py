@@ -307,7 +307,8 @@ def bench_accuracy(
     except ValueError:
         raise typer.BadParameter("--sizes takes whole numbers separated by commas") from None
     if not files:
-        files = sorted(glob.glob("examples/seed_*.mom")) + sorted(glob.glob("examples/hard/*.mom"))
+        files = sorted(glob.glob("examples/seed_*.mom")) + sorted(
+            f for f in glob.glob("examples/hard/*.mom") if not os.path.basename(f).startswith("bad_"))
     for f in files:
         if not os.path.isfile(f):
             raise typer.BadParameter(f"no such file: {f}")
