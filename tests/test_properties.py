@@ -45,7 +45,7 @@ from helpers import answers as answers_of
 
 # Deterministic and bounded so that the file runs in a few seconds; set
 # MOMENTUM_PROPERTY_EXAMPLES=1000 for a thorough (slower, still deterministic) run.
-N_EXAMPLES = int(os.environ.get("MOMENTUM_PROPERTY_EXAMPLES", "60"))
+N_EXAMPLES = int(os.environ.get("MOMENTUM_PROPERTY_EXAMPLES", "150"))
 SETTINGS = settings(derandomize=True, max_examples=N_EXAMPLES, deadline=None, database=None,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 FEW = settings(SETTINGS, max_examples=max(1, N_EXAMPLES // 2))
