@@ -167,7 +167,7 @@ def solve(
       momentum solve --json examples/*.mom
       cat problem.mom | momentum solve -q -
     """
-    from .run import solve_source
+    from .run import solve_many, solve_source
 
     mode = _pick_format(fmt, json_flag, plain)
     _safe_streams()
@@ -176,13 +176,20 @@ def solve(
     console = None
     worst = ExitCode.OK
     many = len(files) > 1
-    for i, (name, source, res) in enumerate(_read_all(files)):
-        if res is None:
+    items = list(_read_all(files))
+    solved = iter(())
+    if not traceback_flag:  # many files: solved in parallel, reported in order
+        solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
+                            precision.value)
+    for i, (name, source, res) in enumerate(items):
+        if res is None and not traceback_flag:
+            res = next(solved)
+        elif res is None:
             try:
                 res = solve_source(source, solve_all, digits, precision.value)
             except (KeyboardInterrupt, typer.Exit):
                 raise
-            except Exception as exc:  # a bug: report it as one line, keep going
+            except Exception as exc:  # --traceback: show the bug
                 res = _internal(name, exc, traceback_flag)
         code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
         worst = max(worst, code)

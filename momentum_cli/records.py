@@ -54,6 +54,7 @@ def _build(cls, frozen: bool, identity: bool):
     ns["_factories"] = factories
     n = len(all_fields)
     setter = object.__setattr__
+    new_cls: list = []
 
     def __init__(self, *args, **kw):
         if len(args) > n:
@@ -82,7 +83,11 @@ def _build(cls, frozen: bool, identity: bool):
             return NotImplemented
         return all(getattr(self, f) == getattr(other, f) for f in all_fields)
 
+    def __reduce__(self):  # pickling (worker processes): rebuild through __init__
+        return (new_cls[0], tuple(getattr(self, f) for f in all_fields))
+
     ns.setdefault("__init__", __init__)
+    ns.setdefault("__reduce__", __reduce__)
     ns.setdefault("__repr__", __repr__)
     if "__eq__" not in ns and not identity:
         ns["__eq__"] = __eq__
@@ -102,4 +107,5 @@ def _build(cls, frozen: bool, identity: bool):
     new = type(cls)(cls.__name__, cls.__bases__, ns)
     new.__qualname__ = cls.__qualname__
     new.__module__ = cls.__module__
+    new_cls.append(new)
     return new

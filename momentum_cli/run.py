@@ -160,3 +160,58 @@ def check_source(source: Source) -> FileResult:
                   undetermined=len(st.under), undetermined_equations=len(st.under_eqs))
     status = "error" if any(d.severity == "error" for d in diags) else "checked"
     return FileResult(source.name, status, source, None, diags, counts)
+
+
+PARALLEL_MIN = 48  # files in one call from which a second process pays for itself
+
+
+def _solve_job(job):
+    """Worker: solve one (source, options) job; a bug becomes an internal FileResult."""
+    source, solve_all, sig, precision = job
+    try:
+        return solve_source(source, solve_all, sig, precision)
+    except Exception as exc:  # a bug in momentum: keep going, report it in order
+        return FileResult(source.name, "internal", None, None, [Diagnostic(
+            "error", "internal", f"internal error: {type(exc).__name__}: {exc} (this is a bug "
+            "in momentum; rerun with --traceback and report it)")])
+
+
+def solve_many(sources, solve_all: bool, sig: int, precision: str):
+    """Solve sources in order, in parallel worker processes when there are many.
+
+    Yields FileResults in the input order. Each file is independent, so with many
+    files a fork-based pool on every core cuts the per-file cost; the parser is
+    built first, so each worker inherits it.
+    """
+    import os
+
+    sources = list(sources)
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else \
+        (os.cpu_count() or 1)
+    if len(sources) < PARALLEL_MIN or cores < 2:
+        for s in sources:
+            yield _solve_job((s, solve_all, sig, precision))
+        return
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
+
+    from .syntax import parser
+
+    parser()  # build (or load) once; forked workers share it
+    try:
+        ctx = mp.get_context("fork")
+    except ValueError:
+        ctx = None
+    jobs = [(s, solve_all, sig, precision) for s in sources]
+    done = 0
+    if ctx is not None:
+        try:
+            with ProcessPoolExecutor(cores, mp_context=ctx) as pool:
+                for res in pool.map(_solve_job, jobs, chunksize=8):
+                    done += 1
+                    yield res
+        except (BrokenProcessPool, OSError, RuntimeError):
+            pass  # no worker processes here: finish in this one
+    for job in jobs[done:]:
+        yield _solve_job(job)

@@ -485,3 +485,24 @@ def test_real_entry_point_never_prints_a_traceback(tmp_path):
     assert proc.returncode == 1
     assert "Traceback" not in proc.stderr
     assert len([x for x in proc.stderr.splitlines() if ": error: " in x]) == len(paths)
+
+
+def test_many_files_are_solved_in_parallel_with_the_same_output_in_order(tmp_path):
+    """From PARALLEL_MIN files on, worker processes solve them; the report must be the
+    serial one, in the given order, with the worst exit code."""
+    from momentum_cli.run import PARALLEL_MIN
+
+    seeds = sorted(EXAMPLES.glob("seed_*.mom"))
+    paths = []
+    for k in range(PARALLEL_MIN + 2):
+        p = tmp_path / f"p{k:03d}.mom"
+        p.write_text(seeds[k % len(seeds)].read_text(encoding="utf-8"), encoding="utf-8")
+        paths.append(str(p))
+    bad = tmp_path / "bad.mom"
+    bad.write_text("body b: rod(mass = 1 m, length = 1 m)\n", encoding="utf-8")
+    args = [sys.executable, "-m", "momentum_cli", "solve", "--plain", *paths, str(bad)]
+    par = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    ser = subprocess.run(args + ["--traceback"], capture_output=True, text=True, timeout=300)
+    assert par.returncode == ser.returncode == 1
+    assert par.stdout == ser.stdout and par.stderr == ser.stderr
+    assert par.stdout.count("\n== ") == len(paths) - 1
