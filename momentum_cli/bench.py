@@ -27,39 +27,33 @@ class BenchRow:
     note: str = ""
 
 
-def chain_text(n: int, decades: float = 6.0, e: float = 0.5) -> str:
-    """N balls in a row, ball 1 moving, all touching: one simultaneous impact.
-
-    Masses 10^(decades * sin(k)) spread over 2*decades decades; restitution e at
-    every contact.
-    """
-    lines = [f'problem "chain of {n} balls, masses over {2 * decades:g} decades"']
-    for k in range(1, n + 1):
-        lines.append(f"body b{k}: particle(mass = {10 ** (decades * math.sin(k)):.17g} kg)")
+def _chain(title: str, masses: list[float], e: float, finds: str) -> str:
+    """Balls in a row, all touching, ball 1 moving at 1 m/s: one simultaneous impact
+    with restitution e at every contact."""
+    n = len(masses)
+    lines = [f'problem "{title}"']
+    lines += [f"body b{k}: particle(mass = {m!r} kg)" for k, m in enumerate(masses, 1)]
     rest = ", ".join(f"b{k} at rest" for k in range(2, n + 1))
     lines.append(f"state 1: b1.v = (1 m/s, 0){', ' + rest if rest else ''}")
-    lines.append("state 2")
-    lines.append("impact 1 -> 2:")
-    for k in range(1, n):
-        lines.append(f"    contact b{k + 1} with b{k} normal (1, 0): restitution {e}")
-    lines.append(f"find b1.vx@2, b{n}.vx@2, T_lost@1->2")
+    lines += ["state 2", "impact 1 -> 2:"]
+    lines += [f"    contact b{k + 1} with b{k} normal (1, 0): restitution {e}"
+              for k in range(1, n)]
+    lines.append(f"find {finds}")
     return "\n".join(lines) + "\n"
+
+
+def chain_text(n: int, decades: float = 6.0, e: float = 0.5) -> str:
+    """N balls with masses 10^(decades * sin(k)), over 2*decades decades."""
+    masses = [10 ** (decades * math.sin(k)) for k in range(1, n + 1)]
+    return _chain(f"chain of {n} balls, masses over {2 * decades:g} decades", masses, e,
+                  f"b1.vx@2, b{n}.vx@2, T_lost@1->2")
 
 
 def hard_chain_text() -> str:
     """The 49-unknown chain: 25 balls, masses log-spaced from 1e-12 to 1e12 kg."""
-    n = 25
-    lines = ['problem "hard chain: 25 balls, masses 1e-12 .. 1e12 kg"']
-    for k in range(n):
-        lines.append(f"body b{k + 1}: particle(mass = 1e{-12 + k} kg)")
-    lines.append("state 1: b1.v = (1 m/s, 0), " + ", ".join(f"b{k} at rest"
-                                                            for k in range(2, n + 1)))
-    lines.append("state 2")
-    lines.append("impact 1 -> 2:")
-    for k in range(1, n):
-        lines.append(f"    contact b{k + 1} with b{k} normal (1, 0): restitution 0.9")
-    lines.append(f"find b1.vx@2, b{n}.vx@2, b13.vx@2")
-    return "\n".join(lines) + "\n"
+    masses = [float(f"1e{-12 + k}") for k in range(25)]
+    return _chain("hard chain: 25 balls, masses 1e-12 .. 1e12 kg", masses, 0.9,
+                  "b1.vx@2, b25.vx@2, b13.vx@2")
 
 
 def _run(text: str, name: str, precision: str):

@@ -30,17 +30,25 @@ def _rel(path):
     return str(path.relative_to(EXAMPLES.parent))
 
 
+def _written(golden, text: str, update: bool) -> bool:
+    """With --update-golden, rewrite the golden (True). A missing golden is created and
+    the test fails, so that it is reviewed before it is committed."""
+    if update:
+        golden.write_text(text, encoding="utf-8")
+        return True
+    if not golden.exists():
+        golden.write_text(text, encoding="utf-8")
+        pytest.fail(f"created {golden.name}; review and commit it")
+    return False
+
+
 @pytest.mark.parametrize("problem", PROBLEMS, ids=lambda p: p.stem)
 def test_plain_output_matches_golden(problem, update_golden, monkeypatch):
     monkeypatch.chdir(EXAMPLES.parent)
     got = run_cli(["solve", "--plain", _rel(problem)])
     golden = problem.with_suffix(".out")
-    if update_golden:
-        golden.write_text(got, encoding="utf-8")
+    if _written(golden, got, update_golden):
         return
-    if not golden.exists():
-        golden.write_text(got, encoding="utf-8")
-        pytest.fail(f"created {golden.name}; review and commit it")
     want = golden.read_text(encoding="utf-8")
     if got != want:
         problem.with_suffix(".obtained.out").write_text(got, encoding="utf-8")
@@ -72,12 +80,8 @@ def test_json_output_matches_golden(problem, update_golden, monkeypatch):
     doc.pop("momentum_version")
     golden = problem.with_suffix(".json")
     text = json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
-    if update_golden:
-        golden.write_text(text, encoding="utf-8")
+    if _written(golden, text, update_golden):
         return
-    if not golden.exists():
-        golden.write_text(text, encoding="utf-8")
-        pytest.fail(f"created {golden.name}; review and commit it")
     want = json.loads(golden.read_text(encoding="utf-8"))
     try:
         _close(doc, want)
