@@ -8,7 +8,7 @@ matched graph give the block-lower-triangular order in which the rest is solved.
 from __future__ import annotations
 
 
-from .compile import Equation, System
+from .compile import System
 from .expr import variables
 from .records import record
 
@@ -235,9 +235,3 @@ def _tarjan(nodes: list[int], succ: dict[int, list[int]]) -> list[list[int]]:
                 parent = work[-1][0]
                 low[parent] = min(low[parent], low[v])
     return out
-
-
-def describe_equation(e: Equation) -> str:
-    line = f"line {e.span.line}" if e.span else "the scene"
-    return f"{e.principle} ({line})"
-

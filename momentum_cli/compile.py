@@ -115,7 +115,7 @@ class FindSpec:
 
 
 @record
-class Source_:
+class ImpulseSource:
     """An impulse source acting during a transition, for 'why a principle holds'."""
 
     bodies: tuple[str | None, str | None]  # the two sides (None: ground)
@@ -181,7 +181,7 @@ class _Compiler:
         self.friction: list[FrictionSite] = []
         self.invalid: list[tuple[Span, str]] = []
         self.transitions: list[TransitionInfo] = []
-        self.sources: dict[str, list[Source_]] = {}
+        self.sources: dict[str, list[ImpulseSource]] = {}
         self._alias: dict[tuple[str, str, str], tuple[str, str, str]] = {}
         self._into: dict[str, list[TransitionSpec]] = {}
         self._out: dict[str, list[TransitionSpec]] = {}
@@ -275,8 +275,6 @@ class _Compiler:
         dim, unit = STATE_QTYS[qty]
         st = self.scene.states[key[2]]
         hints = list(st.hints.get((body, qty), []))
-        if key not in self.unknowns:
-            pass
         v = self.unknown(name, dim, "state", unit, state=key[2], body=body, qty=qty)
         u = self.unknowns[name]
         for h in hints:
@@ -409,7 +407,7 @@ class _Compiler:
         # impulses acting on each body: (arm from G, impulse vector, torque)
         lin: dict[str, list[V2]] = defaultdict(list)
         ang: dict[str, list[E]] = defaultdict(list)
-        sources: list[Source_] = []
+        sources: list[ImpulseSource] = []
         contacts_info = []
         duration: E | None = None
         if is_interval:
@@ -446,25 +444,23 @@ class _Compiler:
             apply(jt.a, V2(ZERO, ZERO), M)
             if jt.b.body is not None:
                 apply(jt.b, V2(ZERO, ZERO), neg(M))
-            sources.append(Source_((jt.a.body, jt.b.body), name, None, True,
+            sources.append(ImpulseSource((jt.a.body, jt.b.body), name, None, True,
                                    f"friction torque at {name}"))
         if is_interval:
             if sc.gravity is not None:
                 for b, body in sc.bodies.items():
                     W = V2(Const(body.mass * sc.gravity[0]), Const(body.mass * sc.gravity[1]))
                     lin[b].append(W.scale(dur()))
-                    sources.append(Source_((b, None), b, _unit(sc.gravity), False,
+                    sources.append(ImpulseSource((b, None), b, _unit(sc.gravity), False,
                                            f"weight of {b}"))
             for F, p, span in t.forces:
                 Fv = V2(Const(F[0]), Const(F[1]))
                 apply(p, Fv.scale(dur()))
-                sources.append(Source_((p.body, None), p.name, _unit(F), False,
+                sources.append(ImpulseSource((p.body, None), p.name, _unit(F), False,
                                        f"force at {p.name}"))
             for M, b, span in t.moments:
                 ang[b].append(mul(Const(M), dur()))
-                sources.append(Source_((b, None), b, None, True, f"moment on {b}"))
-        elif t.forces or t.moments:
-            pass
+                sources.append(ImpulseSource((b, None), b, None, True, f"moment on {b}"))
         # impulse-momentum for each body that something acts on
         busy = self._busy[key]
         for b, body in sc.bodies.items():
@@ -526,7 +522,7 @@ class _Compiler:
         # a round body touches at its rim (G - r n), not at its centre
         body_a = self.scene.bodies[c.a.body]
         where = f"{c.label}'s contact point" if c.a.round_contact and body_a.radius else c.a.name
-        sources.append(Source_((c.a.body, c.b.body if c.b else None), where,
+        sources.append(ImpulseSource((c.a.body, c.b.body if c.b else None), where,
                                n if c.mode == "smooth" else None, False,
                                f"contact {c.label}"))
 
@@ -610,7 +606,7 @@ class _Compiler:
             apply(jt.a, J)
             if jt.b.body is not None:
                 apply(jt.b, -J)
-            sources.append(Source_((jt.a.body, jt.b.body), jt.a.name, d, False,
+            sources.append(ImpulseSource((jt.a.body, jt.b.body), jt.a.name, d, False,
                                    f"link {jt.label}"))
             return
         Jx = self.unknown(f"Jx[{jt.label}]@{key}", IMPULSE, "impulse")
@@ -623,10 +619,10 @@ class _Compiler:
         apply(jt.a, J, M)
         if jt.b.body is not None:
             apply(jt.b, -J, neg(M) if M is not None else None)
-        sources.append(Source_((jt.a.body, jt.b.body), jt.a.name, None, False,
+        sources.append(ImpulseSource((jt.a.body, jt.b.body), jt.a.name, None, False,
                                f"{jt.kind} {jt.label}"))
         if M is not None:
-            sources.append(Source_((jt.a.body, jt.b.body), jt.a.name, None, True,
+            sources.append(ImpulseSource((jt.a.body, jt.b.body), jt.a.name, None, True,
                                    f"weld moment {jt.label}"))
 
     def _active(self, jt: Joint, sid: str) -> bool:
@@ -752,7 +748,7 @@ class _Compiler:
         self.transitions.append(TransitionInfo("energy", t.key, i, j, t.span, why, []))
 
     # ---- why a principle holds --------------------------------------------------------------------
-    def _why(self, sources: list[Source_], t: TransitionSpec) -> list[str]:
+    def _why(self, sources: list[ImpulseSource], t: TransitionSpec) -> list[str]:
         """For the bodies the transition moves, together and one by one (up to six)."""
         out = []
         busy = self._busy[t.key]
@@ -772,7 +768,7 @@ class _Compiler:
         return out
 
     @staticmethod
-    def _linear_why(label: str, ext: list[Source_]) -> str:
+    def _linear_why(label: str, ext: list[ImpulseSource]) -> str:
         lines = [s for s in ext if not s.torque_only]
         if not lines:
             return f"{label}: no external impulse, so linear momentum is conserved in every " \
@@ -788,7 +784,7 @@ class _Compiler:
         return f"{label}: external impulses ({names}) leave no direction free"
 
     @staticmethod
-    def _angular_why(label: str, ext: list[Source_]) -> str:
+    def _angular_why(label: str, ext: list[ImpulseSource]) -> str:
         if not ext:
             return "angular momentum is conserved about every point"
         if any(s.torque_only for s in ext):
@@ -1078,11 +1074,11 @@ def _ref_help(ref: S.Ref) -> list[str]:
             "t@S->S, J_n[CONTACT]@S->S, e[CONTACT], T@S, T_lost@S->S, BODY.dtheta@S->S"]
 
 
-def _acts_on(s: Source_, members: set) -> bool:
+def _acts_on(s: ImpulseSource, members: set) -> bool:
     return s.bodies[0] in members or s.bodies[1] in members
 
 
-def _internal(s: Source_, members: set) -> bool:
+def _internal(s: ImpulseSource, members: set) -> bool:
     return s.bodies[0] in members and s.bodies[1] in members
 
 

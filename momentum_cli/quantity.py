@@ -11,7 +11,7 @@ from typing import Callable
 
 from . import syntax as S
 from .diagnostics import ProblemError
-from .expr import V2, Const, E, add, fn, lift, mul, neg, power
+from .expr import V2, Const, E, add, fn, mul, neg, power
 from .records import record
 from .units import (
     NONE,
@@ -280,7 +280,3 @@ def constant_vector(q: Q, node) -> tuple[float, float]:
         raise ProblemError("expected a constant vector; this depends on unknowns", node.span,
                            code="type")
     return (v.x.value, v.y.value)
-
-
-def lifted(x) -> E:
-    return lift(x)

@@ -9,7 +9,6 @@ Friction contacts are solved as stick first and switched to sliding where
 from __future__ import annotations
 
 import math
-from dataclasses import field
 
 from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
@@ -55,7 +54,6 @@ class Solution:
     regimes: dict[str, str]
     answers: list[tuple[str, float, str, float]]  # name, display value, unit, SI value
     solved_all: bool = False
-    regime_notes: list[str] = field(default_factory=list)
     precision: str = "float"
 
 

@@ -9,7 +9,6 @@ import math
 import pytest
 from helpers import answers, error_of, solve_text
 
-from momentum_cli.diagnostics import ProblemError
 from momentum_cli.linalg import SingularError, solve
 
 
@@ -67,8 +66,7 @@ find rod.omega@3, rod.vy@3
                                              (2, 0.5, 60, 3, 0.4), (7, 2, 10, 1, 0)])
 def test_rod_on_smooth_floor_matches_the_closed_form(m, L, deg, v, e):
     # A at r = -(L/2)(c, s) from G; vy_A' = -e vy_A; J along y only.
-    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
-    I, d = m * L * L / 12, L / 2 * c
+    I, d = m * L * L / 12, L / 2 * math.cos(math.radians(deg))
     # unknowns vy', w', J:  m(vy' + v) = J;  I w' = -d J;  vy' - d w' = e v
     J = (1 + e) * v / (1 / m + d * d / I)
     want_w = -d * J / I

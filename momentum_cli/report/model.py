@@ -13,7 +13,6 @@ from ..expr import evaluate, magnitude, variables
 from ..numbers import fmt_num, fmt_tiny
 from ..records import record
 from ..solve import CheckReport, Solution
-from ..units import si_label
 
 
 @record
@@ -234,7 +233,3 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
     return [CheckReport("momentum residuals", status,
                         f"largest relative residual {fmt_tiny(worst)} over {n} impulse-momentum "
                         "equations", worst)]
-
-
-def si_of(dim) -> str:
-    return si_label(dim)
