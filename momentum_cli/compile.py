@@ -53,6 +53,7 @@ from .units import (
     ANGULAR_IMPULSE,
     IMPULSE,
     LENGTH,
+    MASS,
     MOMENT,
     NONE,
     TIME,
@@ -163,6 +164,7 @@ class System:
     friction: list[FrictionSite]
     notes: Collector
     invalid_stated: list[tuple[Span, str]]
+    flow_rows: list = field(default_factory=list)  # flows.FlowRow, for the report
 
 
 def compile_scene(scene: Scene, regimes: dict[str, str] | None = None) -> System:
@@ -187,6 +189,7 @@ class _Compiler:
         self._out: dict[str, list[TransitionSpec]] = {}
         self._busy: dict[str, set] = {}
         self._reach: dict[str, set] | None = None
+        self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
         self.tspecs = {t.key: t for t in scene.transitions}
 
     # ---- unknowns and state variables ------------------------------------------------------
@@ -339,13 +342,21 @@ class _Compiler:
             self._state_constraints(sid)
             for body, surface, span in st.rolls:
                 self._rolling(body, surface, sid, f"state {sid}", span, None)
+        if sc.steady or sc.burns:
+            from .flows import FlowCompiler
+
+            self.flows = FlowCompiler(self)
+            for cv in sc.steady:
+                self.flows.steady(cv)
+            for b in sc.burns:
+                self.flows.burn(b)
         for s in sc.stated:
             self._stated(s)
         for ue in sc.equations:
             self._user_equation(ue)
         finds = self._finds()
         return System(sc, self.unknowns, self.equations, finds, self.transitions, self.friction,
-                      self.notes, self.invalid)
+                      self.notes, self.invalid, self.flows.rows if self.flows else [])
 
     def _positions(self) -> None:
         """Which quantities each transition leaves unchanged, and checks of the givens.
@@ -904,6 +915,8 @@ class _Compiler:
                 self._transition_exists(at, ref)
                 return Q(add(self._kinetic(at[0]), neg(self._kinetic(at[1]))), MOMENT)
             if member is None and idx is None and len(at) == 2 and name == "t":
+                if self.flows and "->".join(at) in self.flows.durations:
+                    return Q(self.flows.durations["->".join(at)], TIME)
                 tr = self._transition_exists(at, ref)
                 if tr.kind != "interval":
                     raise ProblemError(f"{ref.text}: only an interval has a duration (an impact "
@@ -945,6 +958,9 @@ class _Compiler:
             raise ProblemError(f"'{ref.text}' belongs to a transition: write "
                                f"{b}.{q}@{sid}->STATE", ref.span, code="name")
         self._state_exists(sid, ref)
+        if q == "mass":
+            m = self.flows.masses.get((b, sid)) if self.flows else None
+            return Q(m if m is not None else Known(f"m_{b}", body.mass), MASS)
         if q in STATE_QTYS:
             if body.is_particle and q in ("angle", "omega"):
                 raise ProblemError(f"'{b}' is a particle: it has no {q}", ref.span, code="name")

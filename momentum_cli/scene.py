@@ -182,6 +182,8 @@ class Scene:
     finds: list[S.FindItem]
     notes: Collector
     gravity_span: Span | None = None
+    steady: list = field(default_factory=list)  # syntax.SteadyDecl: compiled by flows.py
+    burns: list = field(default_factory=list)  # syntax.BurnDecl: compiled by flows.py
 
 
 SHAPES = {
@@ -345,14 +347,41 @@ class _Builder:
                                                 s.before, s.after))
         equations = [s for s in st if isinstance(s, S.UserEquation)]
         finds = [i for s in st if isinstance(s, S.Find) for i in s.items]
-        if not self.bodies:
+        if not self.bodies and not any(isinstance(s, S.SteadyDecl) for s in st):
             raise ProblemError("no bodies: declare one with `body NAME: rod(mass = ..., length = "
                                "...)`", Span(1, 1), code="empty", caret=False)
         if not finds:
             self.notes.note("no `find` line: every determined unknown is solved", None)
+        steady = [s for s in st if isinstance(s, S.SteadyDecl)]
+        names = set(self.bodies) | set(self.points) | set(self.surfaces)
+        for s in steady:
+            if s.name in names:
+                raise ProblemError(f"'{s.name}' is already defined", s.span, code="name")
+            names.add(s.name)
+        burns = [s for s in st if isinstance(s, S.BurnDecl)]
+        for s in burns:
+            self._burn(s, states, transitions)
         return Scene(title, self.gravity, self.g, self.constants, self.user_unknowns,
                      self.bodies, self.points, self.surfaces, joints, states, transitions, stated,
-                     equations, finds, self.notes, self.gravity_span)
+                     equations, finds, self.notes, self.gravity_span, steady, burns)
+
+    def _burn(self, s: S.BurnDecl, states, transitions) -> None:
+        body = self._body_named(s.body, s.span)
+        if not body.is_particle:
+            raise ProblemError("a burning body is a particle (its thrust acts through G)",
+                               s.span, code="name")
+        self._states_exist(states, s.before, s.after, s.span)
+        if s.exhaust is None or s.rate is None:
+            raise ProblemError("a burn needs `exhaust SPEED along (x, y)` and `rate MASS_RATE`",
+                               s.span, code="name")
+        if (s.burned is None) == (s.duration is None):
+            raise ProblemError("a burn needs either `burns MASS` or `duration TIME`", s.span,
+                               code="name")
+        for t in transitions:
+            if t.before == s.after or t.after == s.after:
+                raise ProblemError("a transition after a burn is not supported yet: the burning "
+                                   "body's mass at each state is not modelled", t.span,
+                                   code="unsupported")
 
     def _gravity(self, s: S.Gravity) -> None:
         if self.g is not None:

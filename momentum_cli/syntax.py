@@ -309,6 +309,41 @@ class Find:
 
 
 @record(frozen=True)
+class Flow:
+    """One inflow or outflow of a control volume (or a known force on it)."""
+
+    span: Span
+    kind: str  # inflow | outflow | force
+    rate: object = None
+    velocity: object = None
+    relative: bool = False
+    at: object = None
+
+
+@record(frozen=True)
+class SteadyDecl:
+    span: Span
+    name: str
+    flows: tuple
+    supports: tuple[str, ...]
+    moving: object = None
+
+
+@record(frozen=True)
+class BurnDecl:
+    span: Span
+    body: str
+    before: str
+    after: str
+    exhaust: object
+    direction: object
+    rate: object
+    burned: object
+    duration: object
+    clause_spans: tuple = ()
+
+
+@record(frozen=True)
 class Document:
     source: Source
     statements: tuple
@@ -735,6 +770,73 @@ def _make_transformer():
 
         def joint_from(self, meta, ch):
             return ("from", str(ch[0]), _tspan(ch[0]))
+
+        # -- open systems
+        def fp_rate(self, meta, ch):
+            return ("rate", ch[0])
+
+        def fp_velocity(self, meta, ch):
+            return ("velocity", ch[0])
+
+        def fp_relative(self, meta, ch):
+            return ("relative", True)
+
+        def fp_at(self, meta, ch):
+            return ("at", ch[0])
+
+        def flow_props(self, meta, ch):
+            return dict(ch)
+
+        def _flow(kind):
+            def f(self, meta, ch):
+                p = ch[0]
+                return Flow(_span(meta), kind, p.get("rate"), p.get("velocity"),
+                            bool(p.get("relative")), p.get("at"))
+            return f
+
+        cv_inflow, cv_outflow = _flow("inflow"), _flow("outflow")
+
+        def cv_at(self, meta, ch):
+            return ch[0]
+
+        def cv_force(self, meta, ch):
+            return Flow(_span(meta), "force", None, ch[0], False, ch[1] if len(ch) > 1 else None)
+
+        def cv_support(self, meta, ch):
+            return ("support", str(ch[0]))
+
+        def cv_moving(self, meta, ch):
+            return ("moving", ch[0])
+
+        def steady_stmt(self, meta, ch):
+            flows, supports, moving = [], [], None
+            for c in ch[1:]:
+                if isinstance(c, Flow):
+                    flows.append(c)
+                elif c[0] == "support":
+                    supports.append(c[1])
+                else:
+                    moving = c[1]
+            return SteadyDecl(_span(meta), str(ch[0]), tuple(flows), tuple(supports), moving)
+
+        def burn_exhaust(self, meta, ch):
+            return ("exhaust", (ch[0], ch[1]), _span(meta))
+
+        def burn_rate(self, meta, ch):
+            return ("rate", ch[0], _span(meta))
+
+        def burn_mass(self, meta, ch):
+            return ("burned", ch[0], _span(meta))
+
+        def burn_duration(self, meta, ch):
+            return ("duration", ch[0], _span(meta))
+
+        def burn_stmt(self, meta, ch):
+            d = {c[0]: c[1] for c in ch[3:]}
+            exhaust = d.get("exhaust", (None, None))
+            return BurnDecl(_span(meta), str(ch[0]), str(ch[1]), str(ch[2]), exhaust[0],
+                            exhaust[1], d.get("rate"), d.get("burned"), d.get("duration"),
+                            tuple((c[0], c[2]) for c in ch[3:]))
 
         def label(self, meta, ch):
             return ("label", str(ch[0]))

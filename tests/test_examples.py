@@ -415,7 +415,8 @@ CHECKS = {f.__name__: f for f in [
     disk_rolls_down_ramp, disk_climbs_curb,
 ]}
 
-PROBLEMS = sorted(p.stem for p in EXAMPLES.glob("*.mom"))
+# the open-system examples (flow_*) are checked against their closed forms in test_flows.py
+PROBLEMS = sorted(p.stem for p in EXAMPLES.glob("*.mom") if not p.stem.startswith("flow_"))
 
 @pytest.mark.parametrize("name", PROBLEMS)
 def test_example_answers(name):

@@ -42,6 +42,8 @@ def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=N
                                  line=t["line"], why=t["why"]) for t in rep.transitions]
         d["regimes"] = list(rep.regimes)
         d["counts"] = dict(rep.counts)
+        if rep.flows:
+            d["flows"] = [dict(r) for r in rep.flows]
     if check_counts is not None:
         d["counts"] = dict(check_counts)
     return d

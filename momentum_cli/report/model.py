@@ -43,6 +43,7 @@ class Report:
     regimes: list[dict]
     diagnostics: list = field(default_factory=list)
     counts: dict = field(default_factory=dict)
+    flows: list = field(default_factory=list)  # control-volume flux rows (evaluated)
 
 
 def _finite(x: float | None) -> float | None:
@@ -142,7 +143,31 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                   redundant=len(st.redundant) + len(st.constant_eqs),
                   undetermined=len(st.under))
     return Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
-                  checks, answers, regimes, list(sol.diagnostics), counts)
+                  checks, answers, regimes, list(sol.diagnostics), counts,
+                  _flow_rows(system, values))
+
+
+def _flow_rows(system: System, values) -> list[dict]:
+    """Each inflow, outflow and force of a control volume with its momentum flux
+    (the sign already that of the balance: + in, - out) and its moment about O."""
+    out = []
+    for r in system.flow_rows:
+        def ev(e):
+            try:
+                return _finite(evaluate(e, values))
+            except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+                return None
+        mdot = ev(r.rate) if r.rate is not None else None
+        vx, vy = ev(r.velocity.x), ev(r.velocity.y)
+        ax, ay = ev(r.at.x), ev(r.at.y)
+        if mdot is not None and None not in (vx, vy):
+            fx, fy = r.sign * mdot * vx, r.sign * mdot * vy
+        else:
+            fx, fy = vx, vy  # a force row: the force itself
+        moment = ax * fy - ay * fx if None not in (ax, ay, fx, fy) else None
+        out.append(dict(volume=r.volume, what=r.what, line=r.line, rate=mdot, vx=vx, vy=vy,
+                        flux_x=fx, flux_y=fy, moment=moment))
+    return out
 
 
 def fmt_bound(x: float) -> str:

@@ -25,7 +25,8 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
             t.add_row(escape(b["name"]), b["shape"], f(b["mass"]),
                       "-" if b["particle"] else f(b["inertia"]),
                       escape(b["formula"] + (" (mass = W/g)" if b["weight"] else "")))
-        console.print(t)
+        if rep.bodies:
+            console.print(t)
         for e in rep.effects:
             console.print(f"  [dim]•[/dim] {escape(e)}")
         t = Table(title="Knowns (SI)", box=box.SIMPLE_HEAD, title_justify="left")
@@ -35,7 +36,19 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
             items = ", ".join(f"{n} = {f(v)} {u}".rstrip() if u != "hint" else f"{n} {f(v)}"
                               for n, v, u in k["items"]) or "(nothing given)"
             t.add_row(escape(f"{k['id']} {k['label']}".strip()), escape(items))
-        console.print(t)
+        if rep.knowns:
+            console.print(t)
+        for volume in dict.fromkeys(x["volume"] for x in rep.flows):
+            t = Table(title=f"Control volume {volume}: momentum fluxes (+ in, - out)",
+                      box=box.SIMPLE_HEAD, title_justify="left")
+            for h in ("", "line", "ṁ (kg/s)", "v (m/s)", "ṁv or F (N)", "r × (ṁv or F) (N·m)"):
+                t.add_column(h, justify="left" if not h else "right")
+            for x in rep.flows:
+                if x["volume"] == volume:
+                    v = f"({f(x['vx'])}, {f(x['vy'])})" if x["rate"] is not None else "-"
+                    t.add_row(x["what"], str(x["line"]), f(x["rate"]), v,
+                              f"({f(x['flux_x'])}, {f(x['flux_y'])})", f(x["moment"]))
+            console.print(t)
         sections = [(f"{t['kind'].capitalize()} {t['before']} → {t['after']} (line {t['line']})",
                      t["why"], t["equations"]) for t in rep.transitions]
         sections += [(g[0].upper() + g[1:], [], rows) for g, rows in rep.other_equations.items()]

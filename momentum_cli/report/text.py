@@ -31,9 +31,10 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
     title = rep.title or "(untitled problem)"
     out.append(f"== {rep.file}: {title}")
     if steps:
-        out.append("")
-        out.append("Bodies")
-        out.extend(table(["body", "shape", "mass (kg)", "I_G (kg*m^2)", "inertia formula"],
+        if rep.bodies:
+            out.append("")
+            out.append("Bodies")
+        out.extend([] if not rep.bodies else table(["body", "shape", "mass (kg)", "I_G (kg*m^2)", "inertia formula"],
                          [[b["name"], b["shape"], f(b["mass"]),
                            "-" if b["particle"] else f(b["inertia"]),
                            b["formula"] + (" (mass = W/g)" if b["weight"] else "")]
@@ -41,13 +42,23 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
         out.append("")
         out.append("Effects and constraints")
         out.extend("  " + e for e in rep.effects)
-        out.append("")
-        out.append("Knowns (SI)")
+        if rep.knowns:
+            out.append("")
+            out.append("Knowns (SI)")
         for k in rep.knowns:
             label = f' "{k["label"]}"' if k["label"] else ""
             items = ", ".join(f"{n} = {f(v)} {u}".rstrip() if u != "hint" else f"{n} {f(v)}"
                               for n, v, u in k["items"]) or "(nothing given)"
             out.append(f"  state {k['id']}{label}: {items}")
+        for volume in dict.fromkeys(r["volume"] for r in rep.flows):
+            out.append("")
+            out.append(f"Control volume {volume}: momentum fluxes (+ in, - out) and forces")
+            out.extend(table(["", "line", "mdot (kg/s)", "v (m/s)", "mdot v or F (N)",
+                              "r x (mdot v or F) (N*m)"],
+                             [[r["what"], str(r["line"]), f(r["rate"]),
+                               f"({f(r['vx'])}, {f(r['vy'])})" if r["rate"] is not None else "-",
+                               f"({f(r['flux_x'])}, {f(r['flux_y'])})", f(r["moment"])]
+                              for r in rep.flows if r["volume"] == volume]))
         for t in rep.transitions:
             out.append("")
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")

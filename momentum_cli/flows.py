@@ -1,0 +1,180 @@
+"""Open systems: steady flow through control volumes, and bodies that burn mass.
+
+Part of `compile`. A control volume in steady flow (constant velocity u, steady in
+its own frame) balances forces with momentum fluxes:
+    sum F + sum_in mdot v - sum_out mdot v = 0
+    sum M_O + sum_in r x mdot v - sum_out r x mdot v = 0     (about its origin O)
+with absolute velocities v (a `relative` velocity is u + v_rel), and its mass
+balance sum_in mdot = sum_out mdot. A support is an unknown force and moment.
+
+A burning particle (constant exhaust speed c relative to it, along e, constant
+rate mdot, gravity g) has the closed form of the rocket equation:
+    m1 = m0 - mdot t,   v1 = v0 - e c ln(m0/m1) + g t,
+    r1 = r0 + v0 t + g t^2/2 - e c (t - (m1/mdot) ln(m0/m1)).
+"""
+from __future__ import annotations
+
+from . import syntax as S
+from .diagnostics import ProblemError
+from .expr import V2, Const, E, Known, add_all, fn, mul, neg, power
+from .records import record
+from .units import FORCE, LENGTH, MASS, MOMENT, NONE, TIME, VELOCITY, describe
+
+MASS_RATE = (1, 0, -1)
+WEIGHT_RATE = (1, 1, -3)
+
+
+@record
+class FlowRow:
+    """One row of a control volume's flux table (expressions, evaluated in the report)."""
+
+    volume: str
+    what: str  # inflow | outflow | force | support
+    line: int
+    rate: E | None
+    velocity: V2 | None  # absolute
+    at: V2
+    sign: float  # +1 for an inflow's flux into the balance, -1 for an outflow
+
+
+class FlowCompiler:
+    """Adds the balances of `steady` and `burn` statements to a compiler's system."""
+
+    def __init__(self, compiler):
+        self.c = compiler
+        self.rows: list[FlowRow] = []
+        self.masses: dict[tuple[str, str], E] = {}  # (body, state) -> mass after a burn
+        self.durations: dict[str, E] = {}  # "1->2" -> burn time
+
+    # ---- evaluation helpers
+    def _q(self, node, dim, what: str, vector: bool = False):
+        q = self.c._evaluator()(node, dim)
+        if q.is_vector != vector:
+            kind = "a vector such as (1, 0)" if vector else "a scalar"
+            raise ProblemError(f"{what} needs {kind}", node.span, code="type")
+        if q.dim != dim:
+            raise ProblemError(f"{what} needs {describe(dim)}; got {describe(q.dim)}", node.span,
+                               code="units")
+        return q.value
+
+    def _rate(self, node, what: str) -> E:
+        """A mass rate; a weight rate (lb/s) becomes mass with the file's g."""
+        q = self.c._evaluator()(node, MASS_RATE)
+        if q.is_vector:
+            raise ProblemError(f"{what} needs a scalar", node.span, code="type")
+        if q.dim == WEIGHT_RATE:
+            g = self.c.scene.g
+            if g is None:
+                raise ProblemError("a weight rate needs the file's g: declare gravity", node.span,
+                                   code="name")
+            return mul(q.value, Const(1.0 / g))
+        if q.dim != MASS_RATE:
+            raise ProblemError(f"{what} needs a mass rate such as 2 kg/s; got {describe(q.dim)}",
+                               node.span, code="units")
+        if isinstance(q.value, Const) and q.value.value < 0:
+            raise ProblemError(f"{what} cannot be negative (an outflow is written `outflow`)",
+                               node.span, code="number")
+        return q.value
+
+    # ---- steady control volumes
+    def steady(self, cv: S.SteadyDecl) -> None:
+        c = self.c
+        group = f"steady flow through {cv.name}"
+        u = self._q(cv.moving, VELOCITY, "the control volume's velocity", True) \
+            if cv.moving is not None else V2(Const(0.0), Const(0.0))
+        fx, fy, mz = [], [], []
+        mass_in, mass_out = [], []
+        for f in cv.flows:
+            at = self._q(f.at, LENGTH, "a position", True) if f.at is not None else \
+                V2(Const(0.0), Const(0.0))
+            if f.kind == "force":
+                F = self._q(f.velocity, FORCE, "a force", True)
+                fx.append(F.x)
+                fy.append(F.y)
+                mz.append(at.cross(F))
+                self.rows.append(FlowRow(cv.name, "force", f.span.line, None, F, at, 1.0))
+                continue
+            if f.rate is None or f.velocity is None:
+                raise ProblemError(f"an {f.kind} needs `rate` and `velocity`", f.span,
+                                   code="name")
+            mdot = self._rate(f.rate, f"an {f.kind}'s rate")
+            v = self._q(f.velocity, VELOCITY, f"an {f.kind}'s velocity", True)
+            if f.relative:
+                v = u + v
+            sign = 1.0 if f.kind == "inflow" else -1.0
+            flux = v.scale(mul(Const(sign), mdot))
+            fx.append(flux.x)
+            fy.append(flux.y)
+            mz.append(at.cross(flux))
+            (mass_in if sign > 0 else mass_out).append(mdot)
+            self.rows.append(FlowRow(cv.name, f.kind, f.span.line, mdot, v, at, sign))
+        for s in cv.supports:
+            Fx = c.unknown(f"Fx[{s}]", FORCE, "force", "N")
+            Fy = c.unknown(f"Fy[{s}]", FORCE, "force", "N")
+            M = c.unknown(f"M[{s}]", MOMENT, "moment", "N*m")
+            fx.append(Fx)
+            fy.append(Fy)
+            mz.append(M)
+        span = cv.span
+        c.eq(add_all(mass_in), add_all(mass_out),
+             f"mass balance of {cv.name}: sum_in mdot = sum_out mdot", group, span,
+             "consistency")
+        c.eq(add_all(fx), Const(0.0),
+             f"momentum balance x of {cv.name}: sum F + sum_in mdot v - sum_out mdot v = 0",
+             group, span)
+        c.eq(add_all(fy), Const(0.0),
+             f"momentum balance y of {cv.name}: sum F + sum_in mdot v - sum_out mdot v = 0",
+             group, span)
+        c.eq(add_all(mz), Const(0.0),
+             f"angular momentum balance of {cv.name} about its origin: sum M + sum_in r x mdot v"
+             " - sum_out r x mdot v = 0", group, span)
+
+    # ---- burning bodies
+    def burn(self, b: S.BurnDecl) -> None:
+        c = self.c
+        sc = c.scene
+        body = sc.bodies[b.body]
+        key = f"{b.before}->{b.after}"
+        group = f"burn {b.body} {b.before} -> {b.after}"
+        speed = self._q(b.exhaust, VELOCITY, "the exhaust speed", False)
+        d = self._q(b.direction, NONE, "the exhaust direction", True)
+        if not (isinstance(d.x, Const) and isinstance(d.y, Const)):
+            raise ProblemError("the exhaust direction must be a constant", b.direction.span,
+                               code="type")
+        n = (d.x.value ** 2 + d.y.value ** 2) ** 0.5
+        if n == 0:
+            raise ProblemError("the exhaust direction must be non-zero", b.direction.span,
+                               code="number")
+        e = (d.x.value / n, d.y.value / n)
+        mdot = self._rate(b.rate, "the burn rate")
+        if isinstance(mdot, Const) and mdot.value <= 0:
+            raise ProblemError("the burn rate must be positive", b.rate.span, code="number")
+        m0 = Known(f"m0_{b.body}", body.mass)
+        if b.burned is not None:
+            dm = self._q(b.burned, MASS, "the mass burned", False)
+            t = mul(dm, power(mdot, -1.0))
+        else:
+            t = self._q(b.duration, TIME, "the burn's duration", False)
+            dm = mul(mdot, t)
+        if isinstance(dm, Const) and dm.value >= body.mass:
+            raise ProblemError(f"the burn takes {dm.value:g} kg out of a body of {body.mass:g} "
+                               "kg: no mass would be left", b.span, code="number")
+        m1 = add_all([m0, neg(dm)])
+        self.masses[(b.body, b.after)] = m1
+        self.durations[key] = t
+        g = sc.gravity or (0.0, 0.0)
+        ln = fn("ln", mul(m0, power(m1, -1.0)))
+        i, j = b.before, b.after
+        span = b.span
+        v0, v1 = c.vel(b.body, i), c.vel(b.body, j)
+        r0, r1 = c.pos(b.body, i), c.pos(b.body, j)
+        drift = add_all([t, neg(mul(mul(m1, power(mdot, -1.0)), ln))])
+        for comp, ek, gk, a0, a1, p0, p1 in (("x", e[0], g[0], v0.x, v1.x, r0.x, r1.x),
+                                             ("y", e[1], g[1], v0.y, v1.y, r0.y, r1.y)):
+            c.eq(a1, add_all([a0, mul(Const(-ek), mul(speed, ln)), mul(Const(gk), t)]),
+                 f"rocket equation {comp} (closed form: constant exhaust speed and rate): "
+                 "v1 = v0 - e c ln(m0/m1) + g t", group, span)
+            c.eq(p1, add_all([p0, mul(a0, t), mul(Const(0.5 * gk), mul(t, t)),
+                              mul(Const(-ek), mul(speed, drift))]),
+                 f"position {comp} at the end of the burn (closed form): r1 = r0 + v0 t + g t^2/2"
+                 " - e c (t - (m1/mdot) ln(m0/m1))", group, span)
