@@ -285,6 +285,23 @@ class _Compiler:
                 u.hints.append(h)
         return v
 
+    def mass(self, body: str, sid: str) -> E:
+        """A body's mass at a state: as declared, or what the last burn before it left."""
+        b = self.scene.bodies[body]
+        if self.flows is None or not self.flows.masses:
+            return Known(f"m_{body}", b.mass)
+        seen = {sid}
+        cur = sid
+        while True:
+            m = self.flows.masses.get((body, cur))
+            if m is not None:
+                return m
+            prev = next((t.before for t in self.scene.transitions if t.after == cur), None)
+            if prev is None or prev in seen:
+                return Known(f"m_{body}", b.mass)
+            seen.add(prev)
+            cur = prev
+
     def vel(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
 
@@ -333,6 +350,14 @@ class _Compiler:
     def run(self) -> System:
         sc = self.scene
         self._positions()
+        if sc.steady or sc.burns:
+            from .flows import FlowCompiler
+
+            self.flows = FlowCompiler(self)
+            for b in sc.burns:  # first: later phases use the mass a burn leaves
+                self.flows.burn(b)
+            for cv in sc.steady:
+                self.flows.steady(cv)
         for t in sc.transitions:
             if t.kind == "energy":
                 self._energy(t)
@@ -342,14 +367,6 @@ class _Compiler:
             self._state_constraints(sid)
             for body, surface, span in st.rolls:
                 self._rolling(body, surface, sid, f"state {sid}", span, None)
-        if sc.steady or sc.burns:
-            from .flows import FlowCompiler
-
-            self.flows = FlowCompiler(self)
-            for cv in sc.steady:
-                self.flows.steady(cv)
-            for b in sc.burns:
-                self.flows.burn(b)
         for s in sc.stated:
             self._stated(s)
         for ue in sc.equations:
@@ -460,7 +477,9 @@ class _Compiler:
         if is_interval:
             if sc.gravity is not None:
                 for b, body in sc.bodies.items():
-                    W = V2(Const(body.mass * sc.gravity[0]), Const(body.mass * sc.gravity[1]))
+                    mg = mul(self.mass(b, i), Known("g", sc.g))  # the weight, m g
+                    W = V2(mul(Const(sc.gravity[0] / sc.g), mg),
+                           mul(Const(sc.gravity[1] / sc.g), mg))
                     lin[b].append(W.scale(dur()))
                     sources.append(ImpulseSource((b, None), b, _unit(sc.gravity), False,
                                            f"weight of {b}"))
@@ -478,7 +497,7 @@ class _Compiler:
             if b not in busy:
                 continue
             v1, v2 = self.vel(b, i), self.vel(b, j)
-            m = Known(f"m_{b}", body.mass)
+            m = self.mass(b, i)
             for comp, a1, a2, jsum in (("x", v1.x, v2.x, [J.x for J in lin[b]]),
                                        ("y", v1.y, v2.y, [J.y for J in lin[b]])):
                 rhs = add_all(jsum)
@@ -713,7 +732,7 @@ class _Compiler:
         for b in names:
             body = self.scene.bodies[b]
             v = self.vel(b, sid)
-            terms.append(mul(Const(0.5), mul(Known(f"m_{b}", body.mass), v.dot(v))))
+            terms.append(mul(Const(0.5), mul(self.mass(b, sid), v.dot(v))))
             if not body.is_particle:
                 w = self.sv(b, "omega", sid)
                 terms.append(mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
@@ -727,7 +746,7 @@ class _Compiler:
             g = Known("g", sc.g)
             for b, body in sc.bodies.items():
                 r = self.pos(b, sid)
-                m = Known(f"m_{b}", body.mass)
+                m = self.mass(b, sid)
                 # V = -m g_vec . r: with gravity `down` this is m*g*y
                 h = add(mul(Const(-gx / sc.g), r.x), mul(Const(-gy / sc.g), r.y))
                 V = add(V, mul(mul(m, g), h))
@@ -815,9 +834,8 @@ class _Compiler:
             d = V2(Const(s.direction[0]), Const(s.direction[1]))
             lhs = rhs = ZERO
             for b in s.bodies:
-                m = Const(self.scene.bodies[b].mass)
-                lhs = add(lhs, mul(m, self.vel(b, s.before).dot(d)))
-                rhs = add(rhs, mul(m, self.vel(b, s.after).dot(d)))
+                lhs = add(lhs, mul(self.mass(b, s.before), self.vel(b, s.before).dot(d)))
+                rhs = add(rhs, mul(self.mass(b, s.after), self.vel(b, s.after).dot(d)))
             principle = f"conservation of linear momentum along {s.axis_text} of " \
                         f"{{{', '.join(s.bodies)}}} (stated)"
             if sources is not None:
@@ -868,7 +886,7 @@ class _Compiler:
         rp = None
         for b in bodies:
             body = self.scene.bodies[b]
-            m = Const(body.mass)
+            m = self.mass(b, sid)
             if about.body == b:
                 r = -self.arm(about, sid)
             else:
@@ -959,8 +977,7 @@ class _Compiler:
                                f"{b}.{q}@{sid}->STATE", ref.span, code="name")
         self._state_exists(sid, ref)
         if q == "mass":
-            m = self.flows.masses.get((b, sid)) if self.flows else None
-            return Q(m if m is not None else Known(f"m_{b}", body.mass), MASS)
+            return Q(self.mass(b, sid), MASS)
         if q in STATE_QTYS:
             if body.is_particle and q in ("angle", "omega"):
                 raise ProblemError(f"'{b}' is a particle: it has no {q}", ref.span, code="name")

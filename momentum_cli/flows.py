@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from . import syntax as S
 from .diagnostics import ProblemError
-from .expr import V2, Const, E, Known, add_all, fn, mul, neg, power
+from .expr import V2, Const, E, add_all, evaluate, fn, mul, neg, power, variables
 from .records import record
 from .units import FORCE, LENGTH, MASS, MOMENT, NONE, TIME, VELOCITY, describe
 
@@ -133,7 +133,6 @@ class FlowCompiler:
     def burn(self, b: S.BurnDecl) -> None:
         c = self.c
         sc = c.scene
-        body = sc.bodies[b.body]
         key = f"{b.before}->{b.after}"
         group = f"burn {b.body} {b.before} -> {b.after}"
         speed = self._q(b.exhaust, VELOCITY, "the exhaust speed", False)
@@ -149,15 +148,16 @@ class FlowCompiler:
         mdot = self._rate(b.rate, "the burn rate")
         if isinstance(mdot, Const) and mdot.value <= 0:
             raise ProblemError("the burn rate must be positive", b.rate.span, code="number")
-        m0 = Known(f"m0_{b.body}", body.mass)
+        m0 = c.mass(b.body, b.before)  # what earlier burns left, or the declared mass
         if b.burned is not None:
             dm = self._q(b.burned, MASS, "the mass burned", False)
             t = mul(dm, power(mdot, -1.0))
         else:
             t = self._q(b.duration, TIME, "the burn's duration", False)
             dm = mul(mdot, t)
-        if isinstance(dm, Const) and dm.value >= body.mass:
-            raise ProblemError(f"the burn takes {dm.value:g} kg out of a body of {body.mass:g} "
+        m_before = evaluate(m0, {}) if not variables(m0) else None
+        if isinstance(dm, Const) and m_before is not None and dm.value >= m_before:
+            raise ProblemError(f"the burn takes {dm.value:g} kg out of a body of {m_before:g} "
                                "kg: no mass would be left", b.span, code="number")
         m1 = add_all([m0, neg(dm)])
         self.masses[(b.body, b.after)] = m1

@@ -378,10 +378,9 @@ class _Builder:
             raise ProblemError("a burn needs either `burns MASS` or `duration TIME`", s.span,
                                code="name")
         for t in transitions:
-            if t.before == s.after or t.after == s.after:
-                raise ProblemError("a transition after a burn is not supported yet: the burning "
-                                   "body's mass at each state is not modelled", t.span,
-                                   code="unsupported")
+            if t.key == f"{s.before}->{s.after}":
+                raise ProblemError(f"states {s.before} -> {s.after} already have a transition",
+                                   t.span, code="name")
 
     def _gravity(self, s: S.Gravity) -> None:
         if self.g is not None:

@@ -126,3 +126,13 @@ find r.vy@2
 """
     d = error_of(text)
     assert d.span.line == 5 and "no mass would be left" in d.message
+
+
+def test_a_burn_then_an_impact_uses_the_mass_the_burn_left():
+    m0, m1, c, e = 60.0, 50.0, 100.0, 0.5
+    v = c * math.log(m0 / m1)
+    got = ex("flow_rocket_cart_hits_wall")
+    assert close(got["cart.vx@2"], v) and close(got["cart.vx@3"], -e * v)
+    assert close(got["J_n[cart]@2->3"], m1 * (1 + e) * v)
+    assert close(got["cart.mass@3"], m1)
+    assert close(got["T_lost@2->3"], 0.5 * m1 * v * v * (1 - e * e))
