@@ -564,7 +564,14 @@ class _Compiler:
         r1, r2 = rel(i), rel(j)
         vn1, vn2 = r1.dot(nv), r2.dot(nv)
         vt1, vt2 = r1.dot(tv), r2.dot(tv)
-        if t.kind == "impact":
+        if t.kind == "impact" and c.separation is not None:
+            # a given separation speed instead of Newton's law (an explosive separation)
+            self.eq(vn2, Known(f"v_sep[{c.label}]", c.separation),
+                    f"separation speed at {c.label} (given)", group, c.span)
+            contacts_info.append((c.label, vn1, vn2))
+            if c.mode == "rough":
+                self.eq(vt2, ZERO, f"no slip at {c.label} (rough)", group, c.span)
+        elif t.kind == "impact":
             if c.restitution_unknown:
                 ename = c.restitution_name or f"e[{c.label}]"
                 e: E = self.unknown(ename, NONE, "restitution", "")

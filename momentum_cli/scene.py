@@ -94,6 +94,7 @@ class Contact:
     slip: tuple[float, float] | None
     surface: str | None = None
     restitution_name: str | None = None  # a declared `unknown` used as this contact's e
+    separation: float | None = None  # the relative normal speed after an impact, if given
 
 
 @record
@@ -771,6 +772,7 @@ class _Builder:
         e = None
         e_unknown = False
         e_name = None
+        separation = None
         mode = "smooth"
         mu = None
         slip = None
@@ -797,12 +799,21 @@ class _Builder:
                 modes.append(p)
             elif p.kind == "slip":
                 slip = self.unit_vector(p.value, "a slip direction")
+            elif p.kind == "separation":
+                separation = self.value(p.value, VELOCITY, "a separation speed")
+                if separation < 0:
+                    raise ProblemError("a separation speed cannot be negative (the bodies would "
+                                       "pass through each other)", p.value.span, code="number")
         if len(modes) > 1:
             raise ProblemError("a contact is smooth, rough or has friction: choose one",
                                modes[1].span, code="name")
-        if kind == "impact" and e is None and not e_unknown:
+        if kind == "impact" and e is None and not e_unknown and separation is None:
             raise ProblemError("an impact contact needs a restitution: `restitution 0.5` (or "
-                               "`restitution ?` to find it)", c.span, code="name")
+                               "`restitution ?` to find it, or `separation 2 m/s`)", c.span,
+                               code="name")
+        if separation is not None and (e is not None or e_unknown):
+            raise ProblemError("give either a restitution or a separation speed, not both",
+                               c.span, code="name")
         if kind == "interval" and mode == "rough":
             raise ProblemError("in an interval a rough contact needs a friction coefficient "
                                "(`friction 0.3`); rolling is `BODY rolls on SURFACE`",
@@ -811,7 +822,8 @@ class _Builder:
             label = c.label or a.name
         else:
             label = c.label or f"{a.name}-{b.name}"
-        return Contact(label, c.span, a, b, normal, e, e_unknown, mode, mu, slip, surface, e_name)
+        return Contact(label, c.span, a, b, normal, e, e_unknown, mode, mu, slip, surface, e_name,
+                       separation)
 
     def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
         self._states_exist(states, s.before, s.after, s.span)

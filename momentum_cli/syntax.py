@@ -952,6 +952,9 @@ def _make_transformer():
         def prop_slip(self, meta, ch):
             return Prop(_span(meta), "slip", ch[0])
 
+        def prop_separation(self, meta, ch):
+            return Prop(_span(meta), "separation", ch[0])
+
         def bearing_friction(self, meta, ch):
             return Clause(_span(meta), "bearing-friction", (str(ch[0]),))
 

@@ -136,3 +136,28 @@ def test_a_burn_then_an_impact_uses_the_mass_the_burn_left():
     assert close(got["J_n[cart]@2->3"], m1 * (1 + e) * v)
     assert close(got["cart.mass@3"], m1)
     assert close(got["T_lost@2->3"], 0.5 * m1 * v * v * (1 - e * e))
+
+
+def test_stage_separation_after_a_burn_conserves_the_pairs_momentum():
+    V = 2800.0 * math.log(900.0 / 600.0)
+    m_lo, m_up, s = 200.0, 400.0, 4.0
+    got = ex("flow_rocket_stage_separation")
+    assert close(got["stack.vx@2"], V)
+    # momentum: m_lo v_lo + m_up v_up = (m_lo + m_up) V; separation: v_up - v_lo = s
+    assert close(got["upper.vx@3"], V + s * m_lo / (m_lo + m_up))
+    assert close(got["lower.vx@3"], V - s * m_up / (m_lo + m_up))
+    assert close(got["J_n[springs]@2->3"], m_up * s * m_lo / (m_lo + m_up))
+
+
+def test_a_contact_takes_a_restitution_or_a_separation_speed_not_both():
+    text = """
+body a: particle(mass = 1 kg)
+body b: particle(mass = 1 kg)
+state 1: a at rest, b at rest
+state 2
+impact 1 -> 2:
+    contact a with b normal (1, 0): restitution 0.5, separation 1 m/s
+find a.vx@2
+"""
+    d = error_of(text)
+    assert d.span.line == 7 and "not both" in d.message
