@@ -161,3 +161,18 @@ find a.vx@2
 """
     d = error_of(text)
     assert d.span.line == 7 and "not both" in d.message
+
+
+def test_a_weight_rate_in_lb_per_s_becomes_a_mass_rate_with_the_files_g():
+    text = """
+gravity 32.2 ft/s^2 down
+steady nozzle:
+    inflow rate 6 lb/s, velocity (0, 0)
+    outflow rate 6 lb/s, velocity (80 ft/s, 0)
+    support hold
+find Fx[hold] in lbf
+"""
+    # mdot = W/g = 6/32.2 slug/s; the hold pushes back on the jet: F = mdot v
+    want_lbf = 6 / 32.2 * 80
+    got = answers(text)
+    assert math.isclose(got["Fx[hold]"], want_lbf * 4.4482216152605, rel_tol=1e-12)
