@@ -59,7 +59,8 @@ class FlowCompiler:
 
     def _rate(self, node, what: str) -> E:
         """A mass rate; a weight rate (lb/s) becomes mass with the file's g."""
-        q = self.c._evaluator()(node, MASS_RATE)
+        # `lb/s` reads as a weight rate first (as `lb` reads as a weight), kg/s as a mass rate
+        q = self.c._evaluator()(node, WEIGHT_RATE)
         if q.is_vector:
             raise ProblemError(f"{what} needs a scalar", node.span, code="type")
         if q.dim == WEIGHT_RATE:
