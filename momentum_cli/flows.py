@@ -117,15 +117,34 @@ class FlowCompiler:
             fy.append(Fy)
             mz.append(M)
         span = cv.span
-        c.eq(add_all(mass_in), add_all(mass_out),
-             f"mass balance of {cv.name}: sum_in mdot = sum_out mdot", group, span,
-             "consistency")
-        c.eq(add_all(fx), Const(0.0),
-             f"momentum balance x of {cv.name}: sum F + sum_in mdot v - sum_out mdot v = 0",
-             group, span)
-        c.eq(add_all(fy), Const(0.0),
-             f"momentum balance y of {cv.name}: sum F + sum_in mdot v - sum_out mdot v = 0",
-             group, span)
+        rate_x = rate_y = Const(0.0)  # dP/dt of the contents
+        if cv.instant:
+            group = f"open system {cv.name} at this instant"
+            # dP/dt = m a + (dm/dt) v, with dm/dt = sum_in mdot - sum_out mdot
+            m = self._q(cv.mass, MASS, "the contents' mass") if cv.mass is not None else None
+            v = self._q(cv.velocity, VELOCITY, "the contents' velocity", True) \
+                if cv.velocity is not None else u
+            a = self._q(cv.acceleration, (0, 1, -2), "the contents' acceleration", True) \
+                if cv.acceleration is not None else V2(Const(0.0), Const(0.0))
+            if m is None:
+                raise ProblemError("an instant's contents need a mass: `contents mass 2 kg, "
+                                   "velocity (0, 1 m/s), acceleration (0, 0)`", cv.span,
+                                   code="name")
+            dm = add_all(mass_in + [neg(x) for x in mass_out])
+            rate_x = add_all([mul(m, a.x), mul(dm, v.x)])
+            rate_y = add_all([mul(m, a.y), mul(dm, v.y)])
+            if self.c.scene.gravity is not None:  # the contents' weight
+                gx, gy = self.c.scene.gravity
+                fx.append(mul(m, Const(gx)))
+                fy.append(mul(m, Const(gy)))
+            what = "sum F + sum_in mdot v - sum_out mdot v = m a + (dm/dt) v"
+        else:
+            c.eq(add_all(mass_in), add_all(mass_out),
+                 f"mass balance of {cv.name}: sum_in mdot = sum_out mdot", group, span,
+                 "consistency")
+            what = "sum F + sum_in mdot v - sum_out mdot v = 0"
+        c.eq(add_all(fx), rate_x, f"momentum balance x of {cv.name}: {what}", group, span)
+        c.eq(add_all(fy), rate_y, f"momentum balance y of {cv.name}: {what}", group, span)
         c.eq(add_all(mz), Const(0.0),
              f"angular momentum balance of {cv.name} about its origin: sum M + sum_in r x mdot v"
              " - sum_out r x mdot v = 0", group, span)

@@ -322,11 +322,18 @@ class Flow:
 
 @record(frozen=True)
 class SteadyDecl:
+    """A control volume: steady (`steady`), or at one instant of unsteady flow
+    (`instant`, with its contents' mass, velocity and acceleration)."""
+
     span: Span
     name: str
     flows: tuple
     supports: tuple[str, ...]
     moving: object = None
+    instant: bool = False
+    mass: object = None
+    velocity: object = None
+    acceleration: object = None
 
 
 @record(frozen=True)
@@ -818,6 +825,34 @@ def _make_transformer():
                 else:
                     moving = c[1]
             return SteadyDecl(_span(meta), str(ch[0]), tuple(flows), tuple(supports), moving)
+
+        def ct_mass(self, meta, ch):
+            return ("mass", ch[0])
+
+        def ct_velocity(self, meta, ch):
+            return ("velocity", ch[0])
+
+        def ct_acceleration(self, meta, ch):
+            return ("acceleration", ch[0])
+
+        def contents_props(self, meta, ch):
+            return dict(ch)
+
+        def cv_contents(self, meta, ch):
+            return ("contents", ch[0])
+
+        def instant_stmt(self, meta, ch):
+            contents = {}
+            rest = []
+            for c in ch[1:]:
+                if isinstance(c, tuple) and c[0] == "contents":
+                    contents.update(c[1])
+                else:
+                    rest.append(c)
+            cv = self.steady_stmt(meta, [ch[0]] + rest)
+            return SteadyDecl(cv.span, cv.name, cv.flows, cv.supports, cv.moving, True,
+                              contents.get("mass"), contents.get("velocity"),
+                              contents.get("acceleration"))
 
         def burn_exhaust(self, meta, ch):
             return ("exhaust", (ch[0], ch[1]), _span(meta))

@@ -176,3 +176,28 @@ find Fx[hold] in lbf
     want_lbf = 6 / 32.2 * 80
     got = answers(text)
     assert math.isclose(got["Fx[hold]"], want_lbf * 4.4482216152605, rel_tol=1e-12)
+
+
+def test_chain_lifted_from_a_pile():
+    lam, v, y, g = 2.0, 1.5, 1.2, 9.81
+    assert close(ex("flow_chain_lifted")["F"], lam * g * y + lam * v * v)
+
+
+def test_chain_falling_onto_a_scale_reads_three_times_its_weight_on_the_pan():
+    lam, x, g = 0.5, 0.8, 9.81
+    got = ex("flow_chain_on_scale")
+    assert close(got["N"], 3 * lam * g * x) and close(got["ratio"], 3.0)
+
+
+def test_an_instant_balance_is_the_variable_mass_particle_law():
+    """sum F = m a + mdot (v - v_m), from the formula sheet: a body of 10 kg moving at
+    (3, 0) m/s accelerating at (2, 0) m/s^2 while gaining 4 kg/s of mass that arrives at
+    (1, 0) m/s needs F = 10*2 + 4*(3 - 1) = 28 N."""
+    text = """
+instant b:
+    contents mass 10 kg, velocity (3 m/s, 0), acceleration (2 m/s^2, 0)
+    inflow rate 4 kg/s, velocity (1 m/s, 0)
+    support push
+find Fx[push]
+"""
+    assert close(answers(text)["Fx[push]"], 10 * 2 + 4 * (3 - 1))
