@@ -131,7 +131,9 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
         blocks.append(d)
     unknowns = [dict(name=n, si_value=_finite(values[n]), unit=u.unit)
                 for n, u in system.unknowns.items() if n in values]
-    checks = list(sol.checks) + _energy_checks(sol, sig) + _residual_checks(sol)
+    flows = _flow_rows(system, values)
+    checks = list(sol.checks) + _energy_checks(sol, sig) + _residual_checks(sol) + \
+        _flux_checks(flows)
     checks += _error_estimates(sol)
     answers = [dict(name=n, value=_finite(v), unit=u, si_value=_finite(si))
                for n, v, u, si in sol.answers]
@@ -143,8 +145,24 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                   redundant=len(st.redundant) + len(st.constant_eqs),
                   undetermined=len(st.under))
     return Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
-                  checks, answers, regimes, list(sol.diagnostics), counts,
-                  _flow_rows(system, values))
+                  checks, answers, regimes, list(sol.diagnostics), counts, flows)
+
+
+def _flux_checks(flows: list[dict]) -> list[CheckReport]:
+    """Each control volume: every rate is a flow in the declared direction (>= 0)."""
+    out = []
+    for volume in dict.fromkeys(r["volume"] for r in flows):
+        rows = [r for r in flows if r["volume"] == volume and r["rate"] is not None]
+        bad = [f"{r['what']} at line {r['line']}" for r in rows if r["rate"] < 0]
+        if bad:
+            out.append(CheckReport(f"flux signs, {volume}", "warning",
+                                   f"negative rate: {', '.join(bad)} flows the other way"))
+        else:
+            n_in = sum(r["what"] == "inflow" for r in rows)
+            out.append(CheckReport(f"flux signs, {volume}", "ok",
+                                   f"{n_in} inflow(s) bring momentum in (+), {len(rows) - n_in} "
+                                   "outflow(s) take it out (-); every rate >= 0"))
+    return out
 
 
 def _flow_rows(system: System, values) -> list[dict]:
