@@ -7,7 +7,6 @@ matched graph give the block-lower-triangular order in which the rest is solved.
 """
 from __future__ import annotations
 
-
 from .compile import System
 from .expr import variables
 from .records import record

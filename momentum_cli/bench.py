@@ -57,12 +57,11 @@ def hard_chain_text() -> str:
 
 
 def _run(text: str, name: str, precision: str):
+    from .run import _NoCyclicGC
     from .scene import build
     from .solve import solve_scene
     from .source import Source
     from .syntax import parse
-
-    from .run import _NoCyclicGC
 
     t0 = time.perf_counter()
     with _NoCyclicGC():

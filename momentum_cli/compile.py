@@ -14,8 +14,7 @@ import math
 from collections import defaultdict
 from dataclasses import field
 
-from . import syntax as S
-from .diagnostics import Collector, ProblemError, did_you_mean
+from .diagnostics import Collector, ProblemError
 from .expr import (
     V2,
     ZERO,
@@ -34,32 +33,24 @@ from .expr import (
     to_text,
     variables,
 )
-from .quantity import Evaluator, Q
+from .principles import PrinciplesMixin, _acts_on, _internal
 from .records import record
+from .references import FindSpec, ReferencesMixin
 from .scene import (
     STATE_QTYS,
     Contact,
     Joint,
     PointOn,
     Scene,
-    StatedAngular,
-    StatedMomentum,
-    StatedRestitution,
     TransitionSpec,
 )
 from .source import Span
 from .units import (
-    ACCELERATION,
     ANGULAR_IMPULSE,
     IMPULSE,
-    LENGTH,
-    MASS,
-    MOMENT,
     NONE,
     TIME,
-    VELOCITY,
     Dim,
-    describe,
     si_label,
 )
 
@@ -103,16 +94,6 @@ class Equation:
             t = self._texts[numeric] = f"{to_text(self.lhs, numeric)} = " \
                                        f"{to_text(self.rhs, numeric)}"
         return t
-
-
-@record
-class FindSpec:
-    name: str
-    expr: E
-    dim: Dim
-    unit: str  # display unit label
-    factor: float  # SI value / factor = display value
-    span: Span
 
 
 @record
@@ -172,7 +153,7 @@ def compile_scene(scene: Scene, regimes: dict[str, str] | None = None) -> System
     return _Compiler(scene, regimes or {}).run()
 
 
-class _Compiler:
+class _Compiler(ReferencesMixin, PrinciplesMixin):
     def __init__(self, scene: Scene, regimes: dict[str, str]):
         self.scene = scene
         self.regimes = regimes
@@ -831,296 +812,6 @@ class _Compiler:
             return f"angular momentum is conserved about {points.pop()} (all external impulses " \
                    "act there)"
         return "no point is free of external angular impulse"
-
-    # ---- principles the user states ---------------------------------------------------------------
-    def _stated(self, s) -> None:
-        key = f"{s.before}->{s.after}"
-        group = "stated principles"
-        sources = self.sources.get(key)
-        if isinstance(s, StatedMomentum):
-            d = V2(Const(s.direction[0]), Const(s.direction[1]))
-            lhs = rhs = ZERO
-            for b in s.bodies:
-                lhs = add(lhs, mul(self.mass(b, s.before), self.vel(b, s.before).dot(d)))
-                rhs = add(rhs, mul(self.mass(b, s.after), self.vel(b, s.after).dot(d)))
-            principle = f"conservation of linear momentum along {s.axis_text} of " \
-                        f"{{{', '.join(s.bodies)}}} (stated)"
-            if sources is not None:
-                bad = [x for x in sources if _acts_on(x, set(s.bodies)) and
-                       not _internal(x, set(s.bodies)) and not x.torque_only and
-                       (x.direction is None or
-                        abs(x.direction[0] * s.direction[0] + x.direction[1] * s.direction[1])
-                        > 1e-12)]
-                if bad:
-                    self._invalid(s.span, f"linear momentum of {{{', '.join(s.bodies)}}} along "
-                                  f"{s.axis_text} is not conserved over {key}: "
-                                  f"{bad[0].what} gives an external impulse along it")
-                    return
-            self.eq(lhs, rhs, principle, group, s.span, "stated")
-        elif isinstance(s, StatedAngular):
-            lhs = self._angular_momentum(s.bodies, s.about, s.before)
-            rhs = self._angular_momentum(s.bodies, s.about, s.after)
-            if sources is not None:
-                members = set(s.bodies)
-                bad = [x for x in sources if _acts_on(x, members) and not _internal(x, members)
-                       and (x.torque_only or x.point != s.about.name)]
-                if bad:
-                    self._invalid(s.span, f"angular momentum of {{{', '.join(s.bodies)}}} about "
-                                  f"{s.about.name} is not conserved over {key}: "
-                                  f"{bad[0].what} has a moment about it")
-                    return
-            self.eq(lhs, rhs, f"conservation of angular momentum of {{{', '.join(s.bodies)}}} "
-                    f"about {s.about.name} (stated)", group, s.span, "stated")
-        elif isinstance(s, StatedRestitution):
-            n = V2(Const(s.along[0]), Const(s.along[1]))
-
-            def rel(sid):
-                va = self.point_velocity(s.a, sid)
-                vb = self.point_velocity(s.b, sid) if s.b is not None else V2(ZERO, ZERO)
-                return (va - vb).dot(n)
-
-            self.eq(rel(s.after), mul(Const(-s.value), rel(s.before)),
-                    f"restitution along the line of impact (stated, e = {s.value:g})", group,
-                    s.span, "stated")
-
-    def _invalid(self, span: Span, message: str) -> None:
-        self.invalid.append((span, message))
-        self.notes.warn(message + "; the stated principle is not used", span,
-                        code="principle-does-not-hold")
-
-    def _angular_momentum(self, bodies, about: PointOn, sid: str) -> E:
-        H: E = ZERO
-        rp = None
-        for b in bodies:
-            body = self.scene.bodies[b]
-            m = self.mass(b, sid)
-            if about.body == b:
-                r = -self.arm(about, sid)
-            else:
-                if rp is None:
-                    rp = self.point_position(about, sid)
-                r = self.pos(b, sid) - rp
-            H = add(H, mul(m, r.cross(self.vel(b, sid))))
-            if not body.is_particle:
-                H = add(H, mul(Const(body.inertia), self.sv(b, "omega", sid)))
-        return H
-
-    # ---- user equations and finds ------------------------------------------------------------------
-    def _resolver(self):
-        sc = self.scene
-
-        def resolve(ref: S.Ref, expect) -> Q:
-            name, idx, member, at = ref.name, ref.index, ref.member, ref.at
-            if idx is None and member is None and not at:
-                if name in sc.constants:
-                    return sc.constants[name]
-                if name == "pi":
-                    return Q(Const(math.pi), NONE)
-                if name == "g" and sc.g is not None:
-                    return Q(Known("g", sc.g), ACCELERATION)
-                if name in sc.user_unknowns:
-                    dim, unit, span = sc.user_unknowns[name]
-                    return Q(self.unknown(name, dim, "user", unit or si_label(dim)), dim)
-                if name in self.unknowns:
-                    return Q(Var(name), self.unknowns[name].dim)
-            if member and len(at) == 1 and name in sc.bodies:
-                return self._body_ref(ref)
-            if member in ("v", "vx", "vy", "speed") and len(at) == 1 and name in sc.points:
-                self._state_exists(at[0], ref)
-                v = self.point_velocity(sc.points[name], at[0])
-                if member == "v":
-                    return Q(v, VELOCITY)
-                if member == "speed":
-                    return Q(power(v.dot(v), 0.5), VELOCITY)
-                return Q(v.x if member == "vx" else v.y, VELOCITY)
-            if member is None and idx is None and len(at) == 1 and name == "T":
-                self._state_exists(at[0], ref)
-                return Q(self._kinetic(at[0]), MOMENT)
-            if member is None and idx is None and len(at) == 2 and name == "T_lost":
-                self._transition_exists(at, ref)
-                return Q(add(self._kinetic(at[0]), neg(self._kinetic(at[1]))), MOMENT)
-            if member is None and idx is None and len(at) == 2 and name == "t":
-                if self.flows and "->".join(at) in self.flows.durations:
-                    return Q(self.flows.durations["->".join(at)], TIME)
-                tr = self._transition_exists(at, ref)
-                if tr.kind != "interval":
-                    raise ProblemError(f"{ref.text}: only an interval has a duration (an impact "
-                                       "takes no time)", ref.span, code="name")
-                if tr.duration is not None:
-                    return Q(Known(ref.text, tr.duration), TIME)
-                return Q(self.unknown(ref.text, TIME, "duration", "s"), TIME)
-            text = ref.text
-            if text in self.unknowns:
-                return Q(Var(text), self.unknowns[text].dim)
-            if idx is not None and name == "e" and not at:
-                for t in sc.transitions:
-                    for c in t.contacts:
-                        if c.label == idx and not c.restitution_unknown:
-                            return Q(Known(text, c.restitution), NONE)
-            candidates = list(self.unknowns) + list(sc.constants) + ["g", "pi"]
-            raise ProblemError(f"unknown quantity '{text}'" + did_you_mean(text, candidates),
-                               ref.span, code="name", notes=_ref_help(ref))
-
-        return resolve
-
-    def _state_exists(self, sid: str, ref: S.Ref) -> None:
-        if sid not in self.scene.states:
-            raise ProblemError(f"state {sid} is not declared" +
-                               did_you_mean(sid, self.scene.states), ref.span, code="name")
-
-    def _transition_exists(self, at, ref: S.Ref) -> TransitionSpec:
-        key = "->".join(at)
-        if key not in self.tspecs:
-            raise ProblemError(f"no transition {at[0]} -> {at[1]} is declared" +
-                               did_you_mean(key, self.tspecs), ref.span, code="name")
-        return self.tspecs[key]
-
-    def _body_ref(self, ref: S.Ref) -> Q:
-        sc = self.scene
-        b, q, sid = ref.name, ref.member, ref.at[0]
-        body = sc.bodies[b]
-        if q in ("dx", "dy", "dtheta", "alpha"):
-            raise ProblemError(f"'{ref.text}' belongs to a transition: write "
-                               f"{b}.{q}@{sid}->STATE", ref.span, code="name")
-        self._state_exists(sid, ref)
-        if q == "mass":
-            return Q(self.mass(b, sid), MASS)
-        if q in STATE_QTYS:
-            if body.is_particle and q in ("angle", "omega"):
-                raise ProblemError(f"'{b}' is a particle: it has no {q}", ref.span, code="name")
-            return Q(self.sv(b, q, sid), STATE_QTYS[q][0])
-        if q == "v":
-            return Q(self.vel(b, sid), VELOCITY)
-        if q == "pos":
-            return Q(self.pos(b, sid), LENGTH)
-        if q == "speed":
-            v = self.vel(b, sid)
-            return Q(power(v.dot(v), 0.5), VELOCITY)
-        if q == "T":
-            return Q(self._kinetic(sid, {b}), MOMENT)
-        raise ProblemError(f"'{q}' is not a quantity of a body" +
-                           did_you_mean(q, list(STATE_QTYS) + ["v", "pos", "speed", "T"]),
-                           ref.span, code="name")
-
-    def _displacement(self, ref: S.Ref) -> Q | None:
-        sc = self.scene
-        if not (ref.member and len(ref.at) == 2 and ref.name in sc.bodies):
-            return None
-        q = ref.member
-        if q not in ("dx", "dy", "dtheta", "alpha"):
-            return None
-        tr = self._transition_exists(ref.at, ref)
-        if tr.kind != "interval":
-            raise ProblemError(f"'{ref.text}': displacements belong to an interval", ref.span,
-                               code="name")
-        b = ref.name
-        i, j = ref.at
-        if tr.duration is not None:
-            t: E = Known(f"t@{tr.key}", tr.duration)
-        else:
-            t = self.unknown(f"t@{tr.key}", TIME, "duration", "s")
-        if q == "alpha":
-            w1, w2 = self.sv(b, "omega", i), self.sv(b, "omega", j)
-            return Q(mul(add(w2, neg(w1)), power(t, -1.0)), (0, 0, -2))
-        comp = {"dx": "vx", "dy": "vy", "dtheta": "omega"}[q]
-        dim = LENGTH if q != "dtheta" else NONE
-        d = self.unknown(ref.text, dim, "derived", "m" if q != "dtheta" else "rad")
-        a1, a2 = self.sv(b, comp, i), self.sv(b, comp, j)
-        self.eq(d, mul(mul(Const(0.5), add(a1, a2)), t),
-                "constant acceleration: displacement = (start + end velocity)/2 * t",
-                f"interval {i} -> {j}", ref.span)
-        return Q(d, dim)
-
-    def _evaluator(self) -> Evaluator:
-        base = self._resolver()
-
-        def resolve(ref: S.Ref, expect) -> Q:
-            d = self._displacement(ref)
-            if d is not None:
-                return d
-            return base(ref, expect)
-
-        return Evaluator(resolve)
-
-    def _user_equation(self, ue: S.UserEquation) -> None:
-        ev = self._evaluator()
-        a, b = ev(ue.left), ev(ue.right, None)
-        if a.dim != b.dim:
-            raise ProblemError(f"the two sides differ: {describe(a.dim)} = {describe(b.dim)}",
-                               ue.span, code="units")
-        if a.is_vector != b.is_vector:
-            raise ProblemError("one side is a vector and the other a scalar", ue.span,
-                               code="type")
-        if a.is_vector:
-            self.eq(a.value.x, b.value.x, "equation (x)", "user equations", ue.span, "user")
-            self.eq(a.value.y, b.value.y, "equation (y)", "user equations", ue.span, "user")
-        else:
-            self.eq(a.value, b.value, "equation", "user equations", ue.span, "user")
-
-    def _finds(self) -> list[FindSpec]:
-        from .quantity import unit_readings
-
-        ev = self._evaluator()
-        out = []
-        for item in self.scene.finds:
-            q = ev(item.expr)
-            base = item.name or _expr_text(item.expr)
-            unit, factor = _display_unit(self.unknowns, item, q)
-            if item.unit:
-                readings = unit_readings(item.unit, item.unit_span)
-                match = [r for r in readings if r[1] == q.dim]
-                if not match:
-                    raise ProblemError(f"cannot show {describe(q.dim)} in {item.unit} "
-                                       f"({describe(readings[0][1])})", item.unit_span,
-                                       code="units")
-                unit, factor = item.unit, match[0][0]
-            if q.is_vector:
-                v = q.value
-                if isinstance(item.expr, S.Ref) and item.expr.member in ("v", "pos"):
-                    comps = {"v": ("vx", "vy"), "pos": ("x", "y")}[item.expr.member]
-                    names = [base.replace(f".{item.expr.member}@", f".{c}@") for c in comps]
-                else:
-                    names = [f"{base}.x", f"{base}.y"]
-                out.append(FindSpec(names[0], v.x, q.dim, unit, factor, item.span))
-                out.append(FindSpec(names[1], v.y, q.dim, unit, factor, item.span))
-            else:
-                out.append(FindSpec(base, q.value, q.dim, unit, factor, item.span))
-        return out
-
-
-def _display_unit(unknowns, item, q: Q) -> tuple[str, float]:
-    node = item.expr
-    if isinstance(node, S.Ref) and (node.name in ("T", "T_lost") or node.member == "T"):
-        return "J", 1.0
-    if isinstance(q.value, Var) and q.value.name in unknowns:
-        return unknowns[q.value.name].unit, 1.0
-    if isinstance(item.expr, S.Ref) and item.expr.member in ("omega",):
-        return "rad/s", 1.0
-    if isinstance(item.expr, S.Ref) and item.expr.member in ("angle", "dtheta"):
-        return "rad", 1.0
-    if isinstance(item.expr, S.Ref) and item.expr.member == "alpha":
-        return "rad/s^2", 1.0
-    return si_label(q.dim), 1.0
-
-
-def _expr_text(node) -> str:
-    if isinstance(node, S.Ref):
-        return node.text
-    return "value"
-
-
-def _ref_help(ref: S.Ref) -> list[str]:
-    return ["quantities: BODY.omega@S, BODY.v@S, POINT.v@S, BODY.vx@S, BODY.angle@S, BODY.speed@S, "
-            "t@S->S, J_n[CONTACT]@S->S, e[CONTACT], T@S, T_lost@S->S, BODY.dtheta@S->S"]
-
-
-def _acts_on(s: ImpulseSource, members: set) -> bool:
-    return s.bodies[0] in members or s.bodies[1] in members
-
-
-def _internal(s: ImpulseSource, members: set) -> bool:
-    return s.bodies[0] in members and s.bodies[1] in members
-
 
 def _unit(v) -> tuple[float, float]:
     n = math.hypot(v[0], v[1])
