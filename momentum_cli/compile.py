@@ -7,6 +7,8 @@ the tangential law at each contact, the reactions of pins, welds and links as
 unknown impulses, and the kinematic constraints of every state. Energy phases add
 T1 + V1 + U12 = T2 + V2. Positions do not change in an impact; an interval keeps its
 start configuration for the moment arms (constant forces, constant geometry).
+Helpers in their own modules: principles.py (stated principles), references.py (names
+in `find` lines and equations), flows.py (control volumes and burning bodies).
 """
 from __future__ import annotations
 
