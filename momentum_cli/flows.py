@@ -16,11 +16,13 @@ from __future__ import annotations
 
 from . import syntax as S
 from .diagnostics import ProblemError
-from .expr import V2, Const, E, add_all, evaluate, fn, mul, neg, power, variables
+from .expr import V2, Const, E, Known, Var, add_all, evaluate, fn, mul, neg, power, variables
 from .records import record
 from .units import FORCE, LENGTH, MASS, MOMENT, NONE, TIME, VELOCITY, describe
 
 MASS_RATE = (1, 0, -1)
+BURN_TIME = "t~burn"  # a burn's own time, in `rate` and `exhaust` expressions
+RTOL = 1e-10  # relative tolerance of the numerical integration of a varying burn
 WEIGHT_RATE = (1, 1, -3)
 
 
@@ -47,8 +49,21 @@ class FlowCompiler:
         self.durations: dict[str, E] = {}  # "1->2" -> burn time
 
     # ---- evaluation helpers
+    def _evaluator(self):
+        """The compiler's evaluator, where a bare `t` is the time since a burn began."""
+        from .quantity import Evaluator, Q
+
+        base = self.c._evaluator()
+
+        def resolve(ref, expect):
+            if ref.name == "t" and not (ref.index or ref.member or ref.at):
+                return Q(Var(BURN_TIME), TIME)
+            return base.resolve(ref, expect)
+
+        return Evaluator(resolve)
+
     def _q(self, node, dim, what: str, vector: bool = False):
-        q = self.c._evaluator()(node, dim)
+        q = self._evaluator()(node, dim)
         if q.is_vector != vector:
             kind = "a vector such as (1, 0)" if vector else "a scalar"
             raise ProblemError(f"{what} needs {kind}", node.span, code="type")
@@ -60,7 +75,7 @@ class FlowCompiler:
     def _rate(self, node, what: str) -> E:
         """A mass rate; a weight rate (lb/s) becomes mass with the file's g."""
         # `lb/s` reads as a weight rate first (as `lb` reads as a weight), kg/s as a mass rate
-        q = self.c._evaluator()(node, WEIGHT_RATE)
+        q = self._evaluator()(node, WEIGHT_RATE)
         if q.is_vector:
             raise ProblemError(f"{what} needs a scalar", node.span, code="type")
         if q.dim == WEIGHT_RATE:
@@ -169,6 +184,8 @@ class FlowCompiler:
         if isinstance(mdot, Const) and mdot.value <= 0:
             raise ProblemError("the burn rate must be positive", b.rate.span, code="number")
         m0 = c.mass(b.body, b.before)  # what earlier burns left, or the declared mass
+        if BURN_TIME in variables(mdot) or BURN_TIME in variables(speed):
+            return self._burn_integrated(b, mdot, speed, e, m0)
         if b.burned is not None:
             dm = self._q(b.burned, MASS, "the mass burned", False)
             t = mul(dm, power(mdot, -1.0))
@@ -198,3 +215,68 @@ class FlowCompiler:
                               mul(Const(-ek), mul(speed, drift))]),
                  f"position {comp} at the end of the burn (closed form): r1 = r0 + v0 t + g t^2/2"
                  " - e c (t - (m1/mdot) ln(m0/m1))", group, span)
+
+    def _burn_integrated(self, b: S.BurnDecl, mdot: E, speed: E, e, m0: E) -> None:
+        """A burn whose rate or exhaust speed varies with its time t: no closed form, so
+        integrate dM/dt = mdot, dV/dt = c mdot/(m0 - M), dX/dt = V numerically (scipy's
+        DOP853 at rtol 1e-10); v1 = v0 - e V + g T and r1 = r0 + v0 T + g T^2/2 - e X."""
+        c = self.c
+        for what, ex_, node in (("rate", mdot, b.rate), ("exhaust speed", speed, b.exhaust)):
+            if variables(ex_) - {BURN_TIME}:
+                raise ProblemError(f"a burn's {what} may depend on its time t and constants "
+                                   "only", node.span, code="type")
+        if b.duration is None:
+            raise ProblemError("a burn whose rate varies with t needs a `duration`", b.span,
+                               code="name")
+        T = self._q(b.duration, TIME, "the burn's duration", False)
+        if variables(T) or variables(m0):
+            raise ProblemError("a varying burn needs a known duration and starting mass",
+                               b.span, code="type")
+        T_val, m_start = evaluate(T, {}), evaluate(m0, {})
+        if T_val <= 0:
+            raise ProblemError("a burn's duration must be positive", b.duration.span,
+                               code="number")
+        from scipy.integrate import solve_ivp
+
+        def rhs(tau, y):
+            env = {BURN_TIME: tau}
+            md, cc = evaluate(mdot, env), evaluate(speed, env)
+            return [md, cc * md / (m_start - y[0]), y[1]]
+
+        def empty(tau, y):
+            return m_start - y[0]
+
+        empty.terminal = True
+        try:
+            sol = solve_ivp(rhs, (0.0, T_val), [0.0, 0.0, 0.0], method="DOP853", rtol=RTOL,
+                            atol=[RTOL * m_start, 1e-12, 1e-12], events=empty)
+        except (ValueError, ZeroDivisionError, OverflowError) as exc:
+            raise ProblemError(f"the burn cannot be integrated: {exc}", b.span,
+                               code="number") from None
+        if sol.status == 1 or not sol.success:
+            raise ProblemError("the burn runs out of mass before its duration ends: no mass "
+                               "would be left", b.span, code="number")
+        M, V, X = (float(v) for v in sol.y[:, -1])
+        key = f"{b.before}->{b.after}"
+        group = f"burn {b.body} {b.before} -> {b.after}"
+        how = f"integrated numerically: scipy DOP853, rtol {RTOL:g}"
+        m1 = Known(f"m_{b.body}@{b.after}", m_start - M)
+        self.masses[(b.body, b.after)] = m1
+        self.durations[key] = Known(f"t@{key}", T_val)
+        self.c.notes.note(f"{group}: the rate or exhaust speed varies with t, so the motion is "
+                          f"{how}", b.span, code="integrated")
+        g = c.scene.gravity or (0.0, 0.0)
+        i, j = b.before, b.after
+        v0, v1 = c.vel(b.body, i), c.vel(b.body, j)
+        r0, r1 = c.pos(b.body, i), c.pos(b.body, j)
+        dv, dx = Known("dv_thrust", V), Known("dx_thrust", X)
+        Tk = self.durations[key]
+        for comp, ek, gk, a0, a1, p0, p1 in (("x", e[0], g[0], v0.x, v1.x, r0.x, r1.x),
+                                             ("y", e[1], g[1], v0.y, v1.y, r0.y, r1.y)):
+            c.eq(a1, add_all([a0, mul(Const(-ek), dv), mul(Const(gk), Tk)]),
+                 f"velocity {comp} after the burn ({how}): v1 = v0 - e dv_thrust + g t",
+                 group, b.span)
+            c.eq(p1, add_all([p0, mul(a0, Tk), mul(Const(0.5 * gk), mul(Tk, Tk)),
+                              mul(Const(-ek), dx)]),
+                 f"position {comp} after the burn ({how}): r1 = r0 + v0 t + g t^2/2 - e "
+                 "dx_thrust", group, b.span)
