@@ -9,14 +9,13 @@ Prints a Markdown table (the one in the README) and, if matplotlib is installed
 from __future__ import annotations
 
 import argparse
-import glob
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
-from momentum_cli.bench import accuracy, default_problems  # noqa: E402
+from momentum_cli.bench import accuracy, default_files, default_problems  # noqa: E402
 
 
 def main() -> None:
@@ -26,9 +25,7 @@ def main() -> None:
     ap.add_argument("--plot", default=None)
     args = ap.parse_args()
     root = os.path.join(os.path.dirname(__file__), "..")
-    files = sorted(glob.glob(os.path.join(root, "examples", "seed_*.mom")))
-    files += sorted(f for f in glob.glob(os.path.join(root, "examples", "hard", "*.mom"))
-                    if not os.path.basename(f).startswith("bad_"))  # error cases: no answer
+    files = default_files(root)
     sizes = [int(s) for s in args.sizes.split(",")]
     rows = accuracy(default_problems(files, sizes), args.repeat,
                     progress=lambda n, p: print(f"  {n}: {p}", file=sys.stderr))

@@ -186,7 +186,6 @@ def _augment(order: list[int], incidence: list[set[str]], match_eq: dict, match_
             if e == k:
                 break
             v = prev
-    return match_eq, match_var
 
 
 def _tarjan(nodes: list[int], succ: dict[int, list[int]]) -> list[list[int]]:

@@ -122,6 +122,17 @@ def accuracy(problems: list[tuple[str, str]], repeat: int = 3, progress=None) ->
     return rows
 
 
+def default_files(root: str = ".") -> list[str]:
+    """The seed examples and the hard cases that have answers (not the `bad_*` ones)."""
+    import glob
+    import os
+
+    seeds = sorted(glob.glob(os.path.join(root, "examples", "seed_*.mom")))
+    hard = sorted(f for f in glob.glob(os.path.join(root, "examples", "hard", "*.mom"))
+                  if not os.path.basename(f).startswith("bad_"))  # error cases: no answer
+    return [os.path.normpath(f) for f in seeds + hard]
+
+
 def default_problems(files: list[str], sizes: list[int]) -> list[tuple[str, str]]:
     out = []
     for f in files:

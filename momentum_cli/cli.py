@@ -304,18 +304,16 @@ def bench_accuracy(
       momentum bench accuracy
       momentum bench accuracy --sizes 10,100 --json examples/seed_*.mom
     """
-    import glob
     import json
 
-    from .bench import accuracy, default_problems
+    from .bench import accuracy, default_files, default_problems
 
     try:
         ns = [int(s) for s in sizes.split(",") if s.strip()]
     except ValueError:
         raise typer.BadParameter("--sizes takes whole numbers separated by commas") from None
     if not files:
-        files = sorted(glob.glob("examples/seed_*.mom")) + sorted(
-            f for f in glob.glob("examples/hard/*.mom") if not os.path.basename(f).startswith("bad_"))
+        files = default_files()
     for f in files:
         if not os.path.isfile(f):
             raise typer.BadParameter(f"no such file: {f}")

@@ -23,10 +23,9 @@ def record(cls=None, *, frozen: bool = False, identity: bool = False):
 
 def _build(cls, frozen: bool, identity: bool):
     own = cls.__dict__.get("__annotations__", {})
-    inherited: tuple[str, ...] = ()
-    for base in cls.__mro__[1:]:
-        inherited = getattr(base, "_fields", ()) + inherited if hasattr(base, "_fields") else \
-            inherited
+    # the nearest record base already lists its own ancestors' fields
+    inherited = next((b.__dict__["_fields"] for b in cls.__mro__[1:] if "_fields" in b.__dict__),
+                     ())
     fields = tuple(f for f in own if own[f] != "ClassVar")
     all_fields = inherited + fields
     defaults: dict = {}

@@ -113,18 +113,20 @@ def test_inconsistent_or_negative_flows_name_the_line(a, b, line, words):
     assert d.span.line == line and words in d.message
 
 
-def test_burning_more_than_the_body_has_is_an_error():
-    text = """
+BURN = """
 body r: particle(mass = 100 kg)
 state 1: r at rest
 state 2
 burn r 1 -> 2:
     exhaust 1000 m/s along (0, -1)
-    rate 1 kg/s
-    burns 150 kg
+    rate {rate}
+    {amount}
 find r.vy@2
 """
-    d = error_of(text)
+
+
+def test_burning_more_than_the_body_has_is_an_error():
+    d = error_of(BURN.format(rate="1 kg/s", amount="burns 150 kg"))
     assert d.span.line == 5 and "no mass would be left" in d.message
 
 
@@ -224,15 +226,5 @@ def test_a_burn_whose_rate_varies_is_integrated_numerically():
 
 
 def test_a_varying_burn_that_runs_out_of_mass_is_an_error():
-    text = """
-body r: particle(mass = 100 kg)
-state 1: r at rest
-state 2
-burn r 1 -> 2:
-    exhaust 1000 m/s along (0, -1)
-    rate 1 kg/s + (1 kg/s^2) * t
-    duration 20 s
-find r.vy@2
-"""
-    d = error_of(text)
+    d = error_of(BURN.format(rate="1 kg/s + (1 kg/s^2) * t", amount="duration 20 s"))
     assert d.span.line == 5 and "runs out of mass" in d.message

@@ -168,13 +168,14 @@ def _flux_checks(flows: list[dict]) -> list[CheckReport]:
 def _flow_rows(system: System, values) -> list[dict]:
     """Each inflow, outflow and force of a control volume with its momentum flux
     (the sign already that of the balance: + in, - out) and its moment about O."""
+    def ev(e):
+        try:
+            return _finite(evaluate(e, values))
+        except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+            return None
+
     out = []
     for r in system.flow_rows:
-        def ev(e):
-            try:
-                return _finite(evaluate(e, values))
-            except (KeyError, ValueError, ZeroDivisionError, OverflowError):
-                return None
         mdot = ev(r.rate) if r.rate is not None else None
         vx, vy = ev(r.velocity.x), ev(r.velocity.y)
         ax, ay = ev(r.at.x), ev(r.at.y)
