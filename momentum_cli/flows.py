@@ -16,7 +16,20 @@ from __future__ import annotations
 
 from . import syntax as S
 from .diagnostics import ProblemError
-from .expr import V2, Const, E, Known, Var, add_all, evaluate, fn, mul, neg, power, variables
+from .expr import (
+    V2,
+    Const,
+    E,
+    Known,
+    Var,
+    add_all,
+    evaluate,
+    fn,
+    mul,
+    neg,
+    power,
+    variables,
+)
 from .records import record
 from .units import FORCE, LENGTH, MASS, MOMENT, NONE, TIME, VELOCITY, describe
 

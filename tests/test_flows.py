@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 
 import pytest
-
 from conftest import EXAMPLES
 from helpers import answers, error_of
 
