@@ -282,6 +282,147 @@ def check(
     raise typer.Exit(int(worst))
 
 
+@app.command()
+def simulate(
+    files: List[str] = typer.Argument(..., metavar="FILE",
+                                      help="Problem files with a `simulate from S:` block; '-' "
+                                           "reads standard input."),
+    fmt: Format = typer.Option(Format.auto, "--format", "-f",
+                               help="auto: rich on a terminal, plain when piped."),
+    json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
+    plain: bool = typer.Option(False, "--plain", help="Deterministic plain text (the golden "
+                                                      "format)."),
+    rtol: float = typer.Option(1e-9, "--rtol", min=1e-14, max=0.1,
+                               help="Relative tolerance of the adaptive integrator (DOP853)."),
+    dt: Optional[float] = typer.Option(None, "--dt", min=1e-12,
+                                       help="Fixed time step in seconds instead of --rtol "
+                                            "(events are still located on the dense output)."),
+    csv: Optional[str] = typer.Option(None, "--csv", metavar="FILE",
+                                      help="Write the time series (every step and event)."),
+    plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE.png",
+                                       help="Draw positions, velocities and energy against "
+                                            "time (needs the `plot` extra: matplotlib)."),
+    digits: int = typer.Option(6, "--digits", "-p", min=1, max=17,
+                               help="Significant figures in printed numbers."),
+    traceback_flag: bool = typer.Option(False, "--traceback", help="Show Python tracebacks of "
+                                                                   "internal errors."),
+) -> None:
+    """Simulate the motion of a scene over time, with only the effects it declares.
+
+    Impacts are resolved by the same impulse solver as `solve`; between them the motion
+    is advanced in closed form where the accelerations are constant, else integrated
+    by scipy's solve_ivp (DOP853) with its events located on the dense output.
+
+    \b
+    Examples:
+      momentum simulate examples/seed_pendulum_wall.mom
+      momentum simulate --csv swing.csv --rtol 1e-12 examples/seed_pendulum_wall.mom
+      momentum simulate --json examples/simulate/*.mom
+    """
+    from .sim.run_file import simulate_source
+
+    if (csv or plot) and len(files) > 1:
+        raise typer.BadParameter("--csv and --plot take one problem file")
+    if plot:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise typer.BadParameter("--plot needs matplotlib: pip install "
+                                     "'momentum-cli[plot]'") from None
+    mode = _pick_format(fmt, json_flag, plain)
+    _safe_streams()
+    out, err = sys.stdout, sys.stderr
+    worst = ExitCode.OK
+    results = []
+    console = None
+    for i, (name, source, res) in enumerate(_read_all(files)):
+        sim = None
+        if res is None:
+            progress = _progress_bar(err) if err.isatty() and mode != "json" else None
+            try:
+                res, sim = simulate_source(source, rtol, dt, progress)
+            except (KeyboardInterrupt, typer.Exit):
+                raise
+            except Exception as exc:
+                res = _internal(name, exc, traceback_flag)
+            finally:
+                if progress is not None:
+                    progress.close()
+        code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
+        worst = max(worst, code)
+        if sim is not None and csv:
+            from .sim.output import csv_text
+
+            with open(csv, "w", encoding="utf-8") as fh:
+                fh.write(csv_text(sim))
+        if sim is not None and plot:
+            from .sim.output import plot as draw
+
+            draw(sim, plot)
+        if mode == "json":
+            from .sim.output import json_result
+
+            results.append(json_result(res.report, name, res.status if res.status != "internal"
+                                       else "error", res.diagnostics))
+            continue
+        _print_diagnostics(res, err)
+        if res.report is None:
+            continue
+        if mode == "rich":
+            if console is None:
+                from rich.console import Console
+
+                console = Console()
+            from .sim.output import render_rich
+
+            render_rich(res.report, console, digits)
+        else:
+            from .sim.output import render_plain
+
+            if i:
+                out.write("\n")
+            out.write(render_plain(res.report, digits))
+    if mode == "json":
+        import json
+
+        from . import __version__
+        from .report.json_out import clean
+
+        out.write(json.dumps({"schema_version": "1", "momentum_version": __version__,
+                              "simulations": clean(results)}, indent=2, allow_nan=False,
+                             ensure_ascii=not _is_utf8(out)) + "\n")
+    out.flush()
+    raise typer.Exit(int(worst))
+
+
+class _progress_bar:
+    """A rich progress bar on stderr for runs longer than half a second."""
+
+    def __init__(self, stream):
+        import time
+
+        self.stream, self.began, self.bar, self.task = stream, time.perf_counter(), None, None
+        self.end = None
+
+    def __call__(self, t: float) -> None:
+        import time
+
+        if self.bar is None:
+            if time.perf_counter() - self.began < 0.5:
+                return
+            from rich.console import Console
+            from rich.progress import Progress
+
+            self.bar = Progress(console=Console(file=self.stream), transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task("simulating", total=None)
+        self.bar.update(self.task, description=f"simulating: t = {t:.4g} s")
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+
+
 bench_app = typer.Typer(help="Benchmarks: what accuracy costs in time.", no_args_is_help=True,
                         rich_markup_mode=None)
 app.add_typer(bench_app, name="bench")

@@ -133,6 +133,7 @@ class Surface:
     normal: tuple[float, float] | None
     at: tuple[float, float]
     span: Span
+    located: bool = False  # `at` was given (a simulation needs to know where it is)
 
 
 @record(frozen=True)
@@ -185,6 +186,7 @@ class Scene:
     gravity_span: Span | None = None
     steady: list = field(default_factory=list)  # syntax.SteadyDecl: compiled by flows.py
     burns: list = field(default_factory=list)  # syntax.BurnDecl: compiled by flows.py
+    simulations: list = field(default_factory=list)  # sim.spec.SimSpec: `momentum simulate`
 
 
 SHAPES = {
@@ -362,9 +364,15 @@ class _Builder:
         burns = [s for s in st if isinstance(s, S.BurnDecl)]
         for s in burns:
             self._burn(s, states, transitions)
+        simulations = []
+        for s in st:
+            if isinstance(s, S.SimulateDecl):
+                from .sim.spec import build_simulation
+
+                simulations.append(build_simulation(self, s, states))
         return Scene(title, self.gravity, self.g, self.constants, self.user_unknowns,
                      self.bodies, self.points, self.surfaces, joints, states, transitions, stated,
-                     equations, finds, self.notes, self.gravity_span, steady, burns)
+                     equations, finds, self.notes, self.gravity_span, steady, burns, simulations)
 
     def _burn(self, s: S.BurnDecl, states, transitions) -> None:
         body = self._body_named(s.body, s.span)
@@ -524,7 +532,7 @@ class _Builder:
             raise ProblemError(f"'{s.name}' is already defined", s.span, code="name")
         n = self.unit_vector(s.normal, "a surface normal") if s.normal is not None else None
         at = self.vector(s.at, LENGTH, "a surface position") if s.at is not None else (0.0, 0.0)
-        self.surfaces[s.name] = Surface(s.name, n, at, s.span)
+        self.surfaces[s.name] = Surface(s.name, n, at, s.span, s.at is not None)
 
     def _point(self, s: S.PointDecl) -> None:
         if s.name in self.points or s.name in self.bodies:
@@ -766,6 +774,8 @@ class _Builder:
             normal = self.unit_vector(c.normal, "a contact normal")
         elif sf is not None and sf.normal is not None:
             normal = sf.normal
+        elif kind == "simulate" and b is not None:
+            normal = None  # two bodies: the simulation takes the normal from their shapes
         else:
             raise ProblemError("a contact needs a normal: `normal (0, 1)` (the direction of the "
                                "impulse on the first body)", c.span, code="name")
@@ -807,7 +817,10 @@ class _Builder:
         if len(modes) > 1:
             raise ProblemError("a contact is smooth, rough or has friction: choose one",
                                modes[1].span, code="name")
-        if kind == "impact" and e is None and not e_unknown and separation is None:
+        if kind == "simulate" and (e_unknown or separation is not None or slip is not None):
+            raise ProblemError("a simulated contact takes a restitution and smooth, rough or "
+                               "`friction MU`", c.span, code="name")
+        if kind in ("impact", "simulate") and e is None and not e_unknown and separation is None:
             raise ProblemError("an impact contact needs a restitution: `restitution 0.5` (or "
                                "`restitution ?` to find it, or `separation 2 m/s`)", c.span,
                                code="name")

@@ -351,6 +351,26 @@ class BurnDecl:
 
 
 @record(frozen=True)
+class Until:
+    """A stop condition of a simulation: `until t = 5 s`, `until rod.omega = 0`,
+    `until apex`, `until 3 impacts` (the last two have no right-hand side)."""
+
+    span: Span
+    left: object
+    right: object = None
+
+
+@record(frozen=True)
+class SimulateDecl:
+    """`simulate from 1:` with its stop conditions, watched contacts and effects."""
+
+    span: Span
+    start: str
+    start_span: Span
+    clauses: tuple  # Until | Contact | Clause (force, moment, bearing-torque) | Joint (damper)
+
+
+@record(frozen=True)
 class Document:
     source: Source
     statements: tuple
@@ -875,6 +895,22 @@ def _make_transformer():
 
         def label(self, meta, ch):
             return ("label", str(ch[0]))
+
+        # -- simulation
+        def sim_until(self, meta, ch):
+            return Until(_span(meta), ch[0], ch[1] if len(ch) > 1 else None)
+
+        def sim_damper(self, meta, ch):
+            label = None
+            if isinstance(ch[0], tuple) and ch[0][0] == "label":
+                label, ch = ch[0][1], ch[1:]
+            return Joint(_span(meta), "damper", label, ch[0], ch[1], stiffness=ch[2])
+
+        def sim_bearing(self, meta, ch):
+            return Clause(_span(meta), "bearing-torque", (str(ch[0]),), value=ch[1])
+
+        def simulate_stmt(self, meta, ch):
+            return SimulateDecl(_span(meta), str(ch[0]), _tspan(ch[0]), tuple(ch[1:]))
 
         def _joint(kind):
             def f(self, meta, ch):

@@ -1,0 +1,66 @@
+"""An impact during a simulation, resolved by the same impulse solver as `solve`.
+
+The moment of contact becomes a two-state scene (`state 1` fully given, `state 2`
+unknown) with an `impact 1 -> 2` whose contacts sit where the bodies touch; the
+compiler writes impulse-momentum, restitution and friction for it exactly as for a
+file, and the solver picks the friction regime.
+"""
+from __future__ import annotations
+
+from ..diagnostics import Collector
+from ..scene import Contact, PointOn, Scene, StateSpec, TransitionSpec
+from .dynamics import Frame
+from .model import Model, Watch, rot
+
+
+def _givens(model: Model, frame: Frame, span) -> dict:
+    givens = {}
+    for b in model.bodies:
+        x, y, th = frame.pose[b.name]
+        vx, vy, w = frame.twist[b.name]
+        if b.size == 1:  # the pin fixes the rest
+            items = {"angle": th, "omega": w}
+        elif b.particle:
+            items = {"x": x, "y": y, "vx": vx, "vy": vy}
+        else:
+            items = {"x": x, "y": y, "angle": th, "vx": vx, "vy": vy, "omega": w}
+        for q, v in items.items():
+            givens[(b.name, q)] = (v, span)
+    return givens
+
+
+def _contact(frame: Frame, w: Watch, geometry) -> Contact:
+    gap, n, c, ra, rb = geometry
+    th = frame.pose[w.a.body][2]
+    a = PointOn(w.a.body, rot(-th, ra), w.a.name, w.a.span)
+    b = None
+    if rb is not None:
+        b = PointOn(w.b.body, rot(-frame.pose[w.b.body][2], rb), w.b.name, w.b.span)
+    s = w.spec
+    e = s.restitution if s.restitution is not None else 0.0
+    return Contact(w.label, s.span, a, b, n, e, False, s.mode, s.mu, None, None)
+
+
+def resolve(model: Model, frame: Frame, hits: list) -> tuple[dict, dict, dict]:
+    """Velocities just after, impulses, and friction regimes, for contacts `hits`
+    [(watch, geometry)] that close at once."""
+    from ..solve import solve_scene
+
+    scene = model.scene
+    span = hits[0][0].spec.span
+    before = StateSpec("1", "before", span, _givens(model, frame, span))
+    after = StateSpec("2", "after", span)
+    impact = TransitionSpec("impact", "1", "2", span, [_contact(frame, w, g) for w, g in hits])
+    joints = [j for j in scene.joints if j.kind in ("pin", "weld", "link")]
+    sub = Scene(scene.title, scene.gravity, scene.g, scene.constants, scene.user_unknowns,
+                scene.bodies, scene.points, scene.surfaces, joints, {"1": before, "2": after},
+                [impact], [], [], [], Collector(), scene.gravity_span)
+    sol = solve_scene(sub, solve_all=True)
+    v = sol.values
+    out = {}
+    for b in model.bodies:
+        old = frame.twist[b.name]
+        out[b.name] = tuple(v.get(f"{b.name}.{q}@2", old[k])
+                            for k, q in enumerate(("vx", "vy", "omega")))
+    impulses = {k.split("@")[0]: x for k, x in v.items() if "@1->2" in k}
+    return out, impulses, dict(sol.regimes)

@@ -1,0 +1,294 @@
+"""A simulation's report as data, and its renderings: plain text, rich, JSON, CSV, plot.
+
+The plain text is deterministic (golden files): numbers to N significant figures,
+round-off-sized values shown as 0, and no wall times or step counts, which depend on
+the machine and the scipy version; those are in the rich and JSON output.
+"""
+from __future__ import annotations
+
+import math
+
+from ..numbers import fmt_num
+from .forces import energy
+from .integrate import SimResult
+
+SNAP = 1e-10  # values below this fraction of their scale print as 0
+
+
+def _snap(x: float, scale: float) -> float:
+    return 0.0 if abs(x) < SNAP * scale else float(x)
+
+
+def _decade(x: float) -> str:
+    """An upper bound as a power of ten (stable in golden files)."""
+    if x <= 1e-15:
+        return "1e-15"
+    return f"1e{math.ceil(math.log10(x))}"
+
+
+def build(name: str, res: SimResult) -> dict:
+    """Everything the renderers print, in SI."""
+    model, scene = res.model, res.model.scene
+    sim = scene.simulations[0]
+    L, V = model.length_scale, _v_scale(res)
+    effects = []
+    if model.gravity is not None:
+        effects.append(f"gravity ({fmt_num(model.gravity[0])}, {fmt_num(model.gravity[1])}) m/s^2")
+    for b in model.bodies:
+        if b.size == 1:
+            effects.append(f"{b.name} turns about the pin at ({fmt_num(b.pivot[0])}, "
+                           f"{fmt_num(b.pivot[1])}) m: one coordinate, its angle")
+    for j in model.joints:
+        effects.append(f"{j.kind} {j.label} (constraint force, line {j.span.line})")
+    for j in model.springs:
+        effects.append(f"spring {j.label}: k = {fmt_num(j.stiffness)} N/m, free length "
+                       f"{fmt_num(j.length)} m (line {j.span.line})")
+    for j in model.dampers:
+        effects.append(f"damper {j.label}: c = {fmt_num(j.stiffness)} N*s/m (line {j.span.line})")
+    for F, p, span in model.forces:
+        effects.append(f"force ({fmt_num(F[0])}, {fmt_num(F[1])}) N on {p.name} (line {span.line})")
+    for Mo, body, span in model.moments:
+        effects.append(f"moment {fmt_num(Mo)} N*m on {body} (line {span.line})")
+    for label, torque in model.bearings.items():
+        effects.append(f"bearing friction {fmt_num(torque)} N*m at {label}")
+    for w in model.watches:
+        s = w.spec
+        law = f"restitution {fmt_num(s.restitution if s.restitution is not None else 0.0)}"
+        law += ", " + (f"friction {fmt_num(s.mu)}" if s.mode == "friction" else s.mode)
+        other = w.b.name if w.b is not None else (s.surface or "ground")
+        effects.append(f"contact {w.label}: {w.a.name} with {other}: {law} (line {s.span.line})")
+    if not effects:
+        effects.append("none: bodies move freely")
+    events = []
+    for e in res.events:
+        bodies = []
+        for b in model.bodies:
+            after = e.after.get(b.name)
+            before = e.before.get(b.name)
+            if after is None:
+                continue
+            if e.kind == "impact" and before is not None and all(
+                    abs(x - y) <= SNAP * V for x, y in zip(before, after)):
+                continue
+            bodies.append(dict(
+                body=b.name,
+                before=None if before is None else [_snap(x, V) for x in before],
+                after=[_snap(x, V) for x in after]))
+        events.append(dict(t=float(e.t), kind=e.kind, what=e.what, bodies=bodies,
+                           energy_lost=_snap(e.energy_lost, abs(res.energy0) + 1e-300)
+                           if e.kind == "impact" else None,
+                           impulses={k: _snap(v, 1.0) for k, v in sorted(e.impulses.items())
+                                     if k.startswith(("J_n", "J_t"))},
+                           note=e.note))
+    frame = res.frame()
+    final = []
+    for b in model.bodies:
+        x, y, th = frame.pose[b.name]
+        vx, vy, w = frame.twist[b.name]
+        final.append(dict(body=b.name, x=_snap(x, L), y=_snap(y, L),
+                          angle=None if b.particle else _snap(th, 1.0),
+                          vx=_snap(vx, V), vy=_snap(vy, V),
+                          omega=None if b.particle else _snap(w, V / L)))
+    scale = _energy_scale(res)
+    drift = max([p.drift for p in res.phases], default=0.0)
+    rel = drift / scale
+    checks = []
+    if res.dt is None:
+        ok = rel <= 10 * res.rtol
+        checks.append(dict(name="energy drift", status="ok" if ok else "warning",
+                           detail=f"max |E - E0 - W| between events < {_decade(rel)} of the "
+                                  f"energy scale ({'within' if ok else 'above'} 10 rtol = "
+                                  f"{fmt_num(10 * res.rtol, 2)})",
+                           value=rel))
+    else:
+        checks.append(dict(name="energy drift", status="info",
+                           detail=f"max |E - E0 - W| between events < {_decade(rel)} of the "
+                                  f"energy scale (fixed step dt = {fmt_num(res.dt)} s)",
+                           value=rel))
+    phases = [dict(start=p.t0, end=p.t1, method=p.method, steps=p.steps,
+                   evaluations=p.evaluations, drift=p.drift / scale) for p in res.phases]
+    return dict(file=name, title=scene.title, start=sim.start, line=sim.span.line,
+                stop=res.events[-1].what, t_end=float(res.events[-1].t), rtol=res.rtol,
+                dt=res.dt, seconds=res.seconds, effects=effects, events=events,
+                phases=phases, final=final, checks=checks,
+                impacts=sum(1 for e in res.events if e.kind == "impact"))
+
+
+def _v_scale(res: SimResult) -> float:
+    return max(1e-30, *(abs(x) for e in res.events for v in e.after.values() for x in v[:2]))
+
+
+def _energy_scale(res: SimResult) -> float:
+    n = res.model.n
+    from .dynamics import Frame
+
+    Es = [abs(res.energy0)]
+    for y in res.states[:: max(1, len(res.states) // 50)]:
+        f = Frame(res.model, y[:n], y[n:2 * n])
+        Es.append(abs(energy(res.model, f)))
+    return max(Es + [1e-300])
+
+
+def _vec(v, k=0, sig=6):
+    return f"({fmt_num(v[k], sig)}, {fmt_num(v[k + 1], sig)})"
+
+
+def render_plain(rep: dict, sig: int = 6) -> str:
+    from ..report.text import table
+
+    f = lambda x: "-" if x is None else fmt_num(x, sig)  # noqa: E731
+    out = [f"== {rep['file']}: {rep['title'] or '(untitled problem)'}", ""]
+    how = f"fixed step dt = {f(rep['dt'])} s" if rep["dt"] else f"rtol {fmt_num(rep['rtol'], 2)}"
+    out.append(f"Simulation from state {rep['start']} (line {rep['line']}), {how}; stopped at "
+               f"{rep['stop']}, t = {f(rep['t_end'])} s")
+    out += ["", "Effects declared (nothing else acts)"] + ["  " + e for e in rep["effects"]]
+    rows = []
+    for e in rep["events"]:
+        first = True
+        for b in e["bodies"] or [None]:
+            cells = [f(e["t"]) if first else "", e["kind"] if first else "",
+                     e["what"] if first else ""]
+            if b is None:
+                cells += ["", "", "", "", "", ""]
+            else:
+                bf = b["before"]
+                cells += [b["body"], "-" if bf is None else _vec(bf, 0, sig),
+                          "-" if bf is None else f(bf[2]), _vec(b["after"], 0, sig),
+                          f(b["after"][2])]
+                cells.append(f(e["energy_lost"]) if first and e["energy_lost"] is not None
+                             else "")
+            rows.append(cells)
+            first = False
+    out += ["", "Events"]
+    out += table(["t (s)", "event", "what", "body", "v before (m/s)", "omega before",
+                  "v after (m/s)", "omega after", "energy lost (J)"], rows)
+    imp = [(e, k, v) for e in rep["events"] for k, v in e["impulses"].items()]
+    if imp:
+        out += ["", "Impulses (N*s) and friction regimes"]
+        out += table(["t (s)", "impulse", "value", "regime"],
+                     [[f(e["t"]), k, f(v), e["note"]] for e, k, v in imp])
+    out += ["", "Phases (motion between events)"]
+    out += table(["from (s)", "to (s)", "method"],
+                 [[f(p["start"]), f(p["end"]), p["method"]] for p in rep["phases"]])
+    out += ["", f"Final state at t = {f(rep['t_end'])} s"]
+    out += table(["body", "x (m)", "y (m)", "angle (deg)", "vx (m/s)", "vy (m/s)",
+                  "omega (rad/s)"],
+                 [[s["body"], f(s["x"]), f(s["y"]),
+                   "-" if s["angle"] is None else f(math.degrees(s["angle"])),
+                   f(s["vx"]), f(s["vy"]), f(s["omega"])] for s in rep["final"]])
+    out += ["", "Checks"] + [f"  {c['name']}: {c['status']}: {c['detail']}"
+                             for c in rep["checks"]]
+    return "\n".join(out) + "\n"
+
+
+def render_rich(rep: dict, console, sig: int = 6) -> None:
+    from rich.table import Table
+
+    f = lambda x: "-" if x is None else fmt_num(x, sig)  # noqa: E731
+    how = f"fixed step dt = {f(rep['dt'])} s" if rep["dt"] else f"rtol {fmt_num(rep['rtol'], 2)}"
+    console.rule(f"[bold]{rep['file']}[/]: {rep['title'] or '(untitled problem)'}")
+    console.print(f"Simulated from state {rep['start']} with {how}; stopped at "
+                  f"[bold]{rep['stop']}[/], t = {f(rep['t_end'])} s, in "
+                  f"{rep['seconds'] * 1e3:.3g} ms")
+    console.print("[bold]Effects declared[/] (nothing else acts): " + "; ".join(rep["effects"]))
+    t = Table(title="Events", show_lines=False)
+    for h in ("t (s)", "event", "what", "body", "v before (m/s)", "ω before", "v after (m/s)",
+              "ω after", "energy lost (J)"):
+        t.add_column(h, justify="right" if h[0] in "tvωe" and h != "event" else "left")
+    for e in rep["events"]:
+        for k, b in enumerate(e["bodies"] or [None]):
+            head = [f(e["t"]), e["kind"], e["what"]] if k == 0 else ["", "", ""]
+            if b is None:
+                t.add_row(*head, "", "", "", "", "", "")
+                continue
+            bf = b["before"]
+            t.add_row(*head, b["body"], "-" if bf is None else _vec(bf, 0, sig),
+                      "-" if bf is None else f(bf[2]), _vec(b["after"], 0, sig),
+                      f(b["after"][2]),
+                      f(e["energy_lost"]) if k == 0 and e["energy_lost"] is not None else "")
+    console.print(t)
+    p = Table(title="Phases")
+    for h in ("from (s)", "to (s)", "method", "steps", "evaluations", "energy drift"):
+        p.add_column(h)
+    for ph in rep["phases"]:
+        p.add_row(f(ph["start"]), f(ph["end"]), ph["method"], str(ph["steps"]),
+                  str(ph["evaluations"]), fmt_num(ph["drift"], 2))
+    console.print(p)
+    s = Table(title=f"Final state at t = {f(rep['t_end'])} s")
+    for h in ("body", "x (m)", "y (m)", "angle (deg)", "vx (m/s)", "vy (m/s)", "ω (rad/s)"):
+        s.add_column(h, justify="left" if h == "body" else "right")
+    for r in rep["final"]:
+        s.add_row(r["body"], f(r["x"]), f(r["y"]),
+                  "-" if r["angle"] is None else f(math.degrees(r["angle"])), f(r["vx"]),
+                  f(r["vy"]), f(r["omega"]))
+    console.print(s)
+    for c in rep["checks"]:
+        colour = {"ok": "green", "warning": "yellow"}.get(c["status"], "cyan")
+        console.print(f"[{colour}]{c['status']}[/] {c['name']}: {c['detail']}")
+
+
+def json_result(rep: dict | None, name: str, status: str, diagnostics) -> dict:
+    d = {"file": name, "status": status, "diagnostics": [x.to_json() for x in diagnostics]}
+    if rep is not None:
+        d.update({k: rep[k] for k in ("title", "start", "stop", "t_end", "rtol", "dt",
+                                      "seconds", "effects", "events", "phases", "final",
+                                      "checks", "impacts")})
+    return d
+
+
+def csv_text(res: SimResult) -> str:
+    """The time series: every integrator step and event, one row per time."""
+    model, n = res.model, res.model.n
+    from .dynamics import Frame
+
+    cols = ["t"]
+    for b in model.bodies:
+        cols += [f"{b.name}.{q}" for q in ("x", "y", "angle", "vx", "vy", "omega")]
+    cols += ["energy", "work"]
+    lines = [",".join(cols)]
+    for t, y in zip(res.times, res.states):
+        f = Frame(model, y[:n], y[n:2 * n])
+        row = [t]
+        for b in model.bodies:
+            row += list(f.pose[b.name]) + list(f.twist[b.name])
+        row += [energy(model, f), y[2 * n]]
+        lines.append(",".join(repr(float(x)) for x in row))
+    return "\n".join(lines) + "\n"
+
+
+def plot(res: SimResult, path: str) -> None:
+    """Positions, velocities and energy against time (matplotlib, the `plot` extra)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .dynamics import Frame
+
+    model, n = res.model, res.model.n
+    frames = [Frame(model, y[:n], y[n:2 * n]) for y in res.states]
+    fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
+    for b in model.bodies:
+        axes[0].plot(res.times, [f.pose[b.name][0] for f in frames], label=f"{b.name}.x")
+        axes[0].plot(res.times, [f.pose[b.name][1] for f in frames], label=f"{b.name}.y")
+        axes[1].plot(res.times, [f.twist[b.name][0] for f in frames], label=f"{b.name}.vx")
+        axes[1].plot(res.times, [f.twist[b.name][1] for f in frames], label=f"{b.name}.vy")
+        if not b.particle:
+            axes[1].plot(res.times, [f.twist[b.name][2] for f in frames], "--",
+                         label=f"{b.name}.omega")
+    axes[2].plot(res.times, [energy(model, f) for f in frames], label="E = T + V")
+    axes[2].plot(res.times, [res.energy0 + y[2 * n] for y in res.states], ":",
+                 label="E0 + work of other forces")
+    for ax, lab in zip(axes, ("position (m)", "velocity (m/s, rad/s)", "energy (J)")):
+        ax.set_ylabel(lab)
+        ax.legend(loc="best", fontsize="small")
+        ax.grid(True, alpha=0.3)
+    for e in res.events:
+        if e.kind == "impact":
+            for ax in axes:
+                ax.axvline(e.t, color="grey", lw=0.5)
+    axes[2].set_xlabel("t (s)")
+    fig.suptitle(model.scene.title or "simulation")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)

@@ -1,0 +1,64 @@
+"""A state's full pose and velocity, solved from what the file gives for it.
+
+The state's own constraints (pins, welds, links, rolling) fill in what is not given,
+with the same compiler and solver that `solve` uses. A position that nothing fixes is
+taken as 0 (angles first, then x and y), since only relative geometry matters; a
+velocity that nothing fixes is an error, because the motion would be a guess.
+"""
+from __future__ import annotations
+
+from ..diagnostics import Collector, ProblemError
+from ..scene import Scene, StateSpec
+
+POSITIONS = ("angle", "x", "y")
+VELOCITIES = ("vx", "vy", "omega")
+
+
+def _reduced(scene: Scene, spec: StateSpec) -> Scene:
+    return Scene(scene.title, scene.gravity, scene.g, scene.constants, scene.user_unknowns,
+                 scene.bodies, scene.points, scene.surfaces,
+                 [j for j in scene.joints if j.kind != "spring" and j.from_state is None],
+                 {spec.id: spec}, [], [], [], [], Collector(), scene.gravity_span)
+
+
+def state_values(scene: Scene, sid: str, need_velocities: bool, where=None) -> dict:
+    """{body: {qty: value}} for state `sid`: x, y, angle (and vx, vy, omega)."""
+    from ..solve import solve_scene
+
+    base = scene.states[sid]
+    spec = StateSpec(base.id, base.label, base.span, dict(base.givens), {}, list(base.rolls))
+    for _ in range(4):
+        sol = solve_scene(_reduced(scene, spec))
+        values = dict(sol.values)
+        missing = []
+        for name, b in scene.bodies.items():
+            for q in POSITIONS + (VELOCITIES if need_velocities else ()):
+                if b.is_particle and q in ("angle", "omega"):
+                    continue
+                if (name, q) not in spec.givens and f"{name}.{q}@{sid}" not in values:
+                    missing.append((name, q))
+        if not missing:
+            break
+        angles = [m for m in missing if m[1] == "angle"]
+        places = angles or [m for m in missing if m[1] in POSITIONS]
+        if not places:
+            names = ", ".join(f"{b}.{q}@{sid}" for b, q in missing)
+            raise ProblemError(f"the simulation starts from state {sid} but {names} "
+                               f"{'is' if len(missing) == 1 else 'are'} not known there",
+                               where or base.span, code="under-determined",
+                               notes=[f"give {'it' if len(missing) == 1 else 'them'} in state "
+                                      f"{sid} (or `BODY at rest`)"])
+        for b, q in places:
+            spec.givens[(b, q)] = (0.0, base.span)
+    out: dict[str, dict[str, float]] = {}
+    for name, b in scene.bodies.items():
+        d = {}
+        for q in POSITIONS + VELOCITIES:
+            if (name, q) in spec.givens:
+                d[q] = spec.givens[(name, q)][0]
+            elif f"{name}.{q}@{sid}" in values:
+                d[q] = values[f"{name}.{q}@{sid}"]
+            else:
+                d[q] = 0.0
+        out[name] = d
+    return out
