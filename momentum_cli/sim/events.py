@@ -29,9 +29,11 @@ class Event:
     watch: Watch | None = None
 
 
-def gap_event(model: Model, w: Watch) -> Event:
+def gap_event(model: Model, w: Watch, shift: float = 0.0) -> Event:
+    """The gap closing; `shift` > 0 for a contact that starts touching (it must close
+    past -shift, so that resting at zero is not an event)."""
     def fn(frame, _):
-        return contact_geometry(frame, w)[0]
+        return contact_geometry(frame, w)[0] + shift
 
     poly = None
     if w.b is None and w.a.offset == (0.0, 0.0):  # a centre against a plane: quadratic
@@ -41,7 +43,7 @@ def gap_event(model: Model, w: Watch) -> Event:
             if b.size == 1:
                 return None
             i = b.index
-            gap = contact_geometry(frame, w)[0]
+            gap = contact_geometry(frame, w)[0] + shift
             vx, vy, _ = frame.twist[b.name]
             return (gap, vx * n[0] + vy * n[1], 0.5 * (udot[i] * n[0] + udot[i + 1] * n[1]))
     return Event("contact", w.label, fn, -1, poly=poly, watch=w)

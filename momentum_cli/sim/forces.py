@@ -75,7 +75,7 @@ def relative_spin(frame: Frame, model: Model, label: str) -> float:
 
 def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
     """Solve [[M, -B^T], [A, 0]] [u', lambda] = [Q, -beta] at this frame."""
-    d = mass_diagonal(frame, model)
+    mdiag = mass_diagonal(frame, model)
     Q = np.zeros(model.n)
     power = 0.0
     g = model.gravity
@@ -176,11 +176,11 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
             names.append(f"F_t[{w.label}]")
     m = len(rows)
     if m == 0:
-        return Instant(Q / d, {}, power)
+        return Instant(Q / mdiag, {}, power)
     # u' = M^-1 (Q + B^T lam), A u' = -beta  =>  (A M^-1 B^T) lam = -beta - A M^-1 Q
     A = np.array(rows)
-    Bt_scaled = np.array(cols).T / d[:, None]
-    MiQ = Q / d
+    Bt_scaled = np.array(cols).T / mdiag[:, None]
+    MiQ = Q / mdiag
     S_ = A @ Bt_scaled
     rhs = -np.array(betas) - A @ MiQ
     try:

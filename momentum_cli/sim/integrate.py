@@ -148,6 +148,10 @@ class Simulator:
         self.v_scale = max(speeds + [math.sqrt(g * L), 1e-30])
         self.gap_tol = 1e-9 * L
         self.v_tol = 1e-9 * self.v_scale
+        # a contact whose rebound would not clear the contact tolerance rests
+        self.v_rest = max(10 * self.v_tol, math.sqrt(2 * g * self.gap_tol))
+        mass = sum(b.mass for b in model.bodies)
+        self.f_tol = 1e-12 * mass * max(g, self.v_scale ** 2 / L, 1e-300)
         self.events: list[EventRow] = []
         self.phases: list[PhaseRow] = []
         self.times = [0.0]
@@ -167,7 +171,13 @@ class Simulator:
         self.events.append(EventRow(0.0, "start", f"state {self.spec.start}", {},
                                     _velocities(self.frame(), self.model)))
         stop = None
+        still, last_t = 0, -1.0
         for _ in range(MAX_EVENTS):
+            still = still + 1 if self.t == last_t else 0
+            last_t = self.t
+            if still > 100:
+                raise ProblemError(f"events do not let time advance at t = {self.t:.9g} s "
+                                   "(contacts that chatter)", self.spec.span, code="simulate")
             stop = self._impacts()
             if stop:
                 break
@@ -238,7 +248,7 @@ class Simulator:
         frame = self.frame()
         phase = Phase()
         for w, geo, vn in touching(model, frame, self.gap_tol):
-            if abs(vn) > 10 * self.v_tol:
+            if abs(vn) > self.v_rest:
                 continue
             if w.spec.mode == "smooth":
                 phase.contacts[w.label] = "rest"
@@ -261,8 +271,8 @@ class Simulator:
             worst = None
             for label, mode in phase.contacts.items():
                 N = inst.lam.get(f"N[{label}]", 0.0)
-                if N < -1e-12 * (1 + abs(N)) and (worst is None or N < worst[1]):
-                    worst = (label, N)
+                if N <= self.f_tol and (worst is None or N < worst[1]):
+                    worst = (label, N)  # pulling, or not pressed at all: not a contact
             if worst is not None:
                 del phase.contacts[worst[0]]
                 continue
@@ -317,10 +327,13 @@ class Simulator:
     def _events(self) -> list[Event]:
         model, phase = self.model, self.phase
         evs = []
+        frame = self.frame()
         for w in model.watches:
             mode = phase.contacts.get(w.label)
             if mode is None:
-                evs.append(gap_event(model, w))
+                # touching but not pressed: it closes if the gap goes below -tol
+                shift = self.gap_tol if contact_geometry(frame, w)[0] <= self.gap_tol else 0.0
+                evs.append(gap_event(model, w, shift))
                 continue
             evs.append(separation_event(w))
             if mode in (1.0, -1.0):
@@ -365,11 +378,11 @@ class Simulator:
     def _closed_form(self, evs, polys, inst) -> str | None:
         n = self.model.n
         horizon = self.t_end - self.t
-        best, hit = horizon, None
-        for e, p in zip(evs, polys):
-            r = first_root(p[0], p[1], p[2], e.direction, horizon)
-            if r is not None and r < best:
-                best, hit = r, e
+        roots = [(first_root(p[0], p[1], p[2], e.direction, horizon), e)
+                 for e, p in zip(evs, polys)]
+        roots = [(r, e) for r, e in roots if r is not None]
+        best = min([r for r, _ in roots], default=horizon)
+        hit = _first([e for r, e in roots if r <= best * (1 + 1e-12)])
         if not math.isfinite(best):
             raise ProblemError("the motion never ends: nothing stops it (add `until t = ...`)",
                                self.spec.span, code="simulate")
@@ -441,9 +454,13 @@ class Simulator:
             raise ProblemError(f"the integration failed at t = {sol.t[-1]:.6g} s: {sol.message}",
                                self.spec.span, code="simulate")
         hit, t_hit, y_hit = None, sol.t[-1], sol.y[:, -1]
-        for k, e in enumerate(evs):
-            if len(sol.t_events[k]) and (hit is None or sol.t_events[k][0] < t_hit):
-                hit, t_hit, y_hit = e, sol.t_events[k][0], sol.y_events[k][0]
+        found = [(sol.t_events[k][0], k) for k in range(len(evs)) if len(sol.t_events[k])]
+        if found:
+            t_hit = min(t for t, _ in found)
+            near = [k for t, k in found if t <= t_hit + 1e-12 * max(1.0, abs(t_hit))]
+            hit = _first([evs[k] for k in near])
+            k = next(k for k in near if evs[k] is hit)
+            t_hit, y_hit = sol.t_events[k][0], sol.y_events[k][0]
         steps = len(sol.t) - 1
         first = len(self.states)
         for k in range(1, len(sol.t)):
@@ -482,6 +499,7 @@ class Simulator:
         if hit is None:
             return "time" if self.t >= self.t_end else None
         if hit.kind in ("until", "apex"):
+            self.stop_what = hit.what
             return hit.kind
         if hit.kind != "contact":
             frame = self.frame()
@@ -492,6 +510,14 @@ class Simulator:
     def _record(self) -> None:
         self.times.append(self.t)
         self.states.append(self.y.copy())
+
+
+def _first(hits: list[Event]) -> Event | None:
+    """Of events at one instant, a stop condition wins (the run ends there)."""
+    for e in hits:
+        if e.kind in ("until", "apex"):
+            return e
+    return hits[0] if hits else None
 
 
 def _wrap(e: Event, model, phase, t0, y0, rhs):
@@ -525,7 +551,7 @@ def _wrap(e: Event, model, phase, t0, y0, rhs):
 
 def _stop_text(stop: str, sim: Simulator) -> str:
     return {"time": f"t = {sim.t_end:g} s", "impacts": f"{sim.impacts} impacts",
-            "apex": "apex", "until": "stop condition", "events": "too many events"}.get(stop,
+            "apex": "apex", "until": getattr(sim, "stop_what", "stop condition"), "events": "too many events"}.get(stop,
                                                                                          stop)
 
 

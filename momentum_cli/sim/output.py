@@ -15,8 +15,8 @@ from .integrate import SimResult
 SNAP = 1e-10  # values below this fraction of their scale print as 0
 
 
-def _snap(x: float, scale: float) -> float:
-    return 0.0 if abs(x) < SNAP * scale else float(x)
+def _snap(x: float, scale: float, floor: float = SNAP) -> float:
+    return 0.0 if abs(x) < floor * scale else float(x)
 
 
 def _decade(x: float) -> str:
@@ -31,6 +31,10 @@ def build(name: str, res: SimResult) -> dict:
     model, scene = res.model, res.model.scene
     sim = scene.simulations[0]
     L, V = model.length_scale, _v_scale(res)
+    floor = max(SNAP, 10 * res.rtol) if res.dt is None else 1e-6  # below the integration error
+
+    def snap(x, scale):
+        return _snap(x, scale, floor)
     effects = []
     if model.gravity is not None:
         effects.append(f"gravity ({fmt_num(model.gravity[0])}, {fmt_num(model.gravity[1])}) m/s^2")
@@ -72,8 +76,9 @@ def build(name: str, res: SimResult) -> dict:
                 continue
             bodies.append(dict(
                 body=b.name,
-                before=None if before is None else [_snap(x, V) for x in before],
-                after=[_snap(x, V) for x in after]))
+                before=None if before is None else [snap(x, V) for x in before[:2]] +
+                [snap(before[2], V / L)],
+                after=[snap(x, V) for x in after[:2]] + [snap(after[2], V / L)]))
         events.append(dict(t=float(e.t), kind=e.kind, what=e.what, bodies=bodies,
                            energy_lost=_snap(e.energy_lost, abs(res.energy0) + 1e-300)
                            if e.kind == "impact" else None,
@@ -85,10 +90,10 @@ def build(name: str, res: SimResult) -> dict:
     for b in model.bodies:
         x, y, th = frame.pose[b.name]
         vx, vy, w = frame.twist[b.name]
-        final.append(dict(body=b.name, x=_snap(x, L), y=_snap(y, L),
-                          angle=None if b.particle else _snap(th, 1.0),
-                          vx=_snap(vx, V), vy=_snap(vy, V),
-                          omega=None if b.particle else _snap(w, V / L)))
+        final.append(dict(body=b.name, x=snap(x, L), y=snap(y, L),
+                          angle=None if b.particle else snap(th, 1.0),
+                          vx=snap(vx, V), vy=snap(vy, V),
+                          omega=None if b.particle else snap(w, V / L)))
     scale = _energy_scale(res)
     drift = max([p.drift for p in res.phases], default=0.0)
     rel = drift / scale
@@ -115,7 +120,16 @@ def build(name: str, res: SimResult) -> dict:
 
 
 def _v_scale(res: SimResult) -> float:
-    return max(1e-30, *(abs(x) for e in res.events for v in e.after.values() for x in v[:2]))
+    """The largest speed along the run (omega times the length scale for turning)."""
+    n, L = res.model.n, res.model.length_scale
+    from .dynamics import Frame
+
+    top = 1e-30
+    for y in res.states:
+        f = Frame(res.model, y[:n], y[n:2 * n])
+        for vx, vy, w in f.twist.values():
+            top = max(top, abs(vx), abs(vy), abs(w) * L)
+    return top
 
 
 def _energy_scale(res: SimResult) -> float:
