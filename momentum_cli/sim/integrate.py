@@ -331,8 +331,11 @@ class Simulator:
         for w in model.watches:
             mode = phase.contacts.get(w.label)
             if mode is None:
-                # touching but not pressed: it closes if the gap goes below -tol
-                shift = self.gap_tol if contact_geometry(frame, w)[0] <= self.gap_tol else 0.0
+                # touching and not separating, but not pressed: it closes if the gap goes
+                # below -tol (resting at zero is not an event)
+                geo = contact_geometry(frame, w)
+                shift = self.gap_tol if geo[0] <= self.gap_tol and \
+                    gap_rate(frame, w, geo) <= self.v_rest else 0.0
                 evs.append(gap_event(model, w, shift))
                 continue
             evs.append(separation_event(w))

@@ -153,8 +153,9 @@ def render_plain(rep: dict, sig: int = 6) -> str:
     f = lambda x: "-" if x is None else fmt_num(x, sig)  # noqa: E731
     out = [f"== {rep['file']}: {rep['title'] or '(untitled problem)'}", ""]
     how = f"fixed step dt = {f(rep['dt'])} s" if rep["dt"] else f"rtol {fmt_num(rep['rtol'], 2)}"
+    when = "" if rep["stop"].startswith("t = ") else f", t = {f(rep['t_end'])} s"
     out.append(f"Simulation from state {rep['start']} (line {rep['line']}), {how}; stopped at "
-               f"{rep['stop']}, t = {f(rep['t_end'])} s")
+               f"{rep['stop']}{when}")
     out += ["", "Effects declared (nothing else acts)"] + ["  " + e for e in rep["effects"]]
     rows = []
     for e in rep["events"]:
