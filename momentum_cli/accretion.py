@@ -20,6 +20,7 @@ from . import syntax as S
 from .diagnostics import ProblemError
 from .expr import V2, Const, E, Known, Var, add_all, evaluate, fn, mul, neg, power, to_text, \
     variables
+from .numbers import fmt_num
 from .units import FORCE, MASS, TIME, VELOCITY, describe
 
 MASS_RATE = (1, 0, -1)
@@ -159,23 +160,28 @@ class AccretionCompiler:
         p0, p1 = c.pos(g.body, i), c.pos(g.body, j)
         dm2 = add_all([mul(m1, m1), neg(mul(m0, m0))])
         how = "closed form: constant rate, velocity of the mass and force"
+        heavy = c.scene.gravity is not None
+        law = ("d(m v)/dt = F + m g + mdot v_in, so m1 v1 = m0 v0 + (F + mdot v_in) t + g (m1^2 "
+               "- m0^2)/(2 mdot)" if heavy else
+               "d(m v)/dt = F + mdot v_in, so m1 v1 = m0 v0 + (F + mdot v_in) t")
+        path = ("r1 = r0 + (K/mdot) t + (m0/mdot)(v0 - K/mdot) ln(m1/m0) + g/(2 mdot^2)((m1^2 -"
+                " m0^2)/2 - m0^2 ln(m1/m0))" if heavy else
+                "r1 = r0 + (K/mdot) t + (m0/mdot)(v0 - K/mdot) ln(m1/m0)")
         for comp, F, vin, gk, a0, a1, q0, q1 in (
                 ("x", force.x, v_in.x, grav[0], v0.x, v1.x, p0.x, p1.x),
                 ("y", force.y, v_in.y, grav[1], v0.y, v1.y, p0.y, p1.y)):
             K = add_all([F, mul(r, vin)])  # F + mdot v_in
             gt = mul(Const(gk / (2 * md)), dm2)  # the impulse of the growing weight
             c.eq(mul(m1, a1), add_all([mul(m0, a0), mul(K, t), gt]),
-                 f"momentum {comp} over the {verb} ({how}): d(m v)/dt = F + m g + mdot v_in, so "
-                 "m1 v1 = m0 v0 + (F + mdot v_in) t + g (m1^2 - m0^2)/(2 mdot)", group, g.span)
+                 f"momentum {comp} over the {verb} ({how}): {law}", group, g.span)
             Km = mul(K, power(r, -1.0))
             drift = add_all([mul(Km, t),
                              mul(mul(m0, power(r, -1.0)), mul(add_all([a0, neg(Km)]), ln)),
                              mul(Const(gk / (2 * md * md)),
                                  add_all([mul(Const(0.5), dm2), neg(mul(mul(m0, m0), ln))]))])
             c.eq(q1, add_all([q0, drift]),
-                 f"position {comp} at the end of the {verb} ({how}): r1 = r0 + (K/mdot) t + "
-                 "(m0/mdot)(v0 - K/mdot) ln(m1/m0) + g/(2 mdot^2)((m1^2 - m0^2)/2 - m0^2 "
-                 "ln(m1/m0)), K = F + mdot v_in", group, g.span)
+                 f"position {comp} at the end of the {verb} ({how}): {path}, K = F + mdot v_in",
+                 group, g.span)
 
     def _start(self, g, m0: E) -> dict[str, float | None]:
         """The start state's values (None where the state leaves one unknown)."""
@@ -295,7 +301,8 @@ class AccretionCompiler:
                     why = f": it turns back at t = {sol.t_events[2][0]:.6g} s"
                 elif sol is None or sol.status == 0:
                     why = f" within {HORIZON:g} s of integration"
-                raise ProblemError(f"the end condition {b}.{q} = {target:g} (state {g.after}, "
+                raise ProblemError(f"the end condition {b}.{q} = {fmt_num(target, 6)} "
+                                   f"{MEMBERS[q]} (state {g.after}, "
                                    f"line {line}) is never reached{why}", g.span,
                                    code="unreached")
             t_end = float(sol.t_events[1][0])
@@ -322,9 +329,12 @@ class AccretionCompiler:
         balance = (f"m a = F + m g + mdot (v_in - v), mdot = {to_text(mdot)}, v_in = {vin}("
                    f"{to_text(v_in.x)}, {to_text(v_in.y)}), F = ({to_text(force.x)}, "
                    f"{to_text(force.y)})")
-        until = f"until {g.body}.{end[0]}@{g.after} = {end[1]:g}" if end else "for its duration"
-        c.notes.note(f"{group}: {balance}; {how}, {until}: t@{key} = {t_end:.9g} s, "
-                     f"m_{g.body}@{g.after} = {final[0]:.9g} kg", g.span, code="integrated")
+        until = (f"until {g.body}.{end[0]}@{g.after} = {fmt_num(end[1], 6)} {MEMBERS[end[0]]}, "
+                 "reached at "
+                 f"t@{key} = {fmt_num(t_end, 6)} s" if end else
+                 f"over t@{key} = {fmt_num(t_end, 6)} s")
+        c.notes.note(f"{group}: {balance}; {how}, {until}; m_{g.body}@{g.after} = "
+                     f"{fmt_num(final[0], 6)} kg", g.span, code="integrated")
         i, j = g.before, g.after
         v0, v1 = c.vel(g.body, i), c.vel(g.body, j)
         p0, p1 = c.pos(g.body, i), c.pos(g.body, j)
@@ -334,8 +344,8 @@ class AccretionCompiler:
             dv = Known(f"dv{comp}_{verb}", final[k + 2] - evaluate(a0, {}))
             if skip != "v" + comp:
                 c.eq(a1, add_all([a0, dv]),
-                     f"velocity {comp} at the end of the {verb} ({how}): {balance}", group,
-                     g.span)
+                     f"velocity {comp} at the end of the {verb} ({how}, {until}): {balance}",
+                     group, g.span)
             if skip != comp:
                 c.eq(q1, add_all([q0, Known(f"d{comp}_{verb}", final[k])]),
                      f"position {comp} at the end of the {verb} ({how})", group, g.span)
