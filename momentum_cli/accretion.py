@@ -137,12 +137,12 @@ class AccretionCompiler:
     def _names(self, g: S.GainDecl) -> tuple[str, str, str]:
         key = f"{g.before}->{g.after}"
         verb = "lose" if g.is_loss else "gain"
-        return key, f"{verb} {g.body} {g.before} -> {g.after}", verb
+        return key, f"{verb} {g.body} {g.before} -> {g.after}", "loss" if g.is_loss else "gain"
 
     def _closed_form(self, g, mdot: E, v_in: V2, force: V2, duration: E, m0: E) -> None:
         """Constant rate, absolute velocity of the mass and force: the closed form."""
         c = self.c
-        key, group, verb = self._names(g)
+        key, group, noun = self._names(g)
         md, T, m_start = evaluate(mdot, {}), evaluate(duration, {}), evaluate(m0, {})
         m_end = m_start + md * T
         if m_end <= 0:
@@ -173,14 +173,14 @@ class AccretionCompiler:
             K = add_all([F, mul(r, vin)])  # F + mdot v_in
             gt = mul(Const(gk / (2 * md)), dm2)  # the impulse of the growing weight
             c.eq(mul(m1, a1), add_all([mul(m0, a0), mul(K, t), gt]),
-                 f"momentum {comp} over the {verb} ({how}): {law}", group, g.span)
+                 f"momentum {comp} over the {noun} ({how}): {law}", group, g.span)
             Km = mul(K, power(r, -1.0))
             drift = add_all([mul(Km, t),
                              mul(mul(m0, power(r, -1.0)), mul(add_all([a0, neg(Km)]), ln)),
                              mul(Const(gk / (2 * md * md)),
                                  add_all([mul(Const(0.5), dm2), neg(mul(mul(m0, m0), ln))]))])
             c.eq(q1, add_all([q0, drift]),
-                 f"position {comp} at the end of the {verb} ({how}): {path}, K = F + mdot v_in",
+                 f"position {comp} at the end of the {noun} ({how}): {path}, K = F + mdot v_in",
                  group, g.span)
 
     def _start(self, g, m0: E) -> dict[str, float | None]:
@@ -212,7 +212,7 @@ class AccretionCompiler:
                     m0: E) -> None:
         """No closed form: integrate m, r and v from the start state (scipy DOP853)."""
         c = self.c
-        key, group, verb = self._names(g)
+        key, group, noun = self._names(g)
         start = self._start(g, m0)
         used = set().union(*(variables(e) for e in (mdot, v_in.x, v_in.y, force.x, force.y)))
         end = self._end_condition(g) if duration is None else None
@@ -221,12 +221,12 @@ class AccretionCompiler:
             need.add(end[0])
         missing = sorted(q for q in need if start[q] is None)
         if missing:
-            raise ProblemError(f"the {verb} is integrated numerically from state {g.before}: "
+            raise ProblemError(f"the {noun} is integrated numerically from state {g.before}: "
                                f"give {', '.join(g.body + '.' + q for q in missing)} there",
                                g.span, code="name")
         m_start = start["mass"]
         if m_start <= 0:
-            raise ProblemError(f"{g.body} has no mass to {verb} from", g.span, code="number")
+            raise ProblemError(f"{g.body} has no mass at state {g.before}", g.span, code="number")
         x0 = start["x"] or 0.0
         y0 = start["y"] or 0.0
         grav = c.scene.gravity or (0.0, 0.0)
@@ -287,7 +287,7 @@ class AccretionCompiler:
         except _GaveUp:
             sol = None
         except (ValueError, ZeroDivisionError, OverflowError) as exc:
-            raise ProblemError(f"the {verb} cannot be integrated: {exc}", g.span,
+            raise ProblemError(f"the {noun} cannot be integrated: {exc}", g.span,
                                code="number") from None
         if sol is not None and len(sol.t_events[0]):
             raise ProblemError(f"{b} loses all its mass at t = {sol.t_events[0][0]:.6g} s: no "
@@ -309,7 +309,7 @@ class AccretionCompiler:
             final = [float(v) for v in sol.y_events[1][0]]
         else:
             if sol is None or not sol.success:
-                raise ProblemError(f"the {verb} cannot be integrated"
+                raise ProblemError(f"the {noun} cannot be integrated"
                                    + (f": {sol.message}" if sol is not None else ""), g.span,
                                    code="number")
             t_end = T
@@ -320,13 +320,14 @@ class AccretionCompiler:
                               end) -> None:
         """v1 = v0 + dv and r1 = r0 + dr with the integrated changes (knowns)."""
         c = self.c
-        key, group, verb = self._names(g)
+        key, group, noun = self._names(g)
         how = f"integrated numerically: scipy DOP853, rtol {RTOL:g}"
         m1 = Known(f"m_{g.body}@{g.after}", final[0])
         self.flows.masses[(g.body, g.after)] = m1
         self.flows.durations[key] = Known(f"t@{key}", t_end)
         vin = "v + " if relative else ""
-        balance = (f"m a = F + m g + mdot (v_in - v), mdot = {to_text(mdot)}, v_in = {vin}("
+        rate = f"-({to_text(neg(mdot))}) (mass leaving)" if g.is_loss else to_text(mdot)
+        balance = (f"m a = F + m g + mdot (v_in - v), mdot = {rate}, v_in = {vin}("
                    f"{to_text(v_in.x)}, {to_text(v_in.y)}), F = ({to_text(force.x)}, "
                    f"{to_text(force.y)})")
         until = (f"until {g.body}.{end[0]}@{g.after} = {fmt_num(end[1], 6)} {MEMBERS[end[0]]}, "
@@ -341,14 +342,14 @@ class AccretionCompiler:
         skip = end[0] if end else None
         for comp, k, a0, a1, q0, q1 in (("x", 1, v0.x, v1.x, p0.x, p1.x),
                                         ("y", 2, v0.y, v1.y, p0.y, p1.y)):
-            dv = Known(f"dv{comp}_{verb}", final[k + 2] - evaluate(a0, {}))
+            dv = Known(f"dv{comp}_{noun}", final[k + 2] - evaluate(a0, {}))
             if skip != "v" + comp:
                 c.eq(a1, add_all([a0, dv]),
-                     f"velocity {comp} at the end of the {verb} ({how}, {until}): {balance}",
+                     f"velocity {comp} at the end of the {noun} ({how}, {until}): {balance}",
                      group, g.span)
             if skip != comp:
-                c.eq(q1, add_all([q0, Known(f"d{comp}_{verb}", final[k])]),
-                     f"position {comp} at the end of the {verb} ({how})", group, g.span)
+                c.eq(q1, add_all([q0, Known(f"d{comp}_{noun}", final[k])]),
+                     f"position {comp} at the end of the {noun} ({how})", group, g.span)
 
 
 class _GaveUp(Exception):

@@ -386,3 +386,14 @@ def test_a_closed_form_gain_does_not_import_scipy():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=EXAMPLES.parent, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_chain_falling_onto_a_scale_over_time():
+    """The falling part sheds links at its own velocity, so it falls freely: after x has
+    landed, v = sqrt(2 g x) at t = sqrt(2 x/g), and the scale reads 3 lambda g x."""
+    lam, L, x, g = 0.5, 1.0, 0.8, 9.81
+    got = ex("flow_chain_falls_onto_scale")
+    assert math.isclose(got["chain.vy@2"], -math.sqrt(2 * g * x), rel_tol=1e-8)
+    assert math.isclose(got["t@1->2"], math.sqrt(2 * x / g), rel_tol=1e-8)
+    assert math.isclose(got["chain.mass@2"], lam * (L - x), rel_tol=1e-8)
+    assert math.isclose(got["N"], 3 * lam * g * x, rel_tol=1e-8)
