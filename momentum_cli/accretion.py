@@ -18,8 +18,21 @@ import math
 
 from . import syntax as S
 from .diagnostics import ProblemError
-from .expr import V2, Const, E, Known, Var, add_all, evaluate, fn, mul, neg, power, to_text, \
-    variables
+from .expr import (
+    V2,
+    Const,
+    E,
+    Known,
+    Var,
+    add_all,
+    evaluate,
+    fn,
+    mul,
+    neg,
+    power,
+    to_text,
+    variables,
+)
 from .numbers import fmt_num
 from .units import FORCE, MASS, TIME, VELOCITY, describe
 
@@ -92,8 +105,9 @@ class AccretionCompiler:
                                f"{g.body}.vy; got {describe(q.dim)}", node.span, code="units")
         if isinstance(value, Const) and value.value <= 0:
             other = "gain" if g.is_loss else "lose"
-            raise ProblemError(f"the rate must be positive (mass {'joining' if g.is_loss else 'leaving'}"
-                               f" is written `{other}`)", node.span, code="number")
+            flow = "joining" if g.is_loss else "leaving"
+            raise ProblemError(f"the rate must be positive (mass {flow} is written `{other}`)",
+                               node.span, code="number")
         return neg(value) if g.is_loss else value
 
     def _allowed(self, g: S.GainDecl, e: E, node, what: str) -> None:
@@ -204,15 +218,15 @@ class AccretionCompiler:
             raise ProblemError(f"without a `duration`, the {self._names(g)[2]} ends when "
                                f"{g.body} reaches one quantity given at state {g.after}; it "
                                f"gives {what}", g.span, code="name",
-                               notes=[f"add `duration 2 s`, or give one of {g.body}.x, .y, "
-                                      f".vx, .vy at state {g.after}"])
+                               notes=[(f"add `duration 2 s`, or give one of {g.body}.x, .y, "
+                                       f".vx, .vy at state {g.after}")])
         return given[0]
 
     def _integrated(self, g, mdot: E, v_in: V2, relative: bool, force: V2, duration,
                     m0: E) -> None:
         """No closed form: integrate m, r and v from the start state (scipy DOP853)."""
         c = self.c
-        key, group, noun = self._names(g)
+        noun = self._names(g)[2]
         start = self._start(g, m0)
         used = set().union(*(variables(e) for e in (mdot, v_in.x, v_in.y, force.x, force.y)))
         end = self._end_condition(g) if duration is None else None
@@ -257,12 +271,12 @@ class AccretionCompiler:
 
         empty.terminal = True
         events = [empty]
+        s0 = [m_start, 0.0, 0.0, start["vx"], start["vy"]]
         index = {"x": 1, "y": 2, "vx": 3, "vy": 4}
         if end is not None:
             q, target = end
             k = index[q]
             origin = {"x": x0, "y": y0}.get(q, 0.0)
-            s0 = [m_start, 0.0, 0.0, start["vx"], start["vy"]]
             sign = 1.0 if target >= origin + s0[k] else -1.0
 
             def reached(tau, s):
@@ -280,7 +294,6 @@ class AccretionCompiler:
         T = evaluate(duration, {}) if duration is not None else HORIZON
         from scipy.integrate import solve_ivp
 
-        s0 = [m_start, 0.0, 0.0, start["vx"], start["vy"]]
         try:
             sol = solve_ivp(rhs, (0.0, T), s0, method="DOP853", rtol=RTOL,
                             atol=[RTOL * m_start, 1e-12, 1e-12, 1e-12, 1e-12], events=events)
@@ -301,6 +314,8 @@ class AccretionCompiler:
                     why = f": it turns back at t = {sol.t_events[2][0]:.6g} s"
                 elif sol is None or sol.status == 0:
                     why = f" within {HORIZON:g} s of integration"
+                else:
+                    why = f": {sol.message}"
                 raise ProblemError(f"the end condition {b}.{q} = {fmt_num(target, 6)} "
                                    f"{MEMBERS[q]} (state {g.after}, "
                                    f"line {line}) is never reached{why}", g.span,
