@@ -16,6 +16,7 @@ import math
 from collections import defaultdict
 from dataclasses import field
 
+from . import syntax as S
 from .diagnostics import Collector, ProblemError
 from .expr import (
     V2,
@@ -153,6 +154,21 @@ class System:
 def compile_scene(scene: Scene, regimes: dict[str, str] | None = None) -> System:
     """Build the equation system for `scene` with the given friction regimes."""
     return _Compiler(scene, regimes or {}).run()
+
+
+def _mass_order(phases: list) -> list:
+    """Burns and gains ordered so that a phase starting at state S comes after every
+    phase ending at S (the mass it starts with is what they left); else file order."""
+    ends = {p.after for p in phases}
+    done: list = []
+    left = list(phases)
+    while left:
+        ready = [p for p in left if p.before not in ends or
+                 all(q in done for q in phases if q.after == p.before)]
+        nxt = ready[0] if ready else left[0]  # a cycle of states: file order
+        done.append(nxt)
+        left.remove(nxt)
+    return done
 
 
 class _Compiler(ReferencesMixin, PrinciplesMixin):
@@ -333,12 +349,16 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def run(self) -> System:
         sc = self.scene
         self._positions()
-        if sc.steady or sc.burns:
+        if sc.steady or sc.burns or sc.gains:
             from .flows import FlowCompiler
 
             self.flows = FlowCompiler(self)
-            for b in sc.burns:  # first: later phases use the mass a burn leaves
-                self.flows.burn(b)
+            # first, in the order of their states: later phases use the mass one leaves
+            for b in _mass_order(sc.burns + sc.gains):
+                if isinstance(b, S.GainDecl):
+                    self.flows.gain(b)
+                else:
+                    self.flows.burn(b)
             for cv in sc.steady:
                 self.flows.steady(cv)
         for t in sc.transitions:

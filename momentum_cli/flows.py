@@ -105,6 +105,12 @@ class FlowCompiler:
                                node.span, code="number")
         return q.value
 
+    def gain(self, g: S.GainDecl) -> None:
+        """A particle gaining or losing mass over an interval (accretion.py)."""
+        from .accretion import AccretionCompiler
+
+        AccretionCompiler(self).compile(g)
+
     # ---- steady control volumes
     def steady(self, cv: S.SteadyDecl) -> None:
         c = self.c

@@ -186,6 +186,7 @@ class Scene:
     gravity_span: Span | None = None
     steady: list = field(default_factory=list)  # syntax.SteadyDecl: compiled by flows.py
     burns: list = field(default_factory=list)  # syntax.BurnDecl: compiled by flows.py
+    gains: list = field(default_factory=list)  # syntax.GainDecl: compiled by accretion.py
     simulations: list = field(default_factory=list)  # sim.spec.SimSpec: `momentum simulate`
 
 
@@ -364,6 +365,10 @@ class _Builder:
         burns = [s for s in st if isinstance(s, S.BurnDecl)]
         for s in burns:
             self._burn(s, states, transitions)
+        gains = [s for s in st if isinstance(s, S.GainDecl)]
+        taken = {f"{b.before}->{b.after}": b.span for b in burns}
+        for s in gains:
+            self._gain(s, states, transitions, taken)
         simulations = []
         for s in st:
             if isinstance(s, S.SimulateDecl):
@@ -372,7 +377,31 @@ class _Builder:
                 simulations.append(build_simulation(self, s, states))
         return Scene(title, self.gravity, self.g, self.constants, self.user_unknowns,
                      self.bodies, self.points, self.surfaces, joints, states, transitions, stated,
-                     equations, finds, self.notes, self.gravity_span, steady, burns, simulations)
+                     equations, finds, self.notes, self.gravity_span, steady, burns, gains,
+                     simulations)
+
+    def _gain(self, s: S.GainDecl, states, transitions, taken: dict) -> None:
+        """A gain or loss of mass: a particle between two declared states, with a rate,
+        and no other phase between the same two states."""
+        verb = "losing" if s.is_loss else "gaining"
+        body = self._body_named(s.body, s.span)
+        if not body.is_particle:
+            raise ProblemError(f"a body {verb} mass is a particle (the mass joins at G)",
+                               s.span, code="name")
+        self._states_exist(states, s.before, s.after, s.span)
+        if s.rate is None:
+            raise ProblemError(f"a {'loss' if s.is_loss else 'gain'} needs `rate MASS_RATE` "
+                               "(e.g. `rate 5 kg/s` or `rate 2 kg/m * chain.vy`)", s.span,
+                               code="name")
+        key = f"{s.before}->{s.after}"
+        for t in transitions:
+            if t.key == key:
+                raise ProblemError(f"states {s.before} -> {s.after} already have a transition",
+                                   t.span, code="name")
+        if key in taken:
+            raise ProblemError(f"states {s.before} -> {s.after} already have a phase (line "
+                               f"{taken[key].line})", s.span, code="name")
+        taken[key] = s.span
 
     def _burn(self, s: S.BurnDecl, states, transitions) -> None:
         body = self._body_named(s.body, s.span)

@@ -371,6 +371,22 @@ class SimulateDecl:
 
 
 @record(frozen=True)
+class GainDecl:
+    """A particle gaining (`gain`) or losing (`lose`) mass over an interval."""
+
+    span: Span
+    body: str
+    before: str
+    after: str
+    is_loss: bool
+    rate: object = None
+    velocity: object = None
+    is_relative: bool = False
+    force: object = None
+    duration: object = None
+
+
+@record(frozen=True)
 class Document:
     source: Source
     statements: tuple
@@ -892,6 +908,40 @@ def _make_transformer():
             return BurnDecl(_span(meta), str(ch[0]), str(ch[1]), str(ch[2]), exhaust[0],
                             exhaust[1], d.get("rate"), d.get("burned"), d.get("duration"),
                             tuple((c[0], c[2]) for c in ch[3:]))
+
+        def kind_gain(self, meta, ch):
+            return False
+
+        def kind_lose(self, meta, ch):
+            return True
+
+        def gain_rate(self, meta, ch):
+            return ("rate", ch[0])
+
+        def gain_velocity(self, meta, ch):
+            return ("velocity", ch[0])
+
+        def gain_velocity_relative(self, meta, ch):
+            return ("relative", ch[0])
+
+        def gain_force(self, meta, ch):
+            return ("force", ch[0])
+
+        def gain_duration(self, meta, ch):
+            return ("duration", ch[0])
+
+        def gain_stmt(self, meta, ch):
+            d = {}
+            for key, node in ch[4:]:
+                if key in d or (key in ("velocity", "relative") and
+                                ("velocity" in d or "relative" in d)):
+                    raise ProblemError(f"`{'velocity' if key == 'relative' else key}` is given "
+                                       "twice", node.span, code="name")
+                d[key] = node
+            velocity = d.get("velocity", d.get("relative"))
+            return GainDecl(_span(meta), str(ch[1]), str(ch[2]), str(ch[3]), ch[0],
+                            d.get("rate"), velocity, "relative" in d, d.get("force"),
+                            d.get("duration"))
 
         def label(self, meta, ch):
             return ("label", str(ch[0]))

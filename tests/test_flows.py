@@ -227,3 +227,173 @@ def test_a_burn_whose_rate_varies_is_integrated_numerically():
 def test_a_varying_burn_that_runs_out_of_mass_is_an_error():
     d = error_of(BURN.format(rate="1 kg/s + (1 kg/s^2) * t", amount="duration 20 s"))
     assert d.span.line == 5 and "runs out of mass" in d.message
+
+
+# ---- gaining and losing mass over an interval (`gain`, `lose`) ---------------------------
+# Closed forms derived here. The balance is d(m v)/dt = sum F + m g + mdot v_in.
+
+
+def test_chain_lifted_by_a_constant_force_obeys_the_energy_like_integral():
+    """p = lambda y v, dp/dt = P - lambda g y; multiplying by p = lambda y dy/dt and
+    integrating: (lambda y v)^2/2 = lambda (P y^2/2 - lambda g y^3/3) + C', i.e.
+    v^2 = P/lambda - 2 g y/3 + C/y^2 with C fixed by v = 0 at y0."""
+    lam, P, g, y0, y1 = 2.0, 40.0, 9.81, 0.05, 1.5
+    C = -y0 ** 2 * (P / lam - 2 * g * y0 / 3)
+    v1 = math.sqrt(P / lam - 2 * g * y1 / 3 + C / y1 ** 2)
+    got = ex("flow_chain_lifted_by_force")
+    assert math.isclose(got["chain.vy@2"], v1, rel_tol=1e-8)
+    # every link picked up stays: m = lambda y
+    assert math.isclose(got["chain.mass@2"], lam * y1, rel_tol=1e-8)
+    # the time: t = int dy / v(y), by Simpson in y on the smooth part, and near y0
+    # (where v ~ sqrt(y - y0)) by the substitution y = y0 + s^2
+    n = 20000
+
+    def dt_ds(s):  # dt = dy/v = 2 s ds/v; at s = 0, v^2 ~ s^2 d(v^2)/dy
+        if s == 0:
+            return 2 / math.sqrt(-2 * g / 3 - 2 * C / y0 ** 3)
+        y = y0 + s * s
+        return 2 * s / math.sqrt(P / lam - 2 * g * y / 3 + C / (y * y))
+
+    S = math.sqrt(y1 - y0)
+    h = S / n
+    f = [dt_ds(k * h) for k in range(n + 1)]
+    t = h / 3 * (f[0] + f[-1] + 4 * sum(f[1:-1:2]) + 2 * sum(f[2:-1:2]))
+    assert math.isclose(got["t@1->2"], t, rel_tol=1e-8)
+
+
+def test_a_cart_loaded_while_moving_keeps_its_momentum():
+    m0, v0, mdot, T = 200.0, 3.0, 5.0, 10.0
+    got = ex("flow_cart_loaded_sand")
+    assert close(got["cart.vx@2"], m0 * v0 / (m0 + mdot * T))
+    assert close(got["cart.x@2"], m0 * v0 / mdot * math.log(1 + mdot * T / m0))
+    assert close(got["cart.mass@2"], m0 + mdot * T)
+
+
+def test_a_loaded_cart_then_hits_a_wall_with_the_mass_it_gained():
+    m1 = 200.0 + 5.0 * 10.0
+    v = 200.0 * 3.0 / m1
+    e = 0.5
+    got = ex("flow_cart_loaded_hits_wall")
+    assert close(got["cart.vx@2"], v) and close(got["cart.vx@3"], -e * v)
+    assert close(got["J_n[cart]@2->3"], m1 * (1 + e) * v)
+    assert close(got["cart.mass@3"], m1)
+    assert close(got["T_lost@2->3"], 0.5 * m1 * v * v * (1 - e * e))
+
+
+def test_a_raindrop_in_mist_tends_to_a_terminal_speed():
+    """mdot = k m v, mist at rest: dm/ds = k m, so m = m0 e^(k s); d(m v)/dt = m g with
+    v d/ds: (m v) d(m v)/ds = m^2 g, so (m v)^2 = m0^2 g (e^(2 k s) - 1)/k."""
+    k, g, s, m0 = 0.01, 9.81, 100.0, 5e-5
+    got = ex("flow_raindrop_in_mist")
+    assert math.isclose(got["drop.vy@2"], -math.sqrt(g / k * (1 - math.exp(-2 * k * s))),
+                        rel_tol=1e-8)
+    assert math.isclose(got["drop.mass@2"], m0 * math.exp(k * s), rel_tol=1e-8)
+
+
+GAIN = """
+{gravity}
+body c: particle(mass = {m0} kg)
+state 1: c.v = ({vx} m/s, {vy} m/s), c.pos = (0, 0)
+state 2{end}
+{kind} c 1 -> 2:
+{clauses}
+find {finds}
+"""
+
+
+def gain(clauses, finds, kind="gain", end="", gravity="", m0=200, vx=3, vy=0):
+    return answers(GAIN.format(gravity=gravity, m0=m0, vx=vx, vy=vy, end=end, kind=kind,
+                               clauses=clauses, finds=finds))
+
+
+def test_an_end_condition_instead_of_a_duration_finds_the_time():
+    """The loaded cart slows to 2.4 m/s when m = 250 kg, i.e. after t = 10 s (the end
+    found by integration, not by the closed form)."""
+    got = gain("    rate 5 kg/s", "t@1->2, c.x@2, c.mass@2", end=": c.vx = 2.4 m/s")
+    assert math.isclose(got["t@1->2"], 10.0, rel_tol=1e-9)
+    assert math.isclose(got["c.x@2"], 600 / 5 * math.log(1.25), rel_tol=1e-9)
+    assert math.isclose(got["c.mass@2"], 250.0, rel_tol=1e-9)
+
+
+def test_a_gain_with_gravity_a_force_and_falling_mass_has_the_closed_form():
+    """Rain (2 kg/s, arriving at -5 m/s) falls into a 10 kg bucket lifted by 150 N:
+    m v = m0 v0 + (F - m0 g + mdot v_in) t - mdot g t^2/2, m = m0 + mdot t; the height
+    by Simpson's rule on v(t)."""
+    m0, v0, md, vin, F, g, T = 10.0, 1.0, 2.0, -5.0, 150.0, 9.81, 3.0
+
+    def v(t):
+        return (m0 * v0 + (F - m0 * g + md * vin) * t - md * g * t * t / 2) / (m0 + md * t)
+
+    n = 2000
+    h = T / n
+    f = [v(k * h) for k in range(n + 1)]
+    y = h / 3 * (f[0] + f[-1] + 4 * sum(f[1:-1:2]) + 2 * sum(f[2:-1:2]))
+    got = gain("    rate 2 kg/s\n    velocity (0, -5 m/s)\n    force (0, 150 N)\n"
+               "    duration 3 s", "c.vy@2, c.y@2, c.mass@2", gravity="gravity 9.81 m/s^2 down",
+               m0=10, vx=0, vy=1)
+    assert close(got["c.vy@2"], v(T), rel=1e-12)
+    assert math.isclose(got["c.y@2"], y, rel_tol=1e-11)
+    assert close(got["c.mass@2"], m0 + md * T)
+
+
+def test_losing_mass_at_an_absolute_velocity_uses_the_same_balance():
+    """A 200 kg cart at 3 m/s throws 4 kg/s of sand backwards at -1 m/s (absolute) for
+    10 s: m v = m0 v0 - mdot v_out t."""
+    got = gain("    rate 4 kg/s\n    velocity (-1 m/s, 0)\n    duration 10 s",
+               "c.vx@2, c.mass@2", kind="lose")
+    assert close(got["c.vx@2"], (200 * 3 - 4 * (-1) * 10) / 160)
+    assert close(got["c.mass@2"], 160.0)
+
+
+def test_mass_that_leaves_with_the_body_changes_nothing_but_the_mass():
+    """`lose` without a velocity: the mass leaves at the body's own velocity."""
+    got = gain("    rate 4 kg/s * (1 + t / (10 s))\n    duration 10 s",
+               "c.vx@2, c.x@2, c.mass@2", kind="lose")
+    assert math.isclose(got["c.vx@2"], 3.0, rel_tol=1e-10)
+    assert math.isclose(got["c.x@2"], 30.0, rel_tol=1e-10)
+    assert math.isclose(got["c.mass@2"], 200 - 4 * (10 + 100 / 20), rel_tol=1e-10)
+
+
+@pytest.mark.parametrize("kind, clauses, end, line, words", [
+    ("gain", "    duration 1 s", "", 6, "needs `rate"),
+    ("gain", "    rate 2 kg/m\n    duration 1 s", "", 7, "mass rate"),
+    ("gain", "    rate -2 kg/s\n    duration 1 s", "", 7, "written `lose`"),
+    ("lose", "    rate 30 kg/s\n    velocity (0, 0)\n    duration 10 s", "", 6,
+     "no mass would be left"),
+    ("lose", "    rate 30 kg/s * (1 + t / (1 s))\n    duration 10 s", "", 6,
+     "no mass would be left"),
+    ("gain", "    rate 2 kg/s\n    velocity (5 m/s, 0)", ": c.vx = 6 m/s", 6,
+     "never reached"),
+    ("gain", "    rate 1 kg/m * c.vx\n    force (-100 N, 0)", ": c.x = 100 m", 6,
+     "turns back"),
+    ("gain", "    rate 2 kg/s\n    velocity (0, 0) relative", "", 6, "gives nothing"),
+    ("gain", "    rate 2 kg/m * d.vx\n    duration 1 s", "", 7, "c's own state"),
+])
+def test_gain_errors_name_the_line(kind, clauses, end, line, words):
+    text = GAIN.format(gravity="body d: particle(mass = 1 kg)", m0=200, vx=3, vy=0, end=end,
+                       kind=kind, clauses=clauses, finds="c.vx@2")
+    d = error_of(text)
+    assert d.span.line == line and words in d.message, d.message
+
+
+def test_a_closed_form_gain_does_not_import_scipy():
+    import subprocess
+    import sys
+
+    code = ("import sys; sys.path.insert(0, 'tests'); from helpers import answers; "
+            f"answers(open({str(EXAMPLES / 'flow_cart_loaded_sand.mom')!r}).read()); "
+            "print('scipy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=EXAMPLES.parent, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_chain_falling_onto_a_scale_over_time():
+    """The falling part sheds links at its own velocity, so it falls freely: after x has
+    landed, v = sqrt(2 g x) at t = sqrt(2 x/g), and the scale reads 3 lambda g x."""
+    lam, L, x, g = 0.5, 1.0, 0.8, 9.81
+    got = ex("flow_chain_falls_onto_scale")
+    assert math.isclose(got["chain.vy@2"], -math.sqrt(2 * g * x), rel_tol=1e-8)
+    assert math.isclose(got["t@1->2"], math.sqrt(2 * x / g), rel_tol=1e-8)
+    assert math.isclose(got["chain.mass@2"], lam * (L - x), rel_tol=1e-8)
+    assert math.isclose(got["N"], 3 * lam * g * x, rel_tol=1e-8)
