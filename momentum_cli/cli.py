@@ -484,6 +484,57 @@ def bench_accuracy(
                                        "error vs exact", "estimated bound"], out)) + "\n")
 
 
+@bench_app.command("simulate")
+def bench_simulate(
+    root: str = typer.Option(".", "--root", help="The repository root (where examples/ is)."),
+    repeat: int = typer.Option(3, "--repeat", min=1, help="Runs per measurement (median kept)."),
+    plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE.png",
+                                       help="Draw error against time (needs matplotlib)."),
+    json_flag: bool = typer.Option(False, "--json", help="Print JSON."),
+) -> None:
+    """Error against `solve` and wall time of the seed scenes at each tolerance.
+
+    Every seed example with a `simulate` block is simulated at rtol 1e-3 ... 1e-12 and at
+    fixed steps of 10 and 1 ms; one quantity is compared with what `solve` gives.
+
+    \b
+    Examples:
+      momentum bench simulate
+      momentum bench simulate --repeat 5 --plot simulate.png
+    """
+    import json
+
+    from .sim.bench import HEADERS, cases, run, table
+
+    found = cases(root)
+    if not found:
+        raise typer.BadParameter(f"no seed examples under {root}/examples (use --root)")
+    if plot:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise typer.BadParameter("--plot needs matplotlib: pip install "
+                                     "'momentum-cli[plot]'") from None
+    err = sys.stderr
+    rows = run(found, repeat, progress=lambda c, s: err.write(f"  {c}: {s}\n")
+               if err.isatty() else None)
+    if plot:
+        from .sim.bench import plot as draw
+
+        draw(rows, plot)
+    if json_flag:
+        from .report.json_out import clean
+
+        doc = [dict(scene=r.case, setting=r.setting, value=r.value, error=r.error, unit=r.unit,
+                    seconds=r.seconds, steps=r.steps, evaluations=r.evaluations) for r in rows]
+        sys.stdout.write(json.dumps({"schema_version": "1", "simulate": clean(doc)}, indent=2,
+                                    allow_nan=False) + "\n")
+        return
+    from .report.text import table as text_table
+
+    sys.stdout.write("\n".join(text_table(HEADERS, table(rows))) + "\n")
+
+
 def main() -> None:
     """Entry point of the `momentum` command."""
     try:

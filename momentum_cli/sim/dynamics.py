@@ -30,7 +30,9 @@ class Frame:
             i = b.index
             if b.size == 1:
                 th, w = float(q[i]), float(u[i])
-                rx, ry = rot(th, (-b.pin_offset[0], -b.pin_offset[1]))  # G - O
+                c, s = math.cos(th), math.sin(th)
+                px, py = b.pin_offset
+                rx, ry = -(c * px - s * py), -(s * px + c * py)  # G - O
                 self.pose[b.name] = (b.pivot[0] + rx, b.pivot[1] + ry, th)
                 self.twist[b.name] = (-ry * w, rx * w, w)
                 self.bias[b.name] = (-w * w * rx, -w * w * ry)
@@ -219,10 +221,10 @@ def add_moment(frame: Frame, Q, body: str | None, M: float) -> None:
         Q[b.index + b.size - 1] += M
 
 
-def mass_diagonal(frame: Frame, model: Model) -> np.ndarray:
+def mass_diagonal(frame: Frame, model: Model) -> list[float]:
     """The mass matrix, which is diagonal: every body has its own coordinates (x, y with
     m; the angle with I; a pinned body's angle with I about its pin)."""
-    d = np.empty(model.n)
+    d = [0.0] * model.n
     for b in model.bodies:
         i = b.index
         if b.size == 1:

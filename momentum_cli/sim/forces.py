@@ -76,7 +76,7 @@ def relative_spin(frame: Frame, model: Model, label: str) -> float:
 def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
     """Solve [[M, -B^T], [A, 0]] [u', lambda] = [Q, -beta] at this frame."""
     mdiag = mass_diagonal(frame, model)
-    Q = np.zeros(model.n)
+    Q = [0.0] * model.n
     power = 0.0
     g = model.gravity
     if g is not None:
@@ -176,11 +176,12 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
             names.append(f"F_t[{w.label}]")
     m = len(rows)
     if m == 0:
-        return Instant(Q / mdiag, {}, power)
+        return Instant(np.array([q / m for q, m in zip(Q, mdiag)]), {}, power)
     # u' = M^-1 (Q + B^T lam), A u' = -beta  =>  (A M^-1 B^T) lam = -beta - A M^-1 Q
     A = np.array(rows)
+    mdiag = np.array(mdiag)
     Bt_scaled = np.array(cols).T / mdiag[:, None]
-    MiQ = Q / mdiag
+    MiQ = np.array(Q) / mdiag
     S_ = A @ Bt_scaled
     rhs = -np.array(betas) - A @ MiQ
     try:

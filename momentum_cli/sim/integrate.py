@@ -317,7 +317,7 @@ class Simulator:
         r = A @ u
         if not np.any(r):
             return
-        Minv_At = A.T / mass_diagonal(frame, model)[:, None]
+        Minv_At = A.T / np.array(mass_diagonal(frame, model))[:, None]
         try:
             mu = np.linalg.solve(A @ Minv_At, r)
         except np.linalg.LinAlgError:

@@ -21,11 +21,48 @@ def _reduced(scene: Scene, spec: StateSpec) -> Scene:
                  {spec.id: spec}, [], [], [], [], Collector(), scene.gravity_span)
 
 
+def _given_directly(scene: Scene, spec: StateSpec, need_velocities: bool) -> dict | None:
+    """The values without solving, when the state gives them all, or gives the angle (and
+    omega) of a body whose only joint is a pin to the ground (the pin places it)."""
+    import math
+
+    joints = [j for j in scene.joints if j.kind != "spring" and j.from_state is None]
+    if spec.rolls:
+        return None
+    out = {}
+    for name, b in scene.bodies.items():
+        g = {q: v for (body, q), (v, _) in spec.givens.items() if body == name}
+        mine = [j for j in joints if name in (j.a.body, j.b.body)]
+        if len(mine) == 1 and mine[0].kind == "pin" and mine[0].b.body is None and \
+                not b.is_particle and "angle" in g and \
+                (not need_velocities or "omega" in g) and not ({"x", "y", "vx", "vy"} & set(g)):
+            j, th = mine[0], g["angle"]
+            c, s_ = math.cos(th), math.sin(th)
+            px, py = j.a.offset
+            rx, ry = -(c * px - s_ * py), -(s_ * px + c * py)  # G - O
+            w = g.get("omega", 0.0)
+            out[name] = {"angle": th, "x": j.b.offset[0] + rx, "y": j.b.offset[1] + ry,
+                         "vx": -w * ry, "vy": w * rx, "omega": w}
+            continue
+        if mine:
+            return None
+        need = ("x", "y") + (() if b.is_particle else ("angle",))
+        if need_velocities:
+            need += ("vx", "vy") + (() if b.is_particle else ("omega",))
+        if not all(q in g for q in need):
+            return None
+        out[name] = {q: g.get(q, 0.0) for q in POSITIONS + VELOCITIES}
+    return out
+
+
 def state_values(scene: Scene, sid: str, need_velocities: bool, where=None) -> dict:
     """{body: {qty: value}} for state `sid`: x, y, angle (and vx, vy, omega)."""
     from ..solve import solve_scene
 
     base = scene.states[sid]
+    direct = _given_directly(scene, base, need_velocities)
+    if direct is not None:
+        return direct
     spec = StateSpec(base.id, base.label, base.span, dict(base.givens), {}, list(base.rolls))
     for _ in range(4):
         sol = solve_scene(_reduced(scene, spec))
