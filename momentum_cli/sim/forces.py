@@ -73,6 +73,23 @@ def relative_spin(frame: Frame, model: Model, label: str) -> float:
     return frame.twist[a][2] - (frame.twist[b][2] if b else 0.0)
 
 
+def joint_rows(frame: Frame, model: Model) -> list:
+    """[(force name, velocity row, acceleration term)] of the pins, welds and links."""
+    out = []
+    for j in model.joints:
+        J, beta = _pair_rows(frame, j)
+        if j.kind == "link":
+            d = j.along
+            out.append((f"F[{j.label}]", d[0] * J[0] + d[1] * J[1],
+                        d[0] * beta[0] + d[1] * beta[1]))
+            continue
+        for k, axis in enumerate("xy"):
+            out.append((f"F{axis}[{j.label}]", J[k], beta[k]))
+        if j.kind == "weld":
+            out.append((f"M[{j.label}]", _rotation_row(frame, model, j.a.body, j.b.body), 0.0))
+    return out
+
+
 def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
     """Solve [[M, -B^T], [A, 0]] [u', lambda] = [Q, -beta] at this frame."""
     mdiag = mass_diagonal(frame, model)
@@ -129,29 +146,11 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
             add_moment(frame, Q, a, -torque * s)
             add_moment(frame, Q, b, torque * s)
             power -= torque * abs(relative_spin(frame, model, label))
-    for j in model.joints:
-        if j.kind == "link":
-            ra, rb = _joint_points(frame, j)
-            J, beta = _pair_rows(frame, j)
-            d = j.along
-            r = d[0] * J[0] + d[1] * J[1]
-            rows.append(r)
-            cols.append(r)
-            betas.append(d[0] * beta[0] + d[1] * beta[1])
-            names.append(f"F[{j.label}]")
-            continue
-        J, beta = _pair_rows(frame, j)
-        for k, axis in enumerate("xy"):
-            rows.append(J[k])
-            cols.append(J[k])
-            betas.append(beta[k])
-            names.append(f"F{axis}[{j.label}]")
-        if j.kind == "weld":
-            r = _rotation_row(frame, model, j.a.body, j.b.body)
-            rows.append(r)
-            cols.append(r)
-            betas.append(0.0)
-            names.append(f"M[{j.label}]")
+    for name, r, beta in joint_rows(frame, model):
+        rows.append(r)
+        cols.append(r)
+        betas.append(beta)
+        names.append(name)
     sliding = []
     for w in model.watches:
         mode = phase.contacts.get(w.label)

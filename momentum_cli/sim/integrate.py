@@ -17,7 +17,7 @@ import numpy as np
 
 from ..diagnostics import ProblemError
 from ..scene import Scene
-from .dynamics import Frame, contact_geometry, gap_rate, normal_row, relative_velocity
+from .dynamics import Frame, contact_geometry, gap_rate, relative_velocity
 from .events import (
     Event,
     apex_event,
@@ -32,6 +32,7 @@ from .events import (
 )
 from .forces import Phase, energy, instant, kinetic, relative_spin
 from .impacts import resolve
+from .drift import drift_event, project, reference
 from .model import Model, build_model, watch_for
 from .states import state_values
 
@@ -72,6 +73,8 @@ class SimResult:
     dt: float | None
     seconds: float
     energy0: float
+    constraint_drift: float = 0.0  # largest violation before a projection (m)
+    projections: int = 0  # times the drift reached its tolerance and was projected away
 
     def frame(self, k: int = -1) -> Frame:
         y = self.states[k]
@@ -132,8 +135,8 @@ class Simulator:
                          ([max_time] if max_time else []), default=math.inf)
         self.max_impacts = min([int(u.value) for u in spec.untils if u.kind == "impacts"],
                                default=None)
-        self.stop_events: list[Event] = [until_qty(model, u) for u in spec.untils
-                                         if u.kind == "qty"]
+        self.spec_qty = [u for u in spec.untils if u.kind == "qty"]
+        self.stop_events: list[Event] = [until_qty(model, u) for u in self.spec_qty]
         for u in spec.untils:
             if u.kind == "apex":
                 if model.gravity is None:
@@ -158,6 +161,9 @@ class Simulator:
         self.states = [self.y.copy()]
         self.impacts = 0
         self.E0 = energy(model, frame)
+        self.ref = reference(model, frame)
+        self.max_drift = 0.0  # largest constraint violation met (before each projection)
+        self.projections = 0
         self.phase = Phase()
 
     def frame(self, y=None) -> Frame:
@@ -185,6 +191,9 @@ class Simulator:
             if self.t >= self.t_end:
                 stop = "time"
                 break
+            if self.t > 0 and self._reached():
+                stop = "until"
+                break
             stop = self._advance()
             if stop:
                 break
@@ -193,7 +202,20 @@ class Simulator:
         self.events.append(EventRow(self.t, "stop", _stop_text(stop, self), {},
                                     _velocities(self.frame(), self.model)))
         return SimResult(self.model, self.events, self.phases, self.times, self.states, stop,
-                         self.rtol, self.dt, time.perf_counter() - began, self.E0)
+                         self.rtol, self.dt, time.perf_counter() - began, self.E0,
+                         self.max_drift, self.projections)
+
+    def _reached(self) -> bool:
+        """A stop condition that holds at this event's instant (it was reached at the same
+        moment as the event that ended the phase)."""
+        frame = self.frame()
+        L, V = self.model.length_scale, self.v_scale
+        scale = {"x": L, "y": L, "angle": 1.0, "vx": V, "vy": V, "omega": V / L}
+        for e, u in zip(self.stop_events, self.spec_qty):
+            if abs(e.fn(frame, None)) <= 1e-9 * scale[u.qty]:
+                self.stop_what = e.what
+                return True
+        return False
 
     def _set_velocities(self, vel: dict) -> None:
         n = self.model.n
@@ -298,31 +320,9 @@ class Simulator:
         self._project()
 
     def _project(self) -> None:
-        """Remove the velocity components that the phase's constraints forbid (the
-        mass-weighted least change), so drift does not accumulate across events."""
-        model, phase = self.model, self.phase
-        frame = self.frame()
-        rows = []
-        for w in model.watches:
-            if w.label in phase.contacts:
-                geo = contact_geometry(frame, w)
-                rows.append(normal_row(frame, w, geo)[0])
-        if not rows:
-            return
-        from .dynamics import mass_diagonal
-
-        A = np.array(rows)
-        n = model.n
-        u = self.y[n:2 * n]
-        r = A @ u
-        if not np.any(r):
-            return
-        Minv_At = A.T / np.array(mass_diagonal(frame, model))[:, None]
-        try:
-            mu = np.linalg.solve(A @ Minv_At, r)
-        except np.linalg.LinAlgError:
-            return
-        self.y[n:2 * n] = u - Minv_At @ mu
+        """Put positions and velocities back on the phase's constraints (the mass-weighted
+        least change), so drift never accumulates across phases."""
+        self.max_drift = max(self.max_drift, project(self.model, self.phase, self.y, self.ref))
 
     def _events(self) -> list[Event]:
         model, phase = self.model, self.phase
@@ -345,7 +345,8 @@ class Simulator:
                 evs.append(stick_limit_event(w))
         for label in model.bearings:
             evs.append(bearing_events(model, label, label in phase.locked))
-        return evs + self.stop_events
+        drift = drift_event(model, phase, self.ref)
+        return evs + self.stop_events + ([drift] if drift is not None else [])
 
     def _constant_acceleration(self) -> bool:
         """True when nothing in this phase depends on the configuration."""
@@ -504,6 +505,9 @@ class Simulator:
         if hit.kind in ("until", "apex"):
             self.stop_what = hit.what
             return hit.kind
+        if hit.kind == "drift":
+            self.projections += 1
+            return None
         if hit.kind != "contact":
             frame = self.frame()
             v = _velocities(frame, self.model)

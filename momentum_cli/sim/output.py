@@ -110,6 +110,20 @@ def build(name: str, res: SimResult) -> dict:
                            detail=f"max |E - E0 - W| between events < {_decade(rel)} of the "
                                   f"energy scale (fixed step dt = {fmt_num(res.dt)} s)",
                            value=rel))
+    if model.joints or any(e.kind in ("stick", "slip") for e in res.events) or \
+            res.constraint_drift or res.projections:
+        from .drift import DRIFT
+
+        tol = DRIFT * L
+        ok = res.constraint_drift <= tol * (1 + 1e-6) or res.dt is not None
+        checks.append(dict(
+            name="constraint drift", status="ok" if ok else "warning",
+            detail=f"joints and resting contacts held within {fmt_num(DRIFT, 1)} of the size "
+                   f"({fmt_num(tol, 2)} m); " + (
+                       "positions never needed projecting back" if not res.projections else
+                       f"positions projected back {res.projections} time"
+                       f"{'s' if res.projections > 1 else ''}"),
+            value=res.constraint_drift))
     phases = [dict(start=p.t0, end=p.t1, method=p.method, steps=p.steps,
                    evaluations=p.evaluations, drift=p.drift / scale) for p in res.phases]
     return dict(file=name, title=scene.title, start=sim.start, line=sim.span.line,

@@ -1,0 +1,118 @@
+"""Constraint drift: joints and persistent contacts held to a stated tolerance.
+
+Integrating accelerations keeps the constraints only to the integrator's accuracy.
+An event fires when the largest violation (a pin's gap, a weld's angle, a link's
+stretch, a resting contact's gap) exceeds DRIFT of the scene's size; positions are
+then projected back (Gauss-Newton, mass-weighted) and velocities with them.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .dynamics import Frame, contact_geometry, mass_diagonal, normal_row, tangent_row
+from .events import Event
+from .forces import Phase, joint_rows
+from .model import Model
+
+DRIFT = 1e-9  # of the length scale
+
+
+def reference(model: Model, frame: Frame) -> dict:
+    """What each weld's angle and each link's length along its line are at the start."""
+    ref = {}
+    for j in model.joints:
+        if j.kind == "weld":
+            ref[j.label] = frame.pose[j.a.body][2] - (frame.pose[j.b.body][2] if j.b.body else 0.0)
+        elif j.kind == "link":
+            pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
+            ref[j.label] = (pa[0] - pb[0]) * j.along[0] + (pa[1] - pb[1]) * j.along[1]
+    return ref
+
+
+def residuals(model: Model, phase: Phase, frame: Frame, ref: dict) -> list[float]:
+    """Position constraint values, in the order of `rows` (lengths, and angles times the
+    length scale)."""
+    out = []
+    L = model.length_scale
+    for j in model.joints:
+        pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
+        if j.kind == "link":
+            out.append((pa[0] - pb[0]) * j.along[0] + (pa[1] - pb[1]) * j.along[1] - ref[j.label])
+            continue
+        out += [pa[0] - pb[0], pa[1] - pb[1]]
+        if j.kind == "weld":
+            th = frame.pose[j.a.body][2] - (frame.pose[j.b.body][2] if j.b.body else 0.0)
+            out.append((th - ref[j.label]) * L)
+    for w in model.watches:
+        if w.label in phase.contacts:
+            out.append(contact_geometry(frame, w)[0])
+    return out
+
+
+def rows(model: Model, phase: Phase, frame: Frame, velocity: bool = False) -> list:
+    """Jacobian rows of `residuals` (angles scaled by L); with `velocity`, also the
+    rolling contacts' tangential rows (a velocity constraint only)."""
+    L = model.length_scale
+    out = []
+    for name, r, _ in joint_rows(frame, model):
+        out.append(r * L if name.startswith("M[") else r)
+    for w in model.watches:
+        mode = phase.contacts.get(w.label)
+        if mode is None:
+            continue
+        geo = contact_geometry(frame, w)
+        out.append(normal_row(frame, w, geo)[0])
+    if velocity:
+        for w in model.watches:
+            if phase.contacts.get(w.label) == "stick":
+                out.append(tangent_row(frame, w, contact_geometry(frame, w))[0])
+    return out
+
+
+def _correct(A: np.ndarray, r: np.ndarray, minv: np.ndarray) -> np.ndarray | None:
+    Minv_At = A.T * minv[:, None]
+    try:
+        return Minv_At @ np.linalg.lstsq(A @ Minv_At, r, rcond=None)[0]
+    except np.linalg.LinAlgError:
+        return None
+
+
+def project(model: Model, phase: Phase, y: np.ndarray, ref: dict) -> float:
+    """Project positions, then velocities, onto the constraints (in place); return the
+    largest position violation found before."""
+    n = model.n
+    frame = Frame(model, y[:n], y[n:2 * n])
+    worst = max((abs(c) for c in residuals(model, phase, frame, ref)), default=0.0)
+    tol = 1e-3 * DRIFT * model.length_scale
+    for _ in range(5):
+        c = np.array(residuals(model, phase, frame, ref))
+        if not c.size or np.max(np.abs(c)) <= tol:
+            break
+        minv = 1.0 / np.array(mass_diagonal(frame, model))
+        dq = _correct(np.array(rows(model, phase, frame)), c, minv)
+        if dq is None:
+            break
+        y[:n] -= dq
+        frame = Frame(model, y[:n], y[n:2 * n])
+    A = rows(model, phase, frame, velocity=True)
+    if A:
+        A = np.array(A)
+        r = A @ y[n:2 * n]
+        if np.any(r):
+            minv = 1.0 / np.array(mass_diagonal(frame, model))
+            du = _correct(A, r, minv)
+            if du is not None:
+                y[n:2 * n] -= du
+    return worst
+
+
+def drift_event(model: Model, phase: Phase, ref: dict) -> Event | None:
+    if not model.joints and not phase.contacts:
+        return None
+    tol = DRIFT * model.length_scale
+
+    def fn(frame, _):
+        return max((abs(c) for c in residuals(model, phase, frame, ref)), default=0.0) - tol
+
+    # in a closed-form phase the constraints' rows are constant and hold exactly
+    return Event("drift", "constraints", fn, 1, poly=lambda frame, udot: (-1.0, 0.0, 0.0))
