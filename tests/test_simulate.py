@@ -400,3 +400,21 @@ def test_plot_needs_the_extra_or_draws(tmp_path):
         assert res.exit_code == 2 and "matplotlib" in res.output
         return
     assert res.exit_code == 0 and target.read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize("rtol", [1e-5, 1e-10])
+def test_double_pendulum_holds_its_pin_and_conserves_energy(rtol):
+    from momentum_cli.sim.drift import residuals
+    from momentum_cli.sim.dynamics import Frame
+    from momentum_cli.sim.forces import Phase, energy, kinetic
+
+    res = run_file(EXAMPLES / "simulate/double_pendulum.mom", rtol=rtol)
+    model, n = res.model, res.model.n
+    assert [b.size for b in model.bodies] == [1, 3]  # upper: its angle; lower: free + pin
+    tol = max(rtol, 1e-9) * model.length_scale
+    frames = [Frame(model, y[:n], y[n:2 * n]) for y in res.states]
+    worst = max(max(abs(c) for c in residuals(model, Phase(), f, {})) for f in frames)
+    assert worst <= tol * (1 + 1e-6)
+    E0 = energy(model, frames[0])
+    scale = max(kinetic(model, f) for f in frames)  # released at the zero of potential
+    assert max(abs(energy(model, f) - E0) for f in frames) <= 10 * rtol * scale

@@ -2,8 +2,9 @@
 
 Integrating accelerations keeps the constraints only to the integrator's accuracy.
 An event fires when the largest violation (a pin's gap, a weld's angle, a link's
-stretch, a resting contact's gap) exceeds DRIFT of the scene's size; positions are
-then projected back (Gauss-Newton, mass-weighted) and velocities with them.
+stretch, a resting contact's gap) exceeds `tolerance(rtol)` of the scene's size
+(the integration tolerance, and never looser than FIXED_STEP_DRIFT with fixed steps);
+positions are then projected back (Gauss-Newton, mass-weighted), velocities with them.
 """
 from __future__ import annotations
 
@@ -14,7 +15,13 @@ from .events import Event
 from .forces import Phase, joint_rows
 from .model import Model
 
-DRIFT = 1e-9  # of the length scale
+FLOOR = 1e-9  # the tightest drift tolerance, of the length scale
+FIXED_STEP_DRIFT = 1e-6  # with --dt, which has no rtol
+
+
+def tolerance(rtol: float | None) -> float:
+    """The drift allowed, as a fraction of the length scale."""
+    return FIXED_STEP_DRIFT if rtol is None else max(FLOOR, rtol)
 
 
 def reference(model: Model, frame: Frame) -> dict:
@@ -77,13 +84,13 @@ def _correct(A: np.ndarray, r: np.ndarray, minv: np.ndarray) -> np.ndarray | Non
         return None
 
 
-def project(model: Model, phase: Phase, y: np.ndarray, ref: dict) -> float:
+def project(model: Model, phase: Phase, y: np.ndarray, ref: dict, drift: float) -> float:
     """Project positions, then velocities, onto the constraints (in place); return the
     largest position violation found before."""
     n = model.n
     frame = Frame(model, y[:n], y[n:2 * n])
     worst = max((abs(c) for c in residuals(model, phase, frame, ref)), default=0.0)
-    tol = 1e-3 * DRIFT * model.length_scale
+    tol = 1e-3 * drift * model.length_scale
     for _ in range(5):
         c = np.array(residuals(model, phase, frame, ref))
         if not c.size or np.max(np.abs(c)) <= tol:
@@ -106,10 +113,10 @@ def project(model: Model, phase: Phase, y: np.ndarray, ref: dict) -> float:
     return worst
 
 
-def drift_event(model: Model, phase: Phase, ref: dict) -> Event | None:
+def drift_event(model: Model, phase: Phase, ref: dict, drift: float) -> Event | None:
     if not model.joints and not phase.contacts:
         return None
-    tol = DRIFT * model.length_scale
+    tol = drift * model.length_scale
 
     def fn(frame, _):
         return max((abs(c) for c in residuals(model, phase, frame, ref)), default=0.0) - tol

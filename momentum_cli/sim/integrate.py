@@ -32,7 +32,7 @@ from .events import (
 )
 from .forces import Phase, energy, instant, kinetic, relative_spin
 from .impacts import resolve
-from .drift import drift_event, project, reference
+from .drift import drift_event, project, reference, tolerance
 from .model import Model, build_model, watch_for
 from .states import state_values
 
@@ -75,6 +75,7 @@ class SimResult:
     energy0: float
     constraint_drift: float = 0.0  # largest violation before a projection (m)
     projections: int = 0  # times the drift reached its tolerance and was projected away
+    drift_tolerance: float = 0.0  # of the length scale
 
     def frame(self, k: int = -1) -> Frame:
         y = self.states[k]
@@ -162,6 +163,7 @@ class Simulator:
         self.impacts = 0
         self.E0 = energy(model, frame)
         self.ref = reference(model, frame)
+        self.drift = tolerance(None if dt is not None else rtol)
         self.max_drift = 0.0  # largest constraint violation met (before each projection)
         self.projections = 0
         self.phase = Phase()
@@ -203,7 +205,7 @@ class Simulator:
                                     _velocities(self.frame(), self.model)))
         return SimResult(self.model, self.events, self.phases, self.times, self.states, stop,
                          self.rtol, self.dt, time.perf_counter() - began, self.E0,
-                         self.max_drift, self.projections)
+                         self.max_drift, self.projections, self.drift)
 
     def _reached(self) -> bool:
         """A stop condition that holds at this event's instant (it was reached at the same
@@ -322,7 +324,8 @@ class Simulator:
     def _project(self) -> None:
         """Put positions and velocities back on the phase's constraints (the mass-weighted
         least change), so drift never accumulates across phases."""
-        self.max_drift = max(self.max_drift, project(self.model, self.phase, self.y, self.ref))
+        self.max_drift = max(self.max_drift, project(self.model, self.phase, self.y, self.ref,
+                                                          self.drift))
 
     def _events(self) -> list[Event]:
         model, phase = self.model, self.phase
@@ -345,7 +348,7 @@ class Simulator:
                 evs.append(stick_limit_event(w))
         for label in model.bearings:
             evs.append(bearing_events(model, label, label in phase.locked))
-        drift = drift_event(model, phase, self.ref)
+        drift = drift_event(model, phase, self.ref, self.drift)
         return evs + self.stop_events + ([drift] if drift is not None else [])
 
     def _constant_acceleration(self) -> bool:
