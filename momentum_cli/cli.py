@@ -297,6 +297,9 @@ def simulate(
     dt: Optional[float] = typer.Option(None, "--dt", min=1e-12,
                                        help="Fixed time step in seconds instead of --rtol "
                                             "(events are still located on the dense output)."),
+    integrate: bool = typer.Option(False, "--integrate",
+                                   help="Integrate every phase numerically, also where a closed "
+                                        "form exists (to compare the two)."),
     csv: Optional[str] = typer.Option(None, "--csv", metavar="FILE",
                                       help="Write the time series (every step and event)."),
     plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE.png",
@@ -310,7 +313,8 @@ def simulate(
     """Simulate the motion of a scene over time, with only the effects it declares.
 
     Impacts are resolved by the same impulse solver as `solve`; between them the motion
-    is advanced in closed form where the accelerations are constant, else integrated
+    is advanced in closed form where the accelerations are constant or a body swings on
+    a pin under gravity alone (elliptic functions), else integrated
     by scipy's solve_ivp (DOP853) with its events located on the dense output.
 
     \b
@@ -340,7 +344,7 @@ def simulate(
         if res is None:
             progress = _progress_bar(err) if err.isatty() and mode != "json" else None
             try:
-                res, sim = simulate_source(source, rtol, dt, progress)
+                res, sim = simulate_source(source, rtol, dt, progress, not integrate)
             except (KeyboardInterrupt, typer.Exit):
                 raise
             except Exception as exc:

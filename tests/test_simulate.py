@@ -283,15 +283,38 @@ simulate from 1:
     assert max(p.drift for p in res.phases) < 1e-9 * 0.5 * k * 0.2 ** 2
 
 
-def test_fixed_step_converges_to_the_adaptive_answer():
+def test_fixed_step_converges_to_the_closed_form():
     path = EXAMPLES / "seed_pendulum_wall.mom"
     exact = -math.asin(1 - 0.36)
     errs = []
-    for dt in (1e-2, 5e-3):
-        res = simulate(build(parse(Source(str(path), path.read_text()))), dt=dt)
+    for dt in (0.1, 0.05):
+        res = simulate(build(parse(Source(str(path), path.read_text()))), dt=dt,
+                       closed_forms=False)
         errs.append(abs(final(res, "pendulum")[0][2] - exact))
         assert {p.method for p in res.phases} == {"fixed step"}
-    assert errs[1] < errs[0] < 1e-4  # a high-order method: small, and smaller with dt
+    # DOP853 is of order 8: halving the step divides the error by about 2^8
+    assert errs[1] < errs[0] / 50 and errs[0] < 1e-4
+
+
+@pytest.mark.parametrize("a0,w0", [("60 deg", "0"), ("-90 deg", "9 rad/s"),
+                                   ("-90 deg", "-9 rad/s"), ("170 deg", "-0.5 rad/s")])
+def test_pendulum_closed_form_agrees_with_integration(a0, w0):
+    """Swinging and turning over (k > 1) in both senses: the elliptic closed form and
+    DOP853 at rtol 1e-12 agree, and the closed form conserves energy exactly."""
+    from momentum_cli.sim.dynamics import Frame
+    from momentum_cli.sim.forces import energy
+
+    text = PENDULUM.format(a0=a0).replace("bob.omega = 0", f"bob.omega = {w0}").replace(
+        "until bob.omega = 0", "until t = 2.5 s")
+    closed, numeric = run(text), simulate(build(parse(Source("t.mom", text))), rtol=1e-12,
+                                          closed_forms=False)
+    assert {p.method for p in closed.phases} == {"closed form"}
+    (_, _, a1), (_, _, w1) = final(closed, "bob")
+    (_, _, a2), (_, _, w2) = final(numeric, "bob")
+    assert a1 == pytest.approx(a2, abs=1e-9) and w1 == pytest.approx(w2, abs=1e-9)
+    n = closed.model.n
+    E = [energy(closed.model, Frame(closed.model, y[:n], y[n:2 * n])) for y in closed.states]
+    assert max(E) - min(E) <= 1e-12 * max(abs(x) for x in E)
 
 
 def test_energy_is_not_gained_in_a_frictionless_elastic_bounce():

@@ -76,22 +76,24 @@ def run(paths_cases, repeat: int = 3, rtols=RTOLS, steps=STEPS, progress=None) -
     from ..syntax import parse
     from .integrate import simulate
 
-    rows = []
+    rows = []  # the default run, then every phase integrated at each rtol and fixed step
     for path, how, key, unit, label in paths_cases:
         with open(path, encoding="utf-8") as fh:
             scene = build(parse(Source(path, fh.read())))
         exact = solve_scene(scene, solve_all=True).values[key]
-        settings = [("rtol", r) for r in rtols] + [("dt", d) for d in steps]
+        settings = [("closed", None)] + [("rtol", r) for r in rtols] + [("dt", d) for d in steps]
         for kind, x in settings:
             times = []
             for _ in range(repeat):
                 t0 = time.perf_counter()
                 res = simulate(scene, rtol=x if kind == "rtol" else 1e-9,
-                               dt=x if kind == "dt" else None)
+                               dt=x if kind == "dt" else None, closed_forms=kind == "closed")
                 times.append(time.perf_counter() - t0)
             got = _measure(res, how)
             scale = math.degrees(1) if unit == "deg" else 1.0
-            rows.append(Row(label, f"rtol {x:.0e}" if kind == "rtol" else f"dt {x:g} s",
+            setting = {"closed": "default (closed forms, rtol 1e-9)", "rtol": f"rtol {x:.0e}",
+                       "dt": f"dt {x:g} s"}[kind]
+            rows.append(Row(label, setting,
                             got * scale, abs(got - exact) * scale, unit,
                             statistics.median(times), sum(p.steps for p in res.phases),
                             sum(p.evaluations for p in res.phases)))

@@ -124,8 +124,9 @@ def _velocities(frame: Frame, model: Model) -> dict:
 
 class Simulator:
     def __init__(self, scene: Scene, spec, rtol: float = 1e-9, dt: float | None = None,
-                 progress=None, max_time: float | None = None):
+                 progress=None, max_time: float | None = None, closed_forms: bool = True):
         self.scene, self.spec, self.rtol, self.dt = scene, spec, rtol, dt
+        self.closed_forms = closed_forms
         self.progress = progress
         self.model = model = build_model(scene, spec)
         start = state_values(scene, spec.start, True, spec.span)
@@ -374,6 +375,18 @@ class Simulator:
 
     def _advance(self) -> str | None:
         evs = self._events()
+        from .pendulum import PendulumFlow
+
+        if not self.closed_forms:
+            return self._integrate(evs)
+        if PendulumFlow.applies(self.model, self.phase) and \
+                not any(e.needs_instant for e in evs):
+            try:
+                flow = PendulumFlow(self.model, self.y)
+            except ValueError:  # exactly on the separatrix: integrate
+                flow = None
+            if flow is not None:
+                return self._flow_phase(evs, flow)
         if self._constant_acceleration():
             frame = self.frame()
             inst = instant(self.model, self.phase, frame)
@@ -414,6 +427,70 @@ class Simulator:
         drift = self._drift([y0] + self.states[-20:])
         self.phases.append(PhaseRow(self.t, self.t + best, "closed form", 1, 2, drift))
         self.t += best
+        return self._after(hit)
+
+    def _flow_phase(self, evs, flow) -> str | None:
+        """A phase whose state is a known function of time (the elliptic pendulum): its
+        events are bracketed by sampling 64 points a period and found by brentq."""
+        from scipy.optimize import brentq
+
+        model, n, t0 = self.model, self.model.n, self.t
+        horizon = self.t_end - t0
+        span = horizon if math.isfinite(horizon) else 1.05 * flow.period
+        if not math.isfinite(span):
+            raise ProblemError("the motion never ends: nothing stops it (add `until t = ...`)",
+                               self.spec.span, code="simulate")
+        h = min(span, flow.period / 64) if math.isfinite(flow.period) else span / 64
+
+        def g(e, s):
+            y = flow.state(s)
+            return e.fn(Frame(model, y[:n], y[n:2 * n]), None)
+
+        signs = []  # the sign each function leaves the start with (None: still zero)
+        for e in evs:
+            v0 = g(e, 0.0)
+            signs.append(math.copysign(1.0, v0) if v0 != 0 else None)
+        prev = 0.0
+        hit, best = None, span
+        samples = []
+        s = 0.0
+        while s < span and hit is None:
+            s = min(s + h, span)
+            y = flow.state(s)
+            f = Frame(model, y[:n], y[n:2 * n])
+            found = []
+            for k, e in enumerate(evs):
+                v = e.fn(f, None)
+                if signs[k] is None:
+                    signs[k] = math.copysign(1.0, v) if v != 0 else None
+                    continue
+                if v == 0 or math.copysign(1.0, v) != signs[k]:
+                    rising = signs[k] < 0
+                    if not e.direction or (e.direction > 0) == rising:
+                        r = brentq(lambda x: g(e, x), prev, s, xtol=1e-15, rtol=8.9e-16)
+                        found.append((r, e))
+                    signs[k] = math.copysign(1.0, v) if v != 0 else -signs[k]
+            if found:
+                best = min(r for r, _ in found)
+                hit = _first([e for r, e in found if r <= best * (1 + 1e-12)])
+                break
+            samples.append((s, y))
+            prev = s
+        if hit is None and s < horizon:
+            raise ProblemError("the motion never ends: nothing stops it within a period "
+                               "(add `until t = ...`)", self.spec.span, code="simulate")
+        y0 = self.y.copy()
+        for s_, y in samples:
+            if s_ < best:
+                self.times.append(t0 + s_)
+                self.states.append(y)
+        self.times.append(t0 + best)
+        self.states.append(flow.state(best))
+        self.y = self.states[-1].copy()
+        drift = self._drift([y0] + [y for s_, y in samples if s_ < best] + [self.y])
+        self.phases.append(PhaseRow(t0, t0 + best, "closed form", len(samples) + 1,
+                                    len(samples) + 1, drift))
+        self.t = t0 + best
         return self._after(hit)
 
     def _drift(self, ys) -> float:
@@ -566,9 +643,10 @@ def _stop_text(stop: str, sim: Simulator) -> str:
 
 
 def simulate(scene: Scene, index: int = 0, rtol: float = 1e-9, dt: float | None = None,
-             progress=None) -> SimResult:
+             progress=None, closed_forms: bool = True) -> SimResult:
     if not scene.simulations:
         raise ProblemError("nothing to simulate: add a block `simulate from 1:` with a stop "
                            "condition such as `until t = 2 s`", None, code="simulate",
                            caret=False)
-    return Simulator(scene, scene.simulations[index], rtol, dt, progress).run()
+    return Simulator(scene, scene.simulations[index], rtol, dt, progress,
+                     closed_forms=closed_forms).run()
