@@ -30,3 +30,16 @@ def test_the_error_sample_is_what_the_program_prints():
     text = "\n" * (line - 1) + source_line + "\n"
     d = error_of(text, name)
     assert d.format(Source(name, text)) == sample
+
+
+def test_the_simulation_sample_is_what_the_program_prints():
+    """The README's bouncing ball is examples/simulate/ball_bounces.mom, and the event
+    rows it shows are rows of that example's golden event table."""
+    problem = next(b for b in _blocks("text") if "simulate from 1:" in b)
+    example = (ROOT / "examples/simulate/ball_bounces.mom").read_text(encoding="utf-8")
+    code = [ln for ln in example.splitlines() if ln and not ln.startswith("#")]
+    assert [ln for ln in problem.splitlines() if ln] == code
+    sample = next(b for b in _blocks("text") if "$ momentum simulate" in b)
+    golden = (ROOT / "examples/simulate/ball_bounces.sim.out").read_text(encoding="utf-8")
+    rows = [ln for ln in sample.splitlines()[1:] if ln.strip() and ln.strip() != "..."]
+    assert rows and all(ln in golden.splitlines() for ln in rows)

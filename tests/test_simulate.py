@@ -441,3 +441,15 @@ def test_double_pendulum_holds_its_pin_and_conserves_energy(rtol):
     E0 = energy(model, frames[0])
     scale = max(kinetic(model, f) for f in frames)  # released at the zero of potential
     assert max(abs(energy(model, f) - E0) for f in frames) <= 10 * rtol * scale
+
+
+def test_bench_compares_with_solve_at_each_tolerance():
+    from momentum_cli.sim.bench import cases, run as bench_run
+
+    found = [c for c in cases(str(EXAMPLES.parent)) if "pendulum" in c[0]]
+    rows = bench_run(found, repeat=1, rtols=(1e-4, 1e-10), steps=(0.05,))
+    assert [r.setting for r in rows] == ["default: closed forms, rtol 1e-9",
+                                         "integrated, rtol 1e-04", "integrated, rtol 1e-10",
+                                         "integrated, dt 0.05 s"]
+    assert rows[0].error < 1e-9 and rows[2].error < rows[1].error  # degrees
+    assert all(r.seconds > 0 and r.unit == "deg" for r in rows)

@@ -91,8 +91,11 @@ def run(paths_cases, repeat: int = 3, rtols=RTOLS, steps=STEPS, progress=None) -
                 times.append(time.perf_counter() - t0)
             got = _measure(res, how)
             scale = math.degrees(1) if unit == "deg" else 1.0
-            setting = {"closed": "default (closed forms, rtol 1e-9)", "rtol": f"rtol {x:.0e}",
-                       "dt": f"dt {x:g} s"}[kind]
+            if kind == "closed":
+                setting = "default: closed forms, rtol 1e-9"
+            else:
+                setting = f"integrated, rtol {x:.0e}" if kind == "rtol" else \
+                    f"integrated, dt {x:g} s"
             rows.append(Row(label, setting,
                             got * scale, abs(got - exact) * scale, unit,
                             statistics.median(times), sum(p.steps for p in res.phases),
@@ -121,7 +124,8 @@ def plot(rows: list[Row], path: str) -> None:
 
     fig, ax = plt.subplots(figsize=(8, 5))
     for case in dict.fromkeys(r.case for r in rows):
-        mine = [r for r in rows if r.case == case and r.setting.startswith("rtol")]
+        mine = [r for r in rows if r.case == case and "rtol 1e-" in r.setting
+                and r.setting.startswith("integrated")]
         ax.loglog([r.seconds * 1e3 for r in mine], [max(r.error, 1e-16) for r in mine],
                   "o-", label=case)
     ax.set_xlabel("wall time (ms)")
