@@ -139,6 +139,30 @@ def _internal(name: str, exc: BaseException, traceback_flag: bool):
         "momentum; rerun with --traceback and report it)")])
 
 
+def _render(report, mode: str, console, index: int, digits: int, simulation: bool):
+    """Print one file's report as rich tables or plain text; returns the rich console
+    (made once, on first use)."""
+    if mode == "rich":
+        if console is None:
+            from rich.console import Console
+
+            console = Console()
+        if simulation:
+            from .sim.output import render_rich as render
+        else:
+            from .report.rich_out import render
+        render(report, console, digits)
+        return console
+    if simulation:
+        from .sim.output import render_plain as render
+    else:
+        from .report.text import render
+    if index:
+        sys.stdout.write("\n")
+    sys.stdout.write(render(report, digits))
+    return console
+
+
 @app.command()
 def solve(
     files: List[str] = typer.Argument(..., metavar="FILE",
@@ -208,20 +232,8 @@ def solve(
             if many:
                 out.write(f"==> {name} <==\n")
             out.write(render_quiet(res.report, digits))
-        elif mode == "rich":
-            if console is None:
-                from rich.console import Console
-
-                console = Console()
-            from .report.rich_out import render
-
-            render(res.report, console, digits)
         else:
-            from .report.text import render
-
-            if i:
-                out.write("\n")
-            out.write(render(res.report, digits))
+            console = _render(res.report, mode, console, i, digits, simulation=False)
     if mode == "json":
         from . import __version__
         from .report.json_out import document
@@ -372,20 +384,7 @@ def simulate(
         _print_diagnostics(res, err)
         if res.report is None:
             continue
-        if mode == "rich":
-            if console is None:
-                from rich.console import Console
-
-                console = Console()
-            from .sim.output import render_rich
-
-            render_rich(res.report, console, digits)
-        else:
-            from .sim.output import render_plain
-
-            if i:
-                out.write("\n")
-            out.write(render_plain(res.report, digits))
+        console = _render(res.report, mode, console, i, digits, simulation=True)
     if mode == "json":
         import json
 

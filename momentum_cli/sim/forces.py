@@ -45,6 +45,27 @@ def _joint_points(frame: Frame, j):
     return ra, rb
 
 
+def _line(frame: Frame, j):
+    """A spring's or damper's line from a to b: offsets, unit direction, length and rate
+    of extension; None when its ends meet (no direction)."""
+    ra, rb = _joint_points(frame, j)
+    pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
+    dx, dy = pb[0] - pa[0], pb[1] - pa[1]
+    L = math.hypot(dx, dy)
+    if L == 0:
+        return None
+    ex, ey = dx / L, dy / L
+    va = frame.point_velocity(j.a.body, ra)
+    vb = frame.point_velocity(j.b.body, rb) if rb is not None else (0.0, 0.0)
+    return ra, rb, ex, ey, L, (vb[0] - va[0]) * ex + (vb[1] - va[1]) * ey
+
+
+def _pull(frame: Frame, Q, j, ra, rb, tension: float, ex: float, ey: float) -> None:
+    """Equal and opposite forces along the line: `tension` > 0 pulls the ends together."""
+    add_force(frame, Q, j.a.body, ra, (tension * ex, tension * ey))
+    add_force(frame, Q, j.b.body, rb, (-tension * ex, -tension * ey))
+
+
 def _pair_rows(frame: Frame, j):
     ra, rb = _joint_points(frame, j)
     Ja, ba = frame.point_jac(j.a.body, ra)
@@ -108,30 +129,16 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
         add_moment(frame, Q, body, Mo)
         power += Mo * frame.twist[body][2]
     for j in model.springs:
-        ra, rb = _joint_points(frame, j)
-        pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
-        dx, dy = pb[0] - pa[0], pb[1] - pa[1]
-        L = math.hypot(dx, dy)
-        if L == 0:
-            continue
-        f = j.stiffness * (L - j.length) / L
-        add_force(frame, Q, j.a.body, ra, (f * dx, f * dy))
-        add_force(frame, Q, j.b.body, rb, (-f * dx, -f * dy))
+        line = _line(frame, j)
+        if line is not None:
+            ra, rb, ex, ey, L, _ = line
+            _pull(frame, Q, j, ra, rb, j.stiffness * (L - j.length), ex, ey)
     for j in model.dampers:
-        ra, rb = _joint_points(frame, j)
-        pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
-        dx, dy = pb[0] - pa[0], pb[1] - pa[1]
-        L = math.hypot(dx, dy)
-        if L == 0:
-            continue
-        ex, ey = dx / L, dy / L
-        va = frame.point_velocity(j.a.body, ra)
-        vb = frame.point_velocity(j.b.body, rb) if rb is not None else (0.0, 0.0)
-        rate = (vb[0] - va[0]) * ex + (vb[1] - va[1]) * ey
-        f = j.stiffness * rate
-        add_force(frame, Q, j.a.body, ra, (f * ex, f * ey))
-        add_force(frame, Q, j.b.body, rb, (-f * ex, -f * ey))
-        power -= j.stiffness * rate * rate
+        line = _line(frame, j)
+        if line is not None:
+            ra, rb, ex, ey, _, rate = line
+            _pull(frame, Q, j, ra, rb, j.stiffness * rate, ex, ey)
+            power -= j.stiffness * rate * rate
     rows, betas, cols, names = [], [], [], []
     for label, torque in model.bearings.items():
         a, b = pin_bodies(model, label)
