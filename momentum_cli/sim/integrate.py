@@ -280,7 +280,9 @@ class Simulator:
                 continue
             v = relative_velocity(frame, w, geo)
             slip = -v[0] * geo[1][1] + v[1] * geo[1][0]
-            if w.spec.mode == "rough" or abs(slip) <= 10 * self.v_tol:
+            if w.spec.mode == "friction" and not w.spec.mu:
+                phase.contacts[w.label] = "rest"  # mu = 0: smooth
+            elif w.spec.mode == "rough" or abs(slip) <= 10 * self.v_tol:
                 phase.contacts[w.label] = "stick"
             else:
                 phase.contacts[w.label] = math.copysign(1.0, slip)
@@ -616,7 +618,7 @@ def _wrap(e: Event, model, phase, t0, y0, rhs):
         return e.fn(f, inst)
 
     v0 = value(t0, y0)
-    s0 = 0.0
+    s0, shift = 0.0, 0.0
     if abs(v0) == 0.0:  # starts on zero: look at where it goes, so t0 is not an event
         h = 1e-9
         y1 = y0 + h * rhs(t0, y0)
@@ -625,11 +627,13 @@ def _wrap(e: Event, model, phase, t0, y0, rhs):
             y2 = y1 + h * rhs(t0 + h, y1)
             v1 = value(t0 + 2 * h, y2) - v1
         s0 = math.copysign(1e-300, v1) if v1 else 0.0
+        if not v1:  # it stays on zero (a force that is not needed): only leaving it counts
+            shift = -1e-300 if e.direction > 0 else 1e-300
 
     def fn(t, y):
-        if t == t0 and s0:
-            return s0
-        return value(t, y)
+        v = value(t, y) + shift
+        # an exact zero while it has barely moved off its start is still the start
+        return s0 if v == 0.0 and s0 else v
 
     fn.terminal = True
     fn.direction = e.direction
