@@ -338,10 +338,14 @@ class Simulator:
             mode = phase.contacts.get(w.label)
             if mode is None:
                 # touching and not separating, but not pressed: it closes if the gap goes
-                # below -tol (resting at zero is not an event)
+                # below -tol (resting at zero is not an event). Separating from a gap a
+                # round-off below zero: start it above zero, or a step that spans the whole
+                # flight would see no sign change
                 geo = contact_geometry(frame, w)
-                shift = self.gap_tol if geo[0] <= self.gap_tol and \
-                    gap_rate(frame, w, geo) <= self.v_rest else 0.0
+                shift = 0.0
+                if geo[0] <= self.gap_tol:
+                    shift = self.gap_tol if gap_rate(frame, w, geo) <= self.v_rest else \
+                        2 * max(0.0, -geo[0])
                 evs.append(gap_event(model, w, shift))
                 continue
             evs.append(separation_event(w))
