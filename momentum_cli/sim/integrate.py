@@ -332,6 +332,7 @@ class Simulator:
 
     def _events(self) -> list[Event]:
         model, phase = self.model, self.phase
+        self.lift_off = 0.0  # time for separating contacts to clear a round-off overlap
         evs = []
         frame = self.frame()
         for w in model.watches:
@@ -339,13 +340,16 @@ class Simulator:
             if mode is None:
                 # touching and not separating, but not pressed: it closes if the gap goes
                 # below -tol (resting at zero is not an event). Separating from a gap a
-                # round-off below zero: start it above zero, or a step that spans the whole
-                # flight would see no sign change
+                # round-off below zero: the first step must end above zero, or a step that
+                # spans the whole flight would see no sign change
                 geo = contact_geometry(frame, w)
                 shift = 0.0
                 if geo[0] <= self.gap_tol:
-                    shift = self.gap_tol if gap_rate(frame, w, geo) <= self.v_rest else \
-                        2 * max(0.0, -geo[0])
+                    rate = gap_rate(frame, w, geo)
+                    if rate <= self.v_rest:
+                        shift = self.gap_tol
+                    elif geo[0] < 0:
+                        self.lift_off = max(self.lift_off, -4 * geo[0] / rate)
                 evs.append(gap_event(model, w, shift))
                 continue
             evs.append(separation_event(w))
@@ -539,6 +543,9 @@ class Simulator:
                   atol=self.rtol * self._atol_scale())
         if self.dt is not None:
             kw.update(first_step=self.dt, max_step=self.dt, rtol=1e3, atol=1e300)
+        if self.lift_off:
+            kw["first_step"] = min(1e3 * self.lift_off, kw.get("first_step", math.inf),
+                                   horizon - t0)
         sol = solve_ivp(rhs, (t0, horizon), y0, **kw)
         if sol.status == -1:
             raise ProblemError(f"the integration failed at t = {sol.t[-1]:.6g} s: {sol.message}",
