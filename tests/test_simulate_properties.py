@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import os
 
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 from momentum_cli.scene import build
@@ -155,6 +155,8 @@ simulate from 1:
 @SETTINGS
 @given(m=masses, r=radii, x=st.floats(0.5, 2.0), y=st.floats(0.5, 2.0), u=speeds, v=speeds,
        w=st.floats(-20, 20), e=restitutions, f=st.floats(0.0, 0.8))
+@example(m=1.0, r=0.25, x=1.0, y=1.0, u=0.0, v=0.0, w=0.0, e=0.0, f=0.0)  # mu = 0 chattered
+@example(m=5.8125, r=0.25, x=1.0, y=0.5, u=3.0, v=0.0, w=0.0, e=0.25, f=0.0)  # fell through
 def test_mirror_images_move_as_mirror_images(m, r, x, y, u, v, w, e, f):
     """Two disks thrown at each other symmetrically about x = 0 over a rough floor stay
     mirror images (x -> -x, vx -> -vx, omega -> -omega), whichever is named first."""
@@ -169,6 +171,9 @@ def test_mirror_images_move_as_mirror_images(m, r, x, y, u, v, w, e, f):
     assert abs(xl + xr) <= 1e-9 * (1 + x) and abs(yl - yr) <= 1e-9 * (1 + y)
     assert abs(vxl + vxr) <= 1e-8 * scale and abs(vyl - vyr) <= 1e-8 * scale
     assert abs(wl + wr) * r <= 1e-8 * scale
+    n = res.model.n
+    lowest = min(min(s[1], s[4]) for s in res.states)  # the centres' heights (L.y, R.y)
+    assert lowest >= r - 1e-6 and n == 6  # nothing falls through the floor
     swapped = sim(MIRROR.format(p="R", q="L", m=m, r=r, x=x, mx=-x, y=y, u=-u, mu=u, v=v, w=-w,
                                 mw=w, e=e, f=f))
     assert [ev.kind for ev in swapped.events] == [ev.kind for ev in res.events]
