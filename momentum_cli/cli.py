@@ -354,7 +354,7 @@ def simulate(
     for i, (name, source, res) in enumerate(_read_all(files)):
         sim = None
         if res is None:
-            progress = _progress_bar(err) if err.isatty() and mode != "json" else None
+            progress = _ProgressBar(err) if err.isatty() and mode != "json" else None
             try:
                 res, sim = simulate_source(source, rtol, dt, progress, not integrate)
             except (KeyboardInterrupt, typer.Exit):
@@ -398,7 +398,7 @@ def simulate(
     raise typer.Exit(int(worst))
 
 
-class _progress_bar:
+class _ProgressBar:
     """A rich progress bar on stderr for runs longer than half a second."""
 
     def __init__(self, stream):
@@ -407,7 +407,9 @@ class _progress_bar:
         self.stream, self.began, self.bar, self.task = stream, time.perf_counter(), None, None
         self.end = None
 
-    def __call__(self, t: float) -> None:
+    def __call__(self, t: float, t_end: float = float("inf")) -> None:
+        """Called now and then with the simulated time and the stop time (inf: unknown)."""
+        import math
         import time
 
         if self.bar is None:
@@ -418,8 +420,9 @@ class _progress_bar:
 
             self.bar = Progress(console=Console(file=self.stream), transient=True)
             self.bar.start()
-            self.task = self.bar.add_task("simulating", total=None)
-        self.bar.update(self.task, description=f"simulating: t = {t:.4g} s")
+            self.task = self.bar.add_task("simulating",
+                                          total=t_end if math.isfinite(t_end) else None)
+        self.bar.update(self.task, completed=t, description=f"simulating: t = {t:.4g} s")
 
     def close(self) -> None:
         if self.bar is not None:

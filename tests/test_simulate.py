@@ -453,3 +453,11 @@ def test_bench_compares_with_solve_at_each_tolerance():
                                          "integrated, dt 0.05 s"]
     assert rows[0].error < 1e-9 and rows[2].error < rows[1].error  # degrees
     assert all(r.seconds > 0 and r.unit == "deg" for r in rows)
+
+
+def test_progress_is_reported_with_the_stop_time():
+    calls = []
+    text = (EXAMPLES / "simulate/double_pendulum.mom").read_text()
+    simulate(build(parse(Source("d.mom", text))), progress=lambda t, end: calls.append((t, end)))
+    assert calls and all(end == 3.0 and 0 <= t <= 3.0 for t, end in calls)
+    assert calls[-1][0] == 3.0 and [t for t, _ in calls] == sorted(t for t, _ in calls)

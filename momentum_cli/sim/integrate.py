@@ -526,7 +526,7 @@ class Simulator:
             inst = instant(model, phase, f)
             counter[0] += 1
             if self.progress is not None and counter[0] % 256 == 0:
-                self.progress(t)
+                self.progress(t, self.t_end)
             out = np.empty(2 * n + 1)
             out[:n] = y[n:2 * n]
             out[n:2 * n] = inst.udot
@@ -572,7 +572,7 @@ class Simulator:
                                     steps, sol.nfev, drift))
         self.t = float(t_hit)
         if self.progress is not None:
-            self.progress(self.t)
+            self.progress(self.t, self.t_end)
         return self._after(hit)
 
     def _atol_scale(self) -> np.ndarray:
