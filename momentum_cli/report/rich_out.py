@@ -97,7 +97,10 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
         for c in rep.checks:
             t.add_row(escape(c.name), f"[{colours.get(c.status, 'white')}]{c.status}[/]",
                       escape(c.detail))
-        console.print(t)
+        if rep.checks:
+            console.print(t)
+        else:
+            console.print("Checks: none (no impact, control volume or redundant equation)")
         for r in rep.regimes:
             console.print(f"  friction at {escape(r['contact'])} ({r['transition']}): "
                           f"[bold]{r['regime']}[/bold]")

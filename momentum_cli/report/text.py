@@ -94,8 +94,11 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
                 out.append(f"  {r['contact']} ({r['transition']}): {r['regime']}")
         out.append("")
         out.append("Checks")
-        out.extend(table(["check", "status", "detail"],
-                         [[c.name, c.status, c.detail] for c in rep.checks]))
+        if rep.checks:
+            out.extend(table(["check", "status", "detail"],
+                             [[c.name, c.status, c.detail] for c in rep.checks]))
+        else:
+            out.append("  none: no impact, control volume or redundant equation to check")
         out.append("")
         out.append("Answers")
     for a in rep.answers:
