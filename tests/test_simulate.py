@@ -461,3 +461,28 @@ def test_progress_is_reported_with_the_stop_time():
     simulate(build(parse(Source("d.mom", text))), progress=lambda t, end: calls.append((t, end)))
     assert calls and all(end == 3.0 and 0 <= t <= 3.0 for t, end in calls)
     assert calls[-1][0] == 3.0 and [t for t, _ in calls] == sorted(t for t, _ in calls)
+
+
+def test_elliptic_functions_agree_with_scipy():
+    """Our plain-Python Jacobi functions, F(phi|m) and K(m) (no scipy import at run time)
+    against scipy.special, over swings near and far from going over the top."""
+    import random
+
+    from scipy.special import ellipj as sj
+    from scipy.special import ellipk as sK
+    from scipy.special import ellipkinc as sF
+
+    from momentum_cli.sim.elliptic import ellipj, ellipk, ellipkinc, root
+
+    rng = random.Random(7)
+    for _ in range(2000):
+        m = rng.choice([rng.random(), rng.random() * 1e-6, 1 - rng.random() * 1e-6])
+        u = rng.uniform(-60, 60)
+        ours, ref = ellipj(u, m), sj(u, m)
+        assert abs(ours[0] - ref[0]) < 5e-14 and abs(ours[1] - ref[1]) < 5e-14
+        assert abs(ours[2] - ref[2]) < 5e-12 and abs(ours[3] - ref[3]) < 5e-14 * (1 + abs(u))
+        phi = rng.uniform(-math.pi / 2, math.pi / 2)
+        assert ellipkinc(phi, m) == pytest.approx(sF(phi, m), rel=5e-15, abs=1e-300)
+        assert ellipk(m) == pytest.approx(sK(m), rel=5e-15)
+    assert root(lambda x: math.cos(x) - x, 0.0, 1.0) == pytest.approx(0.7390851332151607,
+                                                                      rel=1e-15)

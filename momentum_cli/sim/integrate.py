@@ -441,8 +441,8 @@ class Simulator:
 
     def _flow_phase(self, evs, flow) -> str | None:
         """A phase whose state is a known function of time (the elliptic pendulum): its
-        events are bracketed by sampling 64 points a period and found by brentq."""
-        from scipy.optimize import brentq
+        events are bracketed by sampling 64 points a period and found by false position."""
+        from .elliptic import root
 
         model, n, t0 = self.model, self.model.n, self.t
         horizon = self.t_end - t0
@@ -477,7 +477,7 @@ class Simulator:
                 if v == 0 or math.copysign(1.0, v) != signs[k]:
                     rising = signs[k] < 0
                     if not e.direction or (e.direction > 0) == rising:
-                        r = brentq(lambda x: g(e, x), prev, s, xtol=1e-15, rtol=8.9e-16)
+                        r = root(lambda x: g(e, x), prev, s)
                         found.append((r, e))
                     signs[k] = math.copysign(1.0, v) if v != 0 else -signs[k]
             if found:

@@ -2,10 +2,10 @@
 
 With phi the angle of G - O from the downward vertical, I_O phi'' = -m g d sin(phi).
 Its energy gives the modulus k^2 = sin^2(phi/2) + phi'^2 / (4 w0^2), w0^2 = m g d / I_O;
-then, with Jacobi's elliptic functions (scipy.special.ellipj, parameter m = k^2):
+then, with Jacobi's elliptic functions (parameter m = k^2):
     swinging (k < 1):  sin(phi/2) = k sn(w0 t + u0 | k^2),  phi' = 2 k w0 cn(w0 t + u0 | k^2)
     turning over (k > 1):  phi/2 = s am(k w0 t + u0 | 1/k^2),  phi' = 2 s k w0 dn(...)
-so a swing between impacts needs no integration at all.
+so a swing between impacts needs no integration at all (elliptic.py computes them).
 """
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ class PendulumFlow:
     """The motion of every pinned body of a phase in which gravity alone acts on them."""
 
     def __init__(self, model: Model, y0: np.ndarray):
-        from scipy.special import ellipj, ellipkinc
+        from .elliptic import ellipj, ellipk, ellipkinc
 
         self.model, self.y0, self.n = model, y0.copy(), model.n
         self.ellipj = ellipj
@@ -51,16 +51,16 @@ class PendulumFlow:
                     s = max(-1.0, min(1.0, math.sin(phi0 / 2) / k))
                     u = ellipkinc(math.asin(s), k2)
                     if w < 0:  # cn < 0: past the quarter period
-                        u = 2 * ellipkinc(math.pi / 2, k2) - u
+                        u = 2 * ellipk(k2) - u
                     part.update(kind="swing", k=k, m=k2, u0=u)
-                    self.period = 4 * ellipkinc(math.pi / 2, k2) / w0
+                    self.period = 4 * ellipk(k2) / w0
                 elif k2 > 1:
                     k = math.sqrt(k2)
                     sgn = 1.0 if w > 0 else -1.0
                     m = 1 / k2
                     u = ellipkinc(sgn * phi0 / 2, m)
                     part.update(kind="turn", k=k, m=m, u0=u, sign=sgn)
-                    self.period = 2 * ellipkinc(math.pi / 2, m) / (k * w0)
+                    self.period = 2 * ellipk(m) / (k * w0)
                 else:
                     raise ValueError("on the separatrix")
             self.parts.append(part)
