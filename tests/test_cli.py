@@ -17,13 +17,12 @@ from importlib.resources import files
 
 import jsonschema
 import pytest
+from conftest import EXAMPLES, ROOT
 from typer.testing import CliRunner
 
 from momentum_cli import __version__
 from momentum_cli.cli import app
 from momentum_cli.diagnostics import ExitCode
-
-from conftest import EXAMPLES, ROOT
 
 PROBLEMS = sorted(EXAMPLES.glob("*.mom"))
 GOOD = EXAMPLES / "seed_plastic_collision.mom"

@@ -9,14 +9,13 @@ from __future__ import annotations
 import re
 
 import pytest
+from helpers import error_of
 from typer.testing import CliRunner
 
 from momentum_cli.cli import app
 from momentum_cli.diagnostics import ExitCode
 from momentum_cli.run import SourceTextError, decode_source, solve_source
 from momentum_cli.source import Source
-
-from helpers import error_of
 
 # Line numbers below refer to this file: 4 body, 5 point, 7-8 states, 10-11 impact, 13 find.
 BASE = """\

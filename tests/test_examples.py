@@ -12,8 +12,6 @@ import math
 from pathlib import Path
 
 import pytest
-
-
 from helpers import answers
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"

@@ -16,14 +16,13 @@ import functools
 import json
 import re
 
+from conftest import EXAMPLES
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from momentum_cli.report.json_out import document, result_dict
 from momentum_cli.run import FileResult, SourceTextError, decode_source, solve_source
 from momentum_cli.source import Source
-
-from conftest import EXAMPLES
 
 TEXTS = {p.name: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES.glob("*.mom"))}
 TOKEN = re.compile(r"\s+|[A-Za-z_][A-Za-z_0-9]*|\d+\.?\d*(?:[eE][-+]?\d+)?|.", re.S)

@@ -10,11 +10,10 @@ import json
 import math
 
 import pytest
+from conftest import EXAMPLES
 from typer.testing import CliRunner
 
 from momentum_cli.cli import app
-
-from conftest import EXAMPLES
 
 PROBLEMS = sorted(EXAMPLES.glob("*.mom"))
 runner = CliRunner()

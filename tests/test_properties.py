@@ -38,10 +38,9 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 import pytest
+from helpers import answers as answers_of
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
-
-from helpers import answers as answers_of
 
 # Deterministic and bounded so that the file runs in a few seconds; set
 # MOMENTUM_PROPERTY_EXAMPLES=1000 for a thorough (slower, still deterministic) run.

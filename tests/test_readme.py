@@ -6,6 +6,7 @@ import re
 
 from conftest import ROOT
 from helpers import answers, error_of
+
 from momentum_cli.source import Source
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")

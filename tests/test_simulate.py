@@ -14,6 +14,7 @@ import math
 from pathlib import Path
 
 import pytest
+from conftest import EXAMPLES
 from typer.testing import CliRunner
 
 from momentum_cli.cli import app
@@ -21,8 +22,6 @@ from momentum_cli.scene import build
 from momentum_cli.sim.integrate import simulate
 from momentum_cli.source import Source
 from momentum_cli.syntax import parse
-
-from conftest import EXAMPLES
 
 runner = CliRunner()
 G = 9.81
@@ -382,9 +381,9 @@ def test_event_table_matches_golden(problem, update_golden, monkeypatch):
 
 
 def test_json_output_follows_the_schema():
-    import jsonschema
-
     from importlib.resources import files
+
+    import jsonschema
 
     schema = json.loads(files("momentum_cli").joinpath(
         "schema/momentum-simulation.schema.json").read_text())
@@ -444,7 +443,8 @@ def test_double_pendulum_holds_its_pin_and_conserves_energy(rtol):
 
 
 def test_bench_compares_with_solve_at_each_tolerance():
-    from momentum_cli.sim.bench import cases, run as bench_run
+    from momentum_cli.sim.bench import cases
+    from momentum_cli.sim.bench import run as bench_run
 
     found = [c for c in cases(str(EXAMPLES.parent)) if "pendulum" in c[0]]
     rows = bench_run(found, repeat=1, rtols=(1e-4, 1e-10), steps=(0.05,))

@@ -1,11 +1,12 @@
 """The simulation loop: phases of smooth motion between events, impacts at events.
 
-A phase is advanced in closed form when its accelerations are constant (free flight,
-constant forces, a body spinning down against a fixed contact) and every event that
-can end it is a quadratic in time; otherwise scipy's solve_ivp integrates it (DOP853,
-`rtol`; or fixed steps `dt`) and locates its events on the dense output. At an event
-the impulse solver resolves impacts, and the set of persistent contacts, stuck or
-sliding friction and locked bearings is chosen again.
+Each phase is advanced (advance.py) in closed form where one exists: constant
+accelerations (free flight, constant forces, a body spinning down against a fixed
+contact) with events that are quadratics in time, or bodies swinging on pins under
+gravity alone (elliptic functions); otherwise scipy's solve_ivp integrates it (DOP853
+at `rtol`, or fixed steps `dt`). At an event the impulse solver resolves impacts, and
+the persistent contacts, stuck or sliding friction and locked bearings are chosen
+again; constraint drift is projected away (drift.py).
 """
 from __future__ import annotations
 
@@ -17,12 +18,13 @@ import numpy as np
 
 from ..diagnostics import ProblemError
 from ..scene import Scene
+from . import advance
+from .drift import drift_event, project, reference, tolerance
 from .dynamics import Frame, contact_geometry, gap_rate, relative_velocity
 from .events import (
     Event,
     apex_event,
     bearing_events,
-    first_root,
     gap_event,
     separation_event,
     slip_event,
@@ -32,7 +34,6 @@ from .events import (
 )
 from .forces import Phase, energy, instant, kinetic, relative_spin
 from .impacts import resolve
-from .drift import drift_event, project, reference, tolerance
 from .model import Model, build_model, watch_for
 from .states import state_values
 
@@ -388,7 +389,7 @@ class Simulator:
         from .pendulum import PendulumFlow
 
         if not self.closed_forms:
-            return self._integrate(evs)
+            return self._finish(advance.integrate(self, evs))
         if PendulumFlow.applies(self.model, self.phase) and \
                 not any(e.needs_instant for e in evs):
             try:
@@ -396,112 +397,28 @@ class Simulator:
             except ValueError:  # exactly on the separatrix: integrate
                 flow = None
             if flow is not None:
-                return self._flow_phase(evs, flow)
+                return self._finish(advance.pendulum(self, evs, flow))
         if self._constant_acceleration():
             frame = self.frame()
             inst = instant(self.model, self.phase, frame)
             polys = [e.poly(frame, inst.udot) if e.poly else None for e in evs]
             if all(p is not None for p in polys):
-                return self._closed_form(evs, polys, inst)
-        return self._integrate(evs)
+                return self._finish(advance.quadratic(self, evs, polys, inst))
+        return self._finish(advance.integrate(self, evs))
 
-    def _closed_form(self, evs, polys, inst) -> str | None:
-        n = self.model.n
-        horizon = self.t_end - self.t
-        roots = [(first_root(p[0], p[1], p[2], e.direction, horizon), e)
-                 for e, p in zip(evs, polys)]
-        roots = [(r, e) for r, e in roots if r is not None]
-        best = min([r for r, _ in roots], default=horizon)
-        hit = _first([e for r, e in roots if r <= best * (1 + 1e-12)])
-        if not math.isfinite(best):
-            raise ProblemError("the motion never ends: nothing stops it (add `until t = ...`)",
-                               self.spec.span, code="simulate")
+    def _finish(self, seg) -> str | None:
+        """Record a phase that ended at seg.t1, and what ended it."""
         y0 = self.y.copy()
-        a = inst.udot
-
-        def at(s):
-            y = y0.copy()
-            y[:n] = y0[:n] + y0[n:2 * n] * s + 0.5 * a * s * s
-            y[n:2 * n] = y0[n:2 * n] + a * s
-            return y
-
-        p0 = inst.power
-        p1 = instant(self.model, self.phase, self.frame(at(best))).power
-        for k in range(1, 21):
-            s = best * k / 20
-            y = at(s)
-            y[2 * n] = y0[2 * n] + p0 * s + 0.5 * (p1 - p0) / best * s * s if best else y0[2 * n]
-            self.times.append(self.t + s)
+        for t, y in seg.states:
+            self.times.append(t)
             self.states.append(y)
-        self.y = self.states[-1].copy()
-        drift = self._drift([y0] + self.states[-20:])
-        self.phases.append(PhaseRow(self.t, self.t + best, "closed form", 1, 2, drift))
-        self.t += best
-        return self._after(hit)
-
-    def _flow_phase(self, evs, flow) -> str | None:
-        """A phase whose state is a known function of time (the elliptic pendulum): its
-        events are bracketed by sampling 64 points a period and found by false position."""
-        from .elliptic import root
-
-        model, n, t0 = self.model, self.model.n, self.t
-        horizon = self.t_end - t0
-        span = horizon if math.isfinite(horizon) else 1.05 * flow.period
-        if not math.isfinite(span):
-            raise ProblemError("the motion never ends: nothing stops it (add `until t = ...`)",
-                               self.spec.span, code="simulate")
-        h = min(span, flow.period / 64) if math.isfinite(flow.period) else span / 64
-
-        def g(e, s):
-            y = flow.state(s)
-            return e.fn(Frame(model, y[:n], y[n:2 * n]), None)
-
-        signs = []  # the sign each function leaves the start with (None: still zero)
-        for e in evs:
-            v0 = g(e, 0.0)
-            signs.append(math.copysign(1.0, v0) if v0 != 0 else None)
-        prev = 0.0
-        hit, best = None, span
-        samples = []
-        s = 0.0
-        while s < span and hit is None:
-            s = min(s + h, span)
-            y = flow.state(s)
-            f = Frame(model, y[:n], y[n:2 * n])
-            found = []
-            for k, e in enumerate(evs):
-                v = e.fn(f, None)
-                if signs[k] is None:
-                    signs[k] = math.copysign(1.0, v) if v != 0 else None
-                    continue
-                if v == 0 or math.copysign(1.0, v) != signs[k]:
-                    rising = signs[k] < 0
-                    if not e.direction or (e.direction > 0) == rising:
-                        r = root(lambda x: g(e, x), prev, s)
-                        found.append((r, e))
-                    signs[k] = math.copysign(1.0, v) if v != 0 else -signs[k]
-            if found:
-                best = min(r for r, _ in found)
-                hit = _first([e for r, e in found if r <= best * (1 + 1e-12)])
-                break
-            samples.append((s, y))
-            prev = s
-        if hit is None and s < horizon:
-            raise ProblemError("the motion never ends: nothing stops it within a period "
-                               "(add `until t = ...`)", self.spec.span, code="simulate")
-        y0 = self.y.copy()
-        for s_, y in samples:
-            if s_ < best:
-                self.times.append(t0 + s_)
-                self.states.append(y)
-        self.times.append(t0 + best)
-        self.states.append(flow.state(best))
-        self.y = self.states[-1].copy()
-        drift = self._drift([y0] + [y for s_, y in samples if s_ < best] + [self.y])
-        self.phases.append(PhaseRow(t0, t0 + best, "closed form", len(samples) + 1,
-                                    len(samples) + 1, drift))
-        self.t = t0 + best
-        return self._after(hit)
+        drift = self._drift([y0] + [y for _, y in seg.states])
+        self.phases.append(PhaseRow(self.t, seg.t1, seg.method, seg.steps, seg.evaluations,
+                                    drift))
+        self.t, self.y = seg.t1, seg.states[-1][1].copy()
+        if self.progress is not None:
+            self.progress(self.t, self.t_end)
+        return self._after(seg.hit)
 
     def _drift(self, ys) -> float:
         """max |E - W - (E - W at the phase's start)|: energy not accounted for by the
@@ -513,84 +430,6 @@ class Simulator:
 
         ref = level(ys[0])
         return max(abs(level(y) - ref) for y in ys)
-
-    def _integrate(self, evs) -> str | None:
-        from scipy.integrate import solve_ivp
-
-        model, phase, n = self.model, self.phase, self.model.n
-        t0, y0 = self.t, self.y.copy()
-        counter = [0]
-
-        def rhs(t, y):
-            f = Frame(model, y[:n], y[n:2 * n])
-            inst = instant(model, phase, f)
-            counter[0] += 1
-            if self.progress is not None and counter[0] % 256 == 0:
-                self.progress(t, self.t_end)
-            out = np.empty(2 * n + 1)
-            out[:n] = y[n:2 * n]
-            out[n:2 * n] = inst.udot
-            out[2 * n] = inst.power
-            return out
-
-        fns = []
-        for e in evs:
-            fns.append(_wrap(e, model, phase, t0, y0, rhs))
-        horizon = self.t_end
-        if not math.isfinite(horizon):
-            horizon = t0 + 1e6 * max(1.0, t0)
-        kw = dict(method="DOP853", events=fns, rtol=self.rtol,
-                  atol=self.rtol * self._atol_scale())
-        if self.dt is not None:
-            kw.update(first_step=self.dt, max_step=self.dt, rtol=1e3, atol=1e300)
-        if self.lift_off:
-            kw["first_step"] = min(1e3 * self.lift_off, kw.get("first_step", math.inf),
-                                   horizon - t0)
-        sol = solve_ivp(rhs, (t0, horizon), y0, **kw)
-        if sol.status == -1:
-            raise ProblemError(f"the integration failed at t = {sol.t[-1]:.6g} s: {sol.message}",
-                               self.spec.span, code="simulate")
-        hit, t_hit, y_hit = None, sol.t[-1], sol.y[:, -1]
-        found = [(sol.t_events[k][0], k) for k in range(len(evs)) if len(sol.t_events[k])]
-        if found:
-            t_hit = min(t for t, _ in found)
-            near = [k for t, k in found if t <= t_hit + 1e-12 * max(1.0, abs(t_hit))]
-            hit = _first([evs[k] for k in near])
-            k = next(k for k in near if evs[k] is hit)
-            t_hit, y_hit = sol.t_events[k][0], sol.y_events[k][0]
-        steps = len(sol.t) - 1
-        first = len(self.states)
-        for k in range(1, len(sol.t)):
-            if sol.t[k] < t_hit:
-                self.times.append(float(sol.t[k]))
-                self.states.append(sol.y[:, k].copy())
-        self.times.append(float(t_hit))
-        self.states.append(np.array(y_hit, dtype=float))
-        self.y = self.states[-1].copy()
-        drift = self._drift([y0] + self.states[first:])
-        self.phases.append(PhaseRow(t0, float(t_hit), "fixed step" if self.dt else "DOP853",
-                                    steps, sol.nfev, drift))
-        self.t = float(t_hit)
-        if self.progress is not None:
-            self.progress(self.t, self.t_end)
-        return self._after(hit)
-
-    def _atol_scale(self) -> np.ndarray:
-        """Absolute tolerances per component: lengths, angles, speeds, work."""
-        m, n = self.model, self.model.n
-        L, V = m.length_scale, self.v_scale
-        s = np.empty(2 * n + 1)
-        for b in m.bodies:
-            i = b.index
-            if b.size == 1:
-                s[i], s[n + i] = 1.0, V / L
-            else:
-                s[i] = s[i + 1] = L
-                s[n + i] = s[n + i + 1] = V
-                if b.size == 3:
-                    s[i + 2], s[n + i + 2] = 1.0, V / L
-        s[2 * n] = max(abs(self.E0), sum(b.mass for b in m.bodies) * V * V, 1e-300)
-        return s * 1e-3
 
     def _after(self, hit: Event | None) -> str | None:
         if hit is None:
@@ -612,49 +451,11 @@ class Simulator:
         self.states.append(self.y.copy())
 
 
-def _first(hits: list[Event]) -> Event | None:
-    """Of events at one instant, a stop condition wins (the run ends there)."""
-    for e in hits:
-        if e.kind in ("until", "apex"):
-            return e
-    return hits[0] if hits else None
-
-
-def _wrap(e: Event, model, phase, t0, y0, rhs):
-    n = model.n
-
-    def value(t, y):
-        f = Frame(model, y[:n], y[n:2 * n])
-        inst = instant(model, phase, f) if e.needs_instant else None
-        return e.fn(f, inst)
-
-    v0 = value(t0, y0)
-    s0, shift = 0.0, 0.0
-    if abs(v0) == 0.0:  # starts on zero: look at where it goes, so t0 is not an event
-        h = 1e-9
-        y1 = y0 + h * rhs(t0, y0)
-        v1 = value(t0 + h, y1)
-        if v1 == 0.0:
-            y2 = y1 + h * rhs(t0 + h, y1)
-            v1 = value(t0 + 2 * h, y2) - v1
-        s0 = math.copysign(1e-300, v1) if v1 else 0.0
-        if not v1:  # it stays on zero (a force that is not needed): only leaving it counts
-            shift = -1e-300 if e.direction > 0 else 1e-300
-
-    def fn(t, y):
-        v = value(t, y) + shift
-        # an exact zero while it has barely moved off its start is still the start
-        return s0 if v == 0.0 and s0 else v
-
-    fn.terminal = True
-    fn.direction = e.direction
-    return fn
-
-
 def _stop_text(stop: str, sim: Simulator) -> str:
-    return {"time": f"t = {sim.t_end:g} s", "impacts": f"{sim.impacts} impacts",
-            "apex": "apex", "until": getattr(sim, "stop_what", "stop condition"), "events": "too many events"}.get(stop,
-                                                                                         stop)
+    texts = {"time": f"t = {sim.t_end:g} s", "impacts": f"{sim.impacts} impacts",
+             "apex": "apex", "until": getattr(sim, "stop_what", "stop condition"),
+             "events": "too many events"}
+    return texts.get(stop, stop)
 
 
 def simulate(scene: Scene, index: int = 0, rtol: float = 1e-9, dt: float | None = None,
