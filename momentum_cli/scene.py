@@ -374,6 +374,10 @@ class _Builder:
             if isinstance(s, S.SimulateDecl):
                 from .sim.spec import build_simulation
 
+                if simulations:
+                    raise ProblemError("a file has one `simulate` block (this one is the "
+                                       f"second; the first is at line {simulations[0].span.line})",
+                                       s.span, code="name")
                 simulations.append(build_simulation(self, s, states))
         return Scene(title, self.gravity, self.g, self.constants, self.user_unknowns,
                      self.bodies, self.points, self.surfaces, joints, states, transitions, stated,

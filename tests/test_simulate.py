@@ -344,6 +344,8 @@ def test_energy_is_not_gained_in_a_frictionless_elastic_bounce():
      "    contact b with ground normal (0, 1)\n    until t = 1 s\n", "needs a restitution", 4),
     ("body b: particle(mass = 1 kg)\nstate 1: b at rest\nsimulate from 1:\n"
      "    damper d: b to ground damping 2 N\n    until t = 1 s\n", "damping coefficient", 4),
+    ("body b: particle(mass = 1 kg)\nstate 1: b at rest\nsimulate from 1:\n    until t = 1 s\n"
+     "simulate from 1:\n    until t = 2 s\n", "a file has one `simulate` block", 5),
 ])
 def test_bad_simulations_are_located_errors(text, message, line, tmp_path):
     path = tmp_path / "bad.mom"

@@ -77,6 +77,7 @@ class SimResult:
     constraint_drift: float = 0.0  # largest violation before a projection (m)
     projections: int = 0  # times the drift reached its tolerance and was projected away
     drift_tolerance: float = 0.0  # of the length scale
+    phase: object = None  # what held at the end (persistent contacts, locked bearings)
 
     def frame(self, k: int = -1) -> Frame:
         y = self.states[k]
@@ -207,7 +208,7 @@ class Simulator:
                                     _velocities(self.frame(), self.model)))
         return SimResult(self.model, self.events, self.phases, self.times, self.states, stop,
                          self.rtol, self.dt, time.perf_counter() - began, self.E0,
-                         self.max_drift, self.projections, self.drift)
+                         self.max_drift, self.projections, self.drift, self.phase)
 
     def _reached(self) -> bool:
         """A stop condition that holds at this event's instant (it was reached at the same

@@ -94,6 +94,11 @@ def build(name: str, res: SimResult) -> dict:
                           angle=None if b.particle else snap(th, 1.0),
                           vx=snap(vx, V), vy=snap(vy, V),
                           omega=None if b.particle else snap(w, V / L)))
+    forces = {}
+    if res.phase is not None:  # the constraint forces that hold the final state
+        from .forces import instant
+
+        forces = {k: _snap(v, 1.0, 1e-12) for k, v in instant(model, res.phase, frame).lam.items()}
     scale = _energy_scale(res)
     drift = max([p.drift for p in res.phases], default=0.0)
     rel = drift / scale
@@ -128,7 +133,7 @@ def build(name: str, res: SimResult) -> dict:
     return dict(file=name, title=scene.title, start=sim.start, line=sim.span.line,
                 stop=res.events[-1].what, t_end=float(res.events[-1].t), rtol=res.rtol,
                 dt=res.dt, seconds=res.seconds, effects=effects, events=events,
-                phases=phases, final=final, checks=checks,
+                phases=phases, final=final, forces=forces, checks=checks,
                 impacts=sum(1 for e in res.events if e.kind == "impact"))
 
 
@@ -206,33 +211,38 @@ def render_plain(rep: dict, sig: int = 6) -> str:
                  [[s["body"], f(s["x"]), f(s["y"]),
                    "-" if s["angle"] is None else f(math.degrees(s["angle"])),
                    f(s["vx"]), f(s["vy"]), f(s["omega"])] for s in rep["final"]])
+    if rep["forces"]:
+        out += ["", "Constraint forces at the end (N; N*m for moments)"]
+        out += table(["force", "value"], [[k, f(v)] for k, v in rep["forces"].items()])
     out += ["", "Checks"] + [f"  {c['name']}: {c['status']}: {c['detail']}"
                              for c in rep["checks"]]
     return "\n".join(out) + "\n"
 
 
 def render_rich(rep: dict, console, sig: int = 6) -> None:
+    from rich.markup import escape as esc
     from rich.table import Table
 
     f = lambda x: "-" if x is None else fmt_num(x, sig)  # noqa: E731
     how = f"fixed step dt = {f(rep['dt'])} s" if rep["dt"] else f"rtol {fmt_num(rep['rtol'], 2)}"
-    console.rule(f"[bold]{rep['file']}[/]: {rep['title'] or '(untitled problem)'}")
+    console.rule(f"[bold]{esc(rep['file'])}[/]: {esc(rep['title'] or '(untitled problem)')}")
+    when = "" if rep["stop"].startswith("t = ") else f", t = {f(rep['t_end'])} s"
     console.print(f"Simulated from state {rep['start']} with {how}; stopped at "
-                  f"[bold]{rep['stop']}[/], t = {f(rep['t_end'])} s, in "
-                  f"{rep['seconds'] * 1e3:.3g} ms")
-    console.print("[bold]Effects declared[/] (nothing else acts): " + "; ".join(rep["effects"]))
+                  f"[bold]{esc(rep['stop'])}[/]{when}, in {rep['seconds'] * 1e3:.3g} ms")
+    console.print("[bold]Effects declared[/] (nothing else acts): " + esc("; ".join(rep["effects"])))
     t = Table(title="Events", show_lines=False)
     for h in ("t (s)", "event", "what", "body", "v before (m/s)", "ω before", "v after (m/s)",
               "ω after", "energy lost (J)"):
-        t.add_column(h, justify="right" if h[0] in "tvωe" and h != "event" else "left")
+        t.add_column(h, justify="right" if h[0] in "tvωe" and h != "event" else "left",
+                     overflow="fold")  # a narrow terminal wraps numbers, never cuts them
     for e in rep["events"]:
         for k, b in enumerate(e["bodies"] or [None]):
-            head = [f(e["t"]), e["kind"], e["what"]] if k == 0 else ["", "", ""]
+            head = [f(e["t"]), e["kind"], esc(e["what"])] if k == 0 else ["", "", ""]
             if b is None:
                 t.add_row(*head, "", "", "", "", "", "")
                 continue
             bf = b["before"]
-            t.add_row(*head, b["body"], "-" if bf is None else _vec(bf, 0, sig),
+            t.add_row(*head, esc(b["body"]), "-" if bf is None else _vec(bf, 0, sig),
                       "-" if bf is None else f(bf[2]), _vec(b["after"], 0, sig),
                       f(b["after"][2]),
                       f(e["energy_lost"]) if k == 0 and e["energy_lost"] is not None else "")
@@ -248,13 +258,20 @@ def render_rich(rep: dict, console, sig: int = 6) -> None:
     for h in ("body", "x (m)", "y (m)", "angle (deg)", "vx (m/s)", "vy (m/s)", "ω (rad/s)"):
         s.add_column(h, justify="left" if h == "body" else "right")
     for r in rep["final"]:
-        s.add_row(r["body"], f(r["x"]), f(r["y"]),
+        s.add_row(esc(r["body"]), f(r["x"]), f(r["y"]),
                   "-" if r["angle"] is None else f(math.degrees(r["angle"])), f(r["vx"]),
                   f(r["vy"]), f(r["omega"]))
     console.print(s)
+    if rep["forces"]:
+        c = Table(title="Constraint forces at the end (N; N·m for moments)")
+        c.add_column("force")
+        c.add_column("value", justify="right")
+        for k, v in rep["forces"].items():
+            c.add_row(esc(k), f(v))
+        console.print(c)
     for c in rep["checks"]:
         colour = {"ok": "green", "warning": "yellow"}.get(c["status"], "cyan")
-        console.print(f"[{colour}]{c['status']}[/] {c['name']}: {c['detail']}")
+        console.print(f"[{colour}]{c['status']}[/] {esc(c['name'])}: {esc(c['detail'])}")
 
 
 def json_result(rep: dict | None, name: str, status: str, diagnostics) -> dict:
@@ -262,7 +279,7 @@ def json_result(rep: dict | None, name: str, status: str, diagnostics) -> dict:
     if rep is not None:
         d.update({k: rep[k] for k in ("title", "start", "stop", "t_end", "rtol", "dt",
                                       "seconds", "effects", "events", "phases", "final",
-                                      "checks", "impacts")})
+                                      "forces", "checks", "impacts")})
     return d
 
 
