@@ -346,6 +346,13 @@ def test_energy_is_not_gained_in_a_frictionless_elastic_bounce():
      "    damper d: b to ground damping 2 N\n    until t = 1 s\n", "damping coefficient", 4),
     ("body b: particle(mass = 1 kg)\nstate 1: b at rest\nsimulate from 1:\n    until t = 1 s\n"
      "simulate from 1:\n    until t = 2 s\n", "a file has one `simulate` block", 5),
+    ("body b: particle(mass = 1 kg)\nstate 1: b at rest\nsimulate from 1:\n    until 2 impacts\n",
+     "no contact is watched", 4),
+    ("gravity 9.81 m/s^2 down\nbody b: particle(mass = 1 kg)\nstate 1: b.pos = (0, 0), "
+     "b.v = (0, -1 m/s)\nsimulate from 1:\n    until apex\n", "the motion never ends", 4),
+    (PENDULUM.format(a0="10 deg").replace("until bob.omega = 0", "until 1 impacts\n"
+     "    contact bob with wall: restitution 1") + "surface wall normal (-1, 0) at (2 m, 0)\n",
+     "never ends", 7),
 ])
 def test_bad_simulations_are_located_errors(text, message, line, tmp_path):
     path = tmp_path / "bad.mom"

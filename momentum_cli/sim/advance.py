@@ -21,6 +21,9 @@ from .events import Event, first_root
 from .forces import instant
 
 
+UNBOUNDED_EVALUATIONS = 100_000  # a run without `until t = ...` gives up after these
+
+
 @dataclass
 class Segment:
     t1: float  # absolute time the phase ended
@@ -132,11 +135,20 @@ def integrate(sim, evs) -> Segment:
     counter = [0]
 
     def rhs(t, y):
+        if not (math.isfinite(t) and np.all(np.isfinite(y))):
+            raise ProblemError(f"the motion stopped being finite near t = {sim.t:.6g} s (the "
+                               "integrator's step overflowed: a scale double precision cannot "
+                               "follow)", sim.spec.span, code="simulate")
         f = Frame(model, y[:n], y[n:2 * n])
         inst = instant(model, phase, f)
         counter[0] += 1
         if sim.progress is not None and counter[0] % 256 == 0:
             sim.progress(t, sim.t_end)
+        if counter[0] + sim.evaluations > UNBOUNDED_EVALUATIONS and \
+                not math.isfinite(sim.t_end):
+            raise ProblemError(f"the stop condition is not reached by t = {t:.6g} s "
+                               f"({UNBOUNDED_EVALUATIONS:,} evaluations): add `until t = ...` "
+                               "to bound the run", sim.spec.span, code="simulate")
         out = np.empty(2 * n + 1)
         out[:n] = y[n:2 * n]
         out[n:2 * n] = inst.udot
@@ -165,6 +177,9 @@ def integrate(sim, evs) -> Segment:
         hit = first_of([evs[k] for k in near])
         k = next(k for k in near if evs[k] is hit)
         t_hit, y_hit = sol.t_events[k][0], sol.y_events[k][0]
+    if hit is None and not math.isfinite(sim.t_end):
+        raise ProblemError(f"the stop condition is not reached by t = {t_hit:.6g} s: add "
+                           "`until t = ...` to bound the run", sim.spec.span, code="simulate")
     states = [(float(sol.t[k]), sol.y[:, k].copy()) for k in range(1, len(sol.t))
               if sol.t[k] < t_hit]
     states.append((float(t_hit), np.array(y_hit, dtype=float)))

@@ -84,9 +84,11 @@ def _correct(A: np.ndarray, r: np.ndarray, minv: np.ndarray) -> np.ndarray | Non
         return None
 
 
-def project(model: Model, phase: Phase, y: np.ndarray, ref: dict, drift: float) -> float:
+def project(model: Model, phase: Phase, y: np.ndarray, ref: dict,
+            drift: float) -> tuple[float, float]:
     """Project positions, then velocities, onto the constraints (in place); return the
-    largest position violation found before."""
+    largest position violation before and after (after: what double precision allows
+    at these coordinates, at best)."""
     n = model.n
     frame = Frame(model, y[:n], y[n:2 * n])
     worst = max((abs(c) for c in residuals(model, phase, frame, ref)), default=0.0)
@@ -101,6 +103,7 @@ def project(model: Model, phase: Phase, y: np.ndarray, ref: dict, drift: float) 
             break
         y[:n] -= dq
         frame = Frame(model, y[:n], y[n:2 * n])
+    after = max((abs(c) for c in residuals(model, phase, frame, ref)), default=0.0)
     A = rows(model, phase, frame, velocity=True)
     if A:
         A = np.array(A)
@@ -110,7 +113,7 @@ def project(model: Model, phase: Phase, y: np.ndarray, ref: dict, drift: float) 
             du = _correct(A, r, minv)
             if du is not None:
                 y[n:2 * n] -= du
-    return worst
+    return worst, after
 
 
 def drift_event(model: Model, phase: Phase, ref: dict, drift: float) -> Event | None:

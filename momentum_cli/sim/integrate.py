@@ -78,6 +78,7 @@ class SimResult:
     projections: int = 0  # times the drift reached its tolerance and was projected away
     drift_tolerance: float = 0.0  # of the length scale
     phase: object = None  # what held at the end (persistent contacts, locked bearings)
+    drift_raised: bool = False  # positions too coarse for the stated drift tolerance
 
     def frame(self, k: int = -1) -> Frame:
         y = self.states[k]
@@ -133,6 +134,11 @@ class Simulator:
         self.model = model = build_model(scene, spec)
         start = state_values(scene, spec.start, True, spec.span)
         _watches(model, scene, spec)
+        for u in spec.untils:
+            if u.kind == "impacts" and not model.watches:
+                raise ProblemError("no contact is watched, so there will be no impacts: add "
+                                   "`contact A with B: restitution e` to the simulate block",
+                                   u.span, code="simulate")
         self.y = _initial(model, start)
         self.t = 0.0
         self.t_end = min([u.value for u in spec.untils if u.kind == "time"] +
@@ -169,6 +175,8 @@ class Simulator:
         self.drift = tolerance(None if dt is not None else rtol)
         self.max_drift = 0.0  # largest constraint violation met (before each projection)
         self.projections = 0
+        self.evaluations = 0  # of the accelerations, over the run
+        self.drift_raised = False  # the drift tolerance had to be loosened (see _project)
         self.phase = Phase()
 
     def frame(self, y=None) -> Frame:
@@ -208,7 +216,8 @@ class Simulator:
                                     _velocities(self.frame(), self.model)))
         return SimResult(self.model, self.events, self.phases, self.times, self.states, stop,
                          self.rtol, self.dt, time.perf_counter() - began, self.E0,
-                         self.max_drift, self.projections, self.drift, self.phase)
+                         self.max_drift, self.projections, self.drift, self.phase,
+                         self.drift_raised)
 
     def _reached(self) -> bool:
         """A stop condition that holds at this event's instant (it was reached at the same
@@ -329,8 +338,12 @@ class Simulator:
     def _project(self) -> None:
         """Put positions and velocities back on the phase's constraints (the mass-weighted
         least change), so drift never accumulates across phases."""
-        self.max_drift = max(self.max_drift, project(self.model, self.phase, self.y, self.ref,
-                                                          self.drift))
+        before, after = project(self.model, self.phase, self.y, self.ref, self.drift)
+        self.max_drift = max(self.max_drift, before)
+        L = self.model.length_scale
+        if after > 0.5 * self.drift * L:  # coordinates too coarse to hold the tolerance
+            self.drift = 2 * after / L
+            self.drift_raised = True
 
     def _events(self) -> list[Event]:
         model, phase = self.model, self.phase
@@ -416,7 +429,13 @@ class Simulator:
         drift = self._drift([y0] + [y for _, y in seg.states])
         self.phases.append(PhaseRow(self.t, seg.t1, seg.method, seg.steps, seg.evaluations,
                                     drift))
+        self.evaluations += seg.evaluations
         self.t, self.y = seg.t1, seg.states[-1][1].copy()
+        if seg.hit is not None and seg.hit.kind == "drift" and seg.steps < 4:
+            # drifting out again within a few steps of a projection: the coordinates are
+            # too coarse (huge angles or positions) for the tolerance; loosen it
+            self.drift *= 10
+            self.drift_raised = True
         if self.progress is not None:
             self.progress(self.t, self.t_end)
         return self._after(seg.hit)
