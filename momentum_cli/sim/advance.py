@@ -20,7 +20,6 @@ from .dynamics import Frame
 from .events import Event, first_root
 from .forces import instant
 
-
 UNBOUNDED_EVALUATIONS = 100_000  # a run without `until t = ...` gives up after these
 
 

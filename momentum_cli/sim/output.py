@@ -231,7 +231,8 @@ def render_rich(rep: dict, console, sig: int = 6) -> None:
     when = "" if rep["stop"].startswith("t = ") else f", t = {f(rep['t_end'])} s"
     console.print(f"Simulated from state {rep['start']} with {how}; stopped at "
                   f"[bold]{esc(rep['stop'])}[/]{when}, in {rep['seconds'] * 1e3:.3g} ms")
-    console.print("[bold]Effects declared[/] (nothing else acts): " + esc("; ".join(rep["effects"])))
+    console.print("[bold]Effects declared[/] (nothing else acts): " +
+                  esc("; ".join(rep["effects"])))
     t = Table(title="Events", show_lines=False)
     for h in ("t (s)", "event", "what", "body", "v before (m/s)", "ω before", "v after (m/s)",
               "ω after", "energy lost (J)"):
