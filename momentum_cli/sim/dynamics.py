@@ -188,12 +188,18 @@ def normal_row(frame: Frame, w: Watch, geometry):
 
 
 def tangent_row(frame: Frame, w: Watch, geometry):
-    """Row and acceleration term of the slip rate along t = (-n_y, n_x) at a plane."""
+    """Row and acceleration term of the slip rate along t = (-n_y, n_x): a's contact
+    point relative to b's (the ground's is still). Between two bodies the turning of
+    the normal is left out of the acceleration term: exact for a fixed normal."""
     gap, n, c, ra, rb = geometry
     t = (-n[1], n[0])
-    round_a = w.ra > 0
-    Ja, ba = frame.point_jac(w.a.body, ra, centripetal=not round_a)
-    return t[0] * Ja[0] + t[1] * Ja[1], t[0] * ba[0] + t[1] * ba[1], t
+    Ja, ba = frame.point_jac(w.a.body, ra, centripetal=not w.ra > 0)
+    row, beta = t[0] * Ja[0] + t[1] * Ja[1], t[0] * ba[0] + t[1] * ba[1]
+    if rb is not None:
+        Jb, bb = frame.point_jac(w.b.body, rb, centripetal=not w.rb > 0)
+        row = row - (t[0] * Jb[0] + t[1] * Jb[1])
+        beta -= t[0] * bb[0] + t[1] * bb[1]
+    return row, beta, t
 
 
 # ---- forces -----------------------------------------------------------------------------
