@@ -5,6 +5,8 @@ the way (for the time series and the energy check) and how it was computed.
   quadratic   constant accelerations, events that are quadratics in time: exact roots
   pendulum    bodies swinging on pins under gravity alone: elliptic functions, events
               bracketed by sampling 64 points a period and found by false position
+  coasting    constant accelerations with events that are not quadratics (round bodies
+              closing on each other, points of turning bodies): sampled the same way
   integrate   scipy's solve_ivp (DOP853 at rtol, or fixed steps dt), events located
               on its dense output
 """
@@ -77,29 +79,80 @@ def quadratic(sim, evs, polys, inst) -> Segment:
 
 
 def pendulum(sim, evs, flow) -> Segment:
-    from .elliptic import root
-
-    model, n, t0 = sim.model, sim.model.n, sim.t
-    horizon = sim.t_end - t0
+    horizon = sim.t_end - sim.t
     span = horizon if math.isfinite(horizon) else 1.05 * flow.period
     if not math.isfinite(span):
         raise _never_ends(sim)
     h = min(span, flow.period / 64) if math.isfinite(flow.period) else span / 64
+    return _sampled(sim, evs, flow.state, lambda s, y: h, span,
+                    "the motion never ends: nothing stops it within a period")
+
+
+def coasting(sim, evs, inst) -> Segment:
+    """Constant accelerations, but an event that is not a quadratic in time (two round
+    bodies closing, a point on a turning body): the closed form, sampled finely enough
+    that nothing moves more than a fifth of the smallest size between samples."""
+    model, n, y0, a = sim.model, sim.model.n, sim.y.copy(), inst.udot
+    sizes = [r for w in model.watches for r in (w.ra, w.rb) if r > 0]
+    size = min(sizes + [model.length_scale])
+    acc = max([abs(x) for x in a] + [1e-300])
+
+    def state(s):
+        y = y0.copy()
+        y[:n] = y0[:n] + y0[n:2 * n] * s + 0.5 * a * s * s
+        y[n:2 * n] = y0[n:2 * n] + a * s
+        return y
+
+    def step(s, y):
+        f = Frame(model, y[:n], y[n:2 * n])
+        speed = max([max(abs(vx), abs(vy)) for vx, vy, _ in f.twist.values()] + [1e-300])
+        turn = max([abs(w) for _, _, w in f.twist.values()] + [1e-300])
+        return min(0.2 * size / speed, 0.2 / turn, math.sqrt(0.4 * size / acc))
+
+    horizon = sim.t_end - sim.t
+    seg = _sampled(sim, [e for e in evs if not e.needs_instant and e.kind != "drift"], state,
+                   step, horizon, "the stop condition is not reached")
+    t0, p0 = sim.t, inst.power
+    p1 = instant(model, sim.phase, Frame(model, *_qu(seg.states[-1][1], n))).power
+    span = seg.t1 - t0
+    for t, y in seg.states:  # the power of constant forces is linear in time here
+        s = t - t0
+        y[2 * n] = y0[2 * n] + p0 * s + (0.5 * (p1 - p0) / span * s * s if span else 0.0)
+    return seg
+
+
+def _qu(y, n):
+    return y[:n], y[n:2 * n]
+
+
+def _sampled(sim, evs, state, step, span: float, never: str,
+             max_samples: int = 100_000) -> Segment:
+    """Events of a known motion `state(s)` (s: time since the phase began): bracketed by
+    samples `step(s, y)` apart, then found by false position."""
+    from .elliptic import root
+
+    model, n, t0 = sim.model, sim.model.n, sim.t
 
     def g(e, s):
-        y = flow.state(s)
+        y = state(s)
         return e.fn(Frame(model, y[:n], y[n:2 * n]), None)
 
-    signs = []  # the sign each function leaves the start with (None: still zero)
+    # the sign each function leaves the start with, a moment after it (a contact that
+    # separates from a round-off overlap starts below zero, but is rising); None: zero
+    first = min(step(0.0, state(0.0)), span) * 1e-9
+    signs = []
     for e in evs:
-        v0 = g(e, 0.0)
+        v0 = g(e, first)
         signs.append(math.copysign(1.0, v0) if v0 != 0 else None)
-    prev, s = 0.0, 0.0
+    prev, s, y = first, first, state(first)
     hit, best = None, span
     samples = []
     while s < span and hit is None:
-        s = min(s + h, span)
-        y = flow.state(s)
+        if len(samples) > max_samples:
+            raise ProblemError(f"{never} by t = {t0 + s:.6g} s: add `until t = ...` to bound "
+                               "the run", sim.spec.span, code="simulate")
+        s = min(s + step(s, y), span)
+        y = state(s)
         f = Frame(model, y[:n], y[n:2 * n])
         found = []
         for k, e in enumerate(evs):
@@ -118,11 +171,11 @@ def pendulum(sim, evs, flow) -> Segment:
             break
         samples.append((s, y))
         prev = s
-    if hit is None and s < horizon:
-        raise ProblemError("the motion never ends: nothing stops it within a period "
-                           "(add `until t = ...`)", sim.spec.span, code="simulate")
-    states = [(t0 + s_, y) for s_, y in samples if s_ < best] + [(t0 + best,
-                                                                   flow.state(best))]
+    if hit is None and not math.isfinite(span):
+        raise _never_ends(sim)
+    if hit is None and s < sim.t_end - t0:
+        raise ProblemError(f"{never} (add `until t = ...`)", sim.spec.span, code="simulate")
+    states = [(t0 + s_, y_) for s_, y_ in samples if s_ < best] + [(t0 + best, state(best))]
     return Segment(t0 + best, hit, states, "closed form", len(states), len(states))
 
 

@@ -211,7 +211,10 @@ class Simulator:
             if stop:
                 break
         else:
-            stop = "events"
+            raise ProblemError(f"the stop condition is not reached in {MAX_EVENTS:,} events "
+                               f"(at t = {self.t:.6g} s, after {self.impacts} impacts)",
+                               self.spec.span, code="simulate",
+                               notes=["bound the run with `until t = ...` or fewer impacts"])
         self.events.append(EventRow(self.t, "stop", _stop_text(stop, self), {},
                                     _velocities(self.frame(), self.model)))
         return SimResult(self.model, self.events, self.phases, self.times, self.states, stop,
@@ -418,6 +421,7 @@ class Simulator:
             polys = [e.poly(frame, inst.udot) if e.poly else None for e in evs]
             if all(p is not None for p in polys):
                 return self._finish(advance.quadratic(self, evs, polys, inst))
+            return self._finish(advance.coasting(self, evs, inst))
         return self._finish(advance.integrate(self, evs))
 
     def _finish(self, seg) -> str | None:
@@ -473,8 +477,7 @@ class Simulator:
 
 def _stop_text(stop: str, sim: Simulator) -> str:
     texts = {"time": f"t = {sim.t_end:g} s", "impacts": f"{sim.impacts} impacts",
-             "apex": "apex", "until": getattr(sim, "stop_what", "stop condition"),
-             "events": "too many events"}
+             "apex": "apex", "until": getattr(sim, "stop_what", "stop condition")}
     return texts.get(stop, stop)
 
 
