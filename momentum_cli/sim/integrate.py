@@ -101,6 +101,8 @@ def _initial(model: Model, start: dict) -> np.ndarray:
 
 
 def _watches(model: Model, scene: Scene, spec) -> None:
+    """The contacts to watch: the simulate block's, then the transitions' (placed where
+    the file says they touch); labels made unique."""
     declared = {(c.a.name, c.b.name if c.b else c.surface or "ground") for c in spec.contacts}
     model.watches = [watch_for(model, c, None) for c in spec.contacts]
     placed: dict[str, dict] = {}
@@ -126,8 +128,10 @@ def _velocities(frame: Frame, model: Model) -> dict:
 
 
 class Simulator:
+    """One run: the state, the phase that holds, and what has happened so far."""
+
     def __init__(self, scene: Scene, spec, rtol: float = 1e-9, dt: float | None = None,
-                 progress=None, max_time: float | None = None, closed_forms: bool = True):
+                 progress=None, closed_forms: bool = True):
         self.scene, self.spec, self.rtol, self.dt = scene, spec, rtol, dt
         self.closed_forms = closed_forms
         self.progress = progress
@@ -141,8 +145,7 @@ class Simulator:
                                    u.span, code="simulate")
         self.y = _initial(model, start)
         self.t = 0.0
-        self.t_end = min([u.value for u in spec.untils if u.kind == "time"] +
-                         ([max_time] if max_time else []), default=math.inf)
+        self.t_end = min([u.value for u in spec.untils if u.kind == "time"], default=math.inf)
         self.max_impacts = min([int(u.value) for u in spec.untils if u.kind == "impacts"],
                                default=None)
         self.spec_qty = [u for u in spec.untils if u.kind == "qty"]
@@ -178,6 +181,8 @@ class Simulator:
         self.evaluations = 0  # of the accelerations, over the run
         self.drift_raised = False  # the drift tolerance had to be loosened (see _project)
         self.phase = Phase()
+        self.stop_what = "stop condition"  # the `until` that ended the run
+        self.lift_off = 0.0  # set by _events for the phase about to be advanced
 
     def frame(self, y=None) -> Frame:
         y = self.y if y is None else y
@@ -477,7 +482,7 @@ class Simulator:
 
 def _stop_text(stop: str, sim: Simulator) -> str:
     texts = {"time": f"t = {sim.t_end:g} s", "impacts": f"{sim.impacts} impacts",
-             "apex": "apex", "until": getattr(sim, "stop_what", "stop condition")}
+             "apex": "apex", "until": sim.stop_what}
     return texts.get(stop, stop)
 
 
