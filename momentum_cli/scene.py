@@ -355,7 +355,11 @@ class _Builder:
             raise ProblemError("no bodies: declare one with `body NAME: rod(mass = ..., length = "
                                "...)`", Span(1, 1), code="empty", caret=False)
         if not finds:
-            self.notes.note("no `find` line: every determined unknown is solved", None)
+            if any(isinstance(s, S.SimulateDecl) for s in st):
+                self.notes.note("no `find` line: every determined unknown is solved (the "
+                                "`simulate` block runs with `momentum simulate`)", None)
+            else:
+                self.notes.note("no `find` line: every determined unknown is solved", None)
         steady = [s for s in st if isinstance(s, S.SteadyDecl)]
         names = set(self.bodies) | set(self.points) | set(self.surfaces)
         for s in steady:
