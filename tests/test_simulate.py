@@ -495,3 +495,14 @@ def test_elliptic_functions_agree_with_scipy():
         assert ellipk(m) == pytest.approx(sK(m), rel=5e-15)
     assert root(lambda x: math.cos(x) - x, 0.0, 1.0) == pytest.approx(0.7390851332151607,
                                                                       rel=1e-15)
+
+
+def test_rod_end_strikes_a_wheel_with_friction():
+    res = run_file(EXAMPLES / "simulate/rod_end_strikes_wheel.mom")
+    (hit,) = impacts(res)
+    assert hit.t == pytest.approx((1.5 - 0.5 - math.sqrt(0.2 ** 2 - 0.1 ** 2)) / 2, rel=1e-12)
+    p = [1 * hit.after["stick"][k] + 2 * hit.after["wheel"][k] for k in (0, 1)]
+    assert p == pytest.approx([2.0, 0.0], abs=1e-12)  # no external impulse on the table
+    jn, jt = hit.impulses["J_n[stick.end(+)-wheel]"], hit.impulses["J_t[stick.end(+)-wheel]"]
+    assert abs(jt) == pytest.approx(0.2 * jn, rel=1e-12) and "slides" in hit.note
+    assert hit.energy_lost > 0

@@ -276,7 +276,8 @@ class Simulator:
                 group += more
             T0, T1 = kinetic(self.model, frame), kinetic(self.model, f2)
             what = ", ".join(w.label for w, _ in group)
-            note = ", ".join(f"{k} {v}" for k, v in sorted(regimes.items()))
+            note = ", ".join(f"{k.split(':', 1)[-1]} {'sticks' if v == 'stick' else 'slides'}"
+                             for k, v in sorted(regimes.items()))
             self.events.append(EventRow(self.t, "impact", what, before, after, T0 - T1,
                                         impulses, note))
             self.impacts += 1
