@@ -506,3 +506,20 @@ def test_rod_end_strikes_a_wheel_with_friction():
     jn, jt = hit.impulses["J_n[stick.end(+)-wheel]"], hit.impulses["J_t[stick.end(+)-wheel]"]
     assert abs(jt) == pytest.approx(0.2 * jn, rel=1e-12) and "slides" in hit.note
     assert hit.energy_lost > 0
+
+
+def test_a_given_normal_between_round_bodies_keeps_both_radii():
+    """Two spheres (r = 0.1 m and 0.2 m) on a line, the contact normal given: they touch
+    when their centres are 0.3 m apart, 0.7 m of closing at 2 m/s."""
+    res = run("""
+body a: sphere(mass = 1 kg, radius = 0.1 m)
+body b: sphere(mass = 1 kg, radius = 0.2 m)
+state 1: a.pos = (0, 0), b.pos = (1 m, 0), a.v = (2 m/s, 0), b at rest, a.omega = 0
+simulate from 1:
+    contact a with b normal (-1, 0): restitution 1
+    until 1 impacts
+""")
+    (hit,) = impacts(res)
+    assert hit.t == pytest.approx(0.7 / 2, rel=1e-12)
+    assert hit.after["a"][0] == pytest.approx(0.0, abs=1e-12)  # equal masses, e = 1: swap
+    assert hit.after["b"][0] == pytest.approx(2.0, rel=1e-12)

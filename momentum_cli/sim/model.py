@@ -114,11 +114,9 @@ def watch_for(model: Model, c: Contact, placed_at: dict | None) -> Watch:
     scene = model.scene
     ra = _radius(scene, c.a)
     if c.b is not None:
-        rb = _radius(scene, c.b)
-        w = Watch(c.label, c.a, c.b, c.normal if (ra == 0 and rb == 0) or c.normal else None,
-                  ra, rb, c)
-        if w.normal is not None:
-            w.ra = w.rb = 0.0 if placed_at is not None else w.ra
+        w = Watch(c.label, c.a, c.b, c.normal, ra, _radius(scene, c.b), c)
+        if c.normal is not None and placed_at is not None:
+            w.ra = w.rb = 0.0  # the gap along the normal is measured from where it touches
     else:
         sf = scene.surfaces.get(c.surface) if c.surface else None
         w = Watch(c.label, c.a, None, c.normal, ra, 0.0, c,
