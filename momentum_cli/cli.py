@@ -386,14 +386,10 @@ def simulate(
             continue
         console = _render(res.report, mode, console, i, digits, simulation=True)
     if mode == "json":
-        import json
-
         from . import __version__
-        from .report.json_out import clean
+        from .report.json_out import document
 
-        out.write(json.dumps({"schema_version": "1", "momentum_version": __version__,
-                              "simulations": clean(results)}, indent=2, allow_nan=False,
-                             ensure_ascii=not _is_utf8(out)) + "\n")
+        out.write(document(results, __version__, not _is_utf8(out), key="simulations"))
     out.flush()
     raise typer.Exit(int(worst))
 

@@ -49,9 +49,11 @@ def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=N
     return d
 
 
-def document(results: list[dict], version: str, ascii_only: bool = False) -> str:
-    """The JSON document; `ascii_only` escapes non-ASCII text as \\uXXXX (for a stdout
-    whose encoding is not UTF-8: the output stays valid JSON)."""
+def document(results: list[dict], version: str, ascii_only: bool = False,
+             key: str = "results") -> str:
+    """The JSON document (`results` of solve, `simulations` of simulate); `ascii_only`
+    escapes non-ASCII text as \\uXXXX (for a stdout whose encoding is not UTF-8: the
+    output stays valid JSON)."""
     doc = {"schema_version": SCHEMA_VERSION, "momentum_version": version,
-           "results": clean(results)}
+           key: clean(results)}
     return json.dumps(doc, allow_nan=False, indent=2, ensure_ascii=ascii_only) + "\n"

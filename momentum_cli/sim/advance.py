@@ -113,16 +113,13 @@ def coasting(sim, evs, inst) -> Segment:
     seg = _sampled(sim, [e for e in evs if not e.needs_instant and e.kind != "drift"], state,
                    step, horizon, "the stop condition is not reached")
     t0, p0 = sim.t, inst.power
-    p1 = instant(model, sim.phase, Frame(model, *_qu(seg.states[-1][1], n))).power
+    y1 = seg.states[-1][1]
+    p1 = instant(model, sim.phase, Frame(model, y1[:n], y1[n:2 * n])).power
     span = seg.t1 - t0
     for t, y in seg.states:  # the power of constant forces is linear in time here
         s = t - t0
         y[2 * n] = y0[2 * n] + p0 * s + (0.5 * (p1 - p0) / span * s * s if span else 0.0)
     return seg
-
-
-def _qu(y, n):
-    return y[:n], y[n:2 * n]
 
 
 def _sampled(sim, evs, state, step, span: float, never: str,

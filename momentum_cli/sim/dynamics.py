@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .model import Model, SimBody, Watch, rot
+from .model import Model, Watch, rot
 
 
 class Frame:
@@ -242,6 +242,3 @@ def mass_diagonal(frame: Frame, model: Model) -> list[float]:
             d[i + 2] = b.inertia if b.inertia > 0 else 1.0  # a massless-inertia body: no moment
     return d
 
-
-def body_of(model: Model, name: str) -> SimBody:
-    return model.by_name[name]

@@ -26,7 +26,6 @@ class Event:
     direction: int = 0
     needs_instant: bool = False
     poly: Callable | None = None  # (frame, udot) -> (c0, c1, c2), closed-form phases only
-    watch: Watch | None = None
 
 
 def gap_event(model: Model, w: Watch, shift: float = 0.0) -> Event:
@@ -46,7 +45,7 @@ def gap_event(model: Model, w: Watch, shift: float = 0.0) -> Event:
             gap = contact_geometry(frame, w)[0] + shift
             vx, vy, _ = frame.twist[b.name]
             return (gap, vx * n[0] + vy * n[1], 0.5 * (udot[i] * n[0] + udot[i + 1] * n[1]))
-    return Event("contact", w.label, fn, -1, poly=poly, watch=w)
+    return Event("contact", w.label, fn, -1, poly=poly)
 
 
 def separation_event(w: Watch) -> Event:
@@ -54,7 +53,7 @@ def separation_event(w: Watch) -> Event:
         return inst.lam.get(f"N[{w.label}]", 0.0)
 
     return Event("separate", w.label, fn, -1, needs_instant=True,
-                 poly=lambda frame, udot: (1.0, 0.0, 0.0), watch=w)
+                 poly=lambda frame, udot: (1.0, 0.0, 0.0))
 
 
 def slip_event(w: Watch) -> Event:
@@ -72,7 +71,7 @@ def slip_event(w: Watch) -> Event:
         return (fn(frame, None), float(row @ udot) + beta, 0.0)
 
     return Event("stick", w.label, fn, 0, poly=poly if w.ra > 0 or w.a.offset == (0.0, 0.0)
-                 else None, watch=w)
+                 else None)
 
 
 def stick_limit_event(w: Watch) -> Event:
@@ -81,7 +80,7 @@ def stick_limit_event(w: Watch) -> Event:
             abs(inst.lam.get(f"F_t[{w.label}]", 0.0))
 
     return Event("slip", w.label, fn, -1, needs_instant=True,
-                 poly=lambda frame, udot: (1.0, 0.0, 0.0), watch=w)
+                 poly=lambda frame, udot: (1.0, 0.0, 0.0))
 
 
 def bearing_events(model: Model, label: str, locked: bool) -> Event:

@@ -75,7 +75,7 @@ def _pair_rows(frame: Frame, j):
     return Ja - Jb, np.array(ba) - np.array(bb)
 
 
-def _rotation_row(frame: Frame, model: Model, a: str, b: str | None):
+def _rotation_row(frame: Frame, a: str, b: str | None):
     row = frame.jac[a][2].copy()
     if b is not None:
         row -= frame.jac[b][2]
@@ -107,7 +107,7 @@ def joint_rows(frame: Frame, model: Model) -> list:
         for k, axis in enumerate("xy"):
             out.append((f"F{axis}[{j.label}]", J[k], beta[k]))
         if j.kind == "weld":
-            out.append((f"M[{j.label}]", _rotation_row(frame, model, j.a.body, j.b.body), 0.0))
+            out.append((f"M[{j.label}]", _rotation_row(frame, j.a.body, j.b.body), 0.0))
     return out
 
 
@@ -143,7 +143,7 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
     for label, torque in model.bearings.items():
         a, b = pin_bodies(model, label)
         if label in phase.locked:
-            r = _rotation_row(frame, model, a, b)
+            r = _rotation_row(frame, a, b)
             rows.append(r)
             cols.append(r)
             betas.append(0.0)

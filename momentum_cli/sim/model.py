@@ -8,7 +8,7 @@ x, y) and the remaining joints and persistent contacts enter as constraint force
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..diagnostics import ProblemError
 from ..scene import Contact, Joint, PointOn, Scene
@@ -57,7 +57,6 @@ class Model:
     bearings: dict[str, float]  # pin label -> friction torque
     watches: list[Watch]
     length_scale: float = 1.0
-    notes: list[str] = field(default_factory=list)
 
 
 def rot(theta: float, r: tuple[float, float]) -> tuple[float, float]:

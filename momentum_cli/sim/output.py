@@ -30,7 +30,8 @@ def build(name: str, res: SimResult) -> dict:
     """Everything the renderers print, in SI."""
     model, scene = res.model, res.model.scene
     sim = scene.simulations[0]
-    L, V = model.length_scale, _v_scale(res)
+    L = model.length_scale
+    V, scale = _scales(res)
     floor = max(SNAP, 10 * res.rtol) if res.dt is None else 1e-6  # below the integration error
 
     def snap(x, scale):
@@ -99,7 +100,6 @@ def build(name: str, res: SimResult) -> dict:
         from .forces import instant
 
         forces = {k: _snap(v, 1.0, 1e-12) for k, v in instant(model, res.phase, frame).lam.items()}
-    scale = _energy_scale(res)
     drift = max([p.drift for p in res.phases], default=0.0)
     rel = drift / scale
     checks = []
@@ -139,30 +139,21 @@ def build(name: str, res: SimResult) -> dict:
                 impacts=sum(1 for e in res.events if e.kind == "impact"))
 
 
-def _v_scale(res: SimResult) -> float:
-    """The largest speed along the run (omega times the length scale for turning)."""
+def _scales(res: SimResult) -> tuple[float, float]:
+    """The largest speed along the run (omega times the length scale for turning) and the
+    energy it moves around (|E0|, or the largest kinetic energy: E0 alone is 0 for a
+    body released at the height chosen as zero), in one pass over the states."""
     n, L = res.model.n, res.model.length_scale
-    from .dynamics import Frame
-
-    top = 1e-30
-    for y in res.states:
-        f = Frame(res.model, y[:n], y[n:2 * n])
-        for vx, vy, w in f.twist.values():
-            top = max(top, abs(vx), abs(vy), abs(w) * L)
-    return top
-
-
-def _energy_scale(res: SimResult) -> float:
-    """The energy the run moves around: |E0| or the largest kinetic energy (E0 alone is
-    0 for a body released at the height chosen as zero)."""
-    n = res.model.n
     from .dynamics import Frame
     from .forces import kinetic
 
-    Es = [abs(res.energy0)]
-    for y in res.states[:: max(1, len(res.states) // 200)] + res.states[-1:]:
-        Es.append(kinetic(res.model, Frame(res.model, y[:n], y[n:2 * n])))
-    return max(Es + [1e-300])
+    speed, E = 1e-30, abs(res.energy0)
+    for y in res.states:
+        f = Frame(res.model, y[:n], y[n:2 * n])
+        for vx, vy, w in f.twist.values():
+            speed = max(speed, abs(vx), abs(vy), abs(w) * L)
+        E = max(E, kinetic(res.model, f))
+    return speed, max(E, 1e-300)
 
 
 def _vec(v, k=0, sig=6):

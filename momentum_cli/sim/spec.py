@@ -14,7 +14,6 @@ from ..source import Span
 from ..units import FORCE, MOMENT, TIME
 
 DAMPING = (1, 0, -1)  # N*s/m = kg/s
-STATE_QTYS = ("x", "y", "angle", "vx", "vy", "omega")
 
 
 @record(frozen=True)
@@ -106,14 +105,14 @@ def _until(b, c: S.Until) -> Until:
                 raise ProblemError("a stop time must be positive", c.right.span, code="number")
             return Until("time", c.span, t)
         if left.member is not None:
-            from ..scene import STATE_QTYS as DIMS
+            from ..scene import STATE_QTYS
 
             body = b._body_named(left.name, left.span)
             if left.member not in STATE_QTYS:
                 raise ProblemError(f"'{left.member}' is not a state quantity" +
                                    did_you_mean(left.member, STATE_QTYS), left.span, code="name")
             b._qty(body, left.member, left.span)
-            v = b.value(c.right, DIMS[left.member][0], f"{left.name}.{left.member}")
+            v = b.value(c.right, STATE_QTYS[left.member][0], f"{left.name}.{left.member}")
             return Until("qty", c.span, v, body.name, left.member)
     raise ProblemError("`until` takes `t = 5 s`, `BODY.QTY = value` (x, y, angle, vx, vy, "
                        "omega), `apex` or `N impacts`", c.span, code="name")

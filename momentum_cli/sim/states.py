@@ -24,7 +24,7 @@ def _reduced(scene: Scene, spec: StateSpec) -> Scene:
 def _given_directly(scene: Scene, spec: StateSpec, need_velocities: bool) -> dict | None:
     """The values without solving, when the state gives them all, or gives the angle (and
     omega) of a body whose only joint is a pin to the ground (the pin places it)."""
-    import math
+    from .model import rot
 
     joints = [j for j in scene.joints if j.kind != "spring" and j.from_state is None]
     if spec.rolls:
@@ -37,9 +37,7 @@ def _given_directly(scene: Scene, spec: StateSpec, need_velocities: bool) -> dic
                 not b.is_particle and "angle" in g and \
                 (not need_velocities or "omega" in g) and not ({"x", "y", "vx", "vy"} & set(g)):
             j, th = mine[0], g["angle"]
-            c, s_ = math.cos(th), math.sin(th)
-            px, py = j.a.offset
-            rx, ry = -(c * px - s_ * py), -(s_ * px + c * py)  # G - O
+            rx, ry = rot(th, (-j.a.offset[0], -j.a.offset[1]))  # G - O
             w = g.get("omega", 0.0)
             out[name] = {"angle": th, "x": j.b.offset[0] + rx, "y": j.b.offset[1] + ry,
                          "vx": -w * ry, "vy": w * rx, "omega": w}
