@@ -18,6 +18,11 @@ from dataclasses import field
 
 from . import syntax as S
 from .diagnostics import Collector, ProblemError
+from .elements.base import FrictionSite, ImpulseSource, Phase
+from .elements.contacts import ContactElement
+from .elements.joints import BearingFriction, joint_element
+from .elements.keys import duration_key, state_key
+from .elements.kinds import KeyKind, PhaseKind, TransitionKind
 from .expr import (
     V2,
     ZERO,
@@ -27,31 +32,23 @@ from .expr import (
     Var,
     add,
     add_all,
-    evaluate,
     mul,
     neg,
     omega_cross,
-    power,
     rotate,
     to_text,
-    variables,
 )
 from .principles import PrinciplesMixin, _acts_on, _internal
 from .records import record
 from .references import FindSpec, ReferencesMixin
 from .scene import (
     STATE_QTYS,
-    Contact,
-    Joint,
     PointOn,
     Scene,
     TransitionSpec,
 )
 from .source import Span
 from .units import (
-    ANGULAR_IMPULSE,
-    IMPULSE,
-    NONE,
     TIME,
     Dim,
     si_label,
@@ -63,7 +60,7 @@ class Unknown:
     name: str
     dim: Dim
     unit: str
-    kind: str  # state | impulse | angular-impulse | restitution | duration | user | derived
+    kind: KeyKind  # state | impulse | angular-impulse | restitution | duration | user | derived
     hints: list[tuple[str, float, Span]] = field(default_factory=list)
     state: str | None = None
     body: str | None = None
@@ -97,33 +94,6 @@ class Equation:
             t = self._texts[numeric] = f"{to_text(self.lhs, numeric)} = " \
                                        f"{to_text(self.rhs, numeric)}"
         return t
-
-
-@record
-class ImpulseSource:
-    """An impulse source acting during a transition, for 'why a principle holds'."""
-
-    bodies: tuple[str | None, str | None]  # the two sides (None: ground)
-    point: str  # the name of where it acts
-    direction: tuple[float, float] | None  # None: any direction in the plane
-    torque_only: bool = False
-    what: str = ""
-
-
-@record
-class FrictionSite:
-    """A contact whose tangential law depends on a regime chosen at solve time."""
-
-    key: str
-    label: str
-    transition: str
-    mu: float
-    jn: str
-    jt: str | None
-    regime: str  # stick | slide+ | slide-
-    slip_expr: E | None  # tangential slip velocity whose sign the slide must oppose
-    span: Span
-    decided: bool = True  # False: the slip direction is re-checked after solving
 
 
 @record
@@ -190,9 +160,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._reach: dict[str, set] | None = None
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
         self.tspecs = {t.key: t for t in scene.transitions}
+        self.joints = [joint_element(jt, scene) for jt in scene.joints]
+        self._by_label = {j.label: j for j in self.joints}
 
     # ---- unknowns and state variables ------------------------------------------------------
-    def unknown(self, name: str, dim: Dim, kind: str, unit: str | None = None, **kw) -> Var:
+    def unknown(self, name: str, dim: Dim, kind: KeyKind, unit: str | None = None, **kw) -> Var:
         if name not in self.unknowns:
             self.unknowns[name] = Unknown(name, dim, unit or si_label(dim), kind, **kw)
         return Var(name)
@@ -251,10 +223,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _linked(self, body: str, qty: str, t: TransitionSpec) -> bool:
         """Whether transition t leaves this quantity of this body unchanged."""
-        if t.kind == "energy":
+        if t.kind == TransitionKind.ENERGY:
             return False
         if qty in ("x", "y", "angle"):
-            return not (t.kind == "interval" and self._given((body, qty, t.after)) is not None)
+            return not (t.kind == TransitionKind.INTERVAL and self._given((body, qty, t.after)) is not None)
         return body not in self._busy[t.key]
 
     def _given(self, key):
@@ -270,14 +242,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if b.is_particle and qty in ("angle", "omega"):
             return ZERO
         key = self._find((body, qty, sid))
-        name = f"{key[0]}.{key[1]}@{key[2]}"
+        name = state_key(*key)
         given = self._given(key)
         if given is not None:
             return Known(name, given[0])
         dim, unit = STATE_QTYS[qty]
         st = self.scene.states[key[2]]
         hints = list(st.hints.get((body, qty), []))
-        v = self.unknown(name, dim, "state", unit, state=key[2], body=body, qty=qty)
+        v = self.unknown(name, dim, KeyKind.STATE, unit, state=key[2], body=body, qty=qty)
         u = self.unknowns[name]
         for h in hints:
             if h not in u.hints:
@@ -362,12 +334,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             for cv in sc.steady:
                 self.flows.steady(cv)
         for t in sc.transitions:
-            if t.kind == "energy":
+            if t.kind == TransitionKind.ENERGY:
                 self._energy(t)
             else:
                 self._impulse_phase(t)
         for sid, st in sc.states.items():
-            self._state_constraints(sid)
+            phase = Phase.state(sid)
+            for jt in self.joints:
+                jt.stamp(phase, self)
             for body, surface, span in st.rolls:
                 self._rolling(body, surface, sid, f"state {sid}", span, None)
         for s in sc.stated:
@@ -388,7 +362,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         """
         sc = self.scene
         for t in sc.transitions:
-            if t.kind == "energy":
+            if t.kind == TransitionKind.ENERGY:
                 continue
             self._busy[t.key] = self._busy_bodies(t)
             self._into.setdefault(t.after, []).append(t)
@@ -401,20 +375,21 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                         continue
                     why = ("positions unchanged during an impact" if q in ("x", "y", "angle")
                            else f"no impulse acts on {b}: its velocity is unchanged")
-                    self.eq(Known(f"{b}.{q}@{t.after}", gc[0]), Known(f"{b}.{q}@{sid}", value),
+                    self.eq(Known(state_key(b, q, t.after), gc[0]),
+                            Known(state_key(b, q, sid), value),
                             why, f"{t.kind} {t.before} -> {t.after}", gc[1], "consistency")
 
     def _busy_bodies(self, t: TransitionSpec) -> set[str]:
         """Bodies that something acts on during an impact or interval."""
         sc = self.scene
-        if t.kind == "interval" and sc.gravity is not None:
+        if t.kind == TransitionKind.INTERVAL and sc.gravity is not None:
             return set(sc.bodies)
         busy: set = set()
         for c in t.contacts:
             busy.update((c.a.body, c.b.body if c.b else None))
-        for jt in sc.joints:
-            if jt.kind != "spring" and self._active(jt, t.before):
-                busy.update((jt.a.body, jt.b.body))
+        for jt in self.joints:
+            if jt.acts_in(self, t):
+                busy.update(jt.bodies())
         for _, p, _ in t.forces:
             busy.add(p.body)
         for _, b, _ in t.moments:
@@ -434,7 +409,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         i, j = t.before, t.after
         key = t.key
         group = f"{t.kind} {i} -> {j}"
-        is_interval = t.kind == "interval"
+        is_interval = t.kind == TransitionKind.INTERVAL
         # impulses acting on each body: (arm from G, impulse vector, torque)
         lin: dict[str, list[V2]] = defaultdict(list)
         ang: dict[str, list[E]] = defaultdict(list)
@@ -444,13 +419,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if is_interval:
             duration = Const(t.duration) if t.duration is not None else None
             if duration is not None:
-                duration = Known(f"t@{key}", t.duration)
+                duration = Known(duration_key(key), t.duration)
 
         def dur() -> E:
             nonlocal duration
             if duration is None:
-                duration = self.unknown(f"t@{key}", TIME, "duration", "s")
-                u = self.unknowns[f"t@{key}"]
+                duration = self.unknown(duration_key(key), TIME, KeyKind.DURATION, "s")
+                u = self.unknowns[duration_key(key)]
                 u.hints.append((">", 0.0, t.span))
             return duration
 
@@ -464,19 +439,15 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                 m = add(m, torque)
             ang[p.body].append(m)
 
+        phase = Phase(PhaseKind(t.kind), i, j, group, t.span, apply, sources, contacts_info,
+                      dur)
         for c in t.contacts:
-            self._contact(t, c, apply, sources, contacts_info, dur)
-        for jt in sc.joints:
-            if self._active(jt, i):
-                self._joint_impulse(t, jt, apply, sources)
+            ContactElement(c).stamp(phase, self)
+        for jt in self.joints:
+            if jt.acts_in(self, t):
+                jt.stamp(phase, self)
         for name, span in t.bearing_friction:
-            jt = next(j_ for j_ in sc.joints if j_.label == name)
-            M = self.unknown(f"M[{name}]@{key}", ANGULAR_IMPULSE, "angular-impulse")
-            apply(jt.a, V2(ZERO, ZERO), M)
-            if jt.b.body is not None:
-                apply(jt.b, V2(ZERO, ZERO), neg(M))
-            sources.append(ImpulseSource((jt.a.body, jt.b.body), name, None, True,
-                                   f"friction torque at {name}"))
+            BearingFriction(self._by_label[name], span).stamp(phase, self)
         if is_interval:
             if sc.gravity is not None:
                 for b, body in sc.bodies.items():
@@ -537,182 +508,24 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info,
                                                energy))
 
-    def _contact(self, t: TransitionSpec, c: Contact, apply, sources, contacts_info, dur) -> None:
-        i, j, key = t.before, t.after, t.key
-        group = f"{t.kind} {i} -> {j}"
-        n = c.normal
-        tg = (-n[1], n[0])
-        nv, tv = V2(Const(n[0]), Const(n[1])), V2(Const(tg[0]), Const(tg[1]))
-        Jn = self.unknown(f"J_n[{c.label}]@{key}", IMPULSE, "impulse")
-        self.unknowns[Jn.name].hints.append((">", 0.0, c.span))
-        Jt: E = ZERO
-        if c.mode != "smooth":
-            Jt = self.unknown(f"J_t[{c.label}]@{key}", IMPULSE, "impulse")
-        J = nv.scale(Jn) + tv.scale(Jt)
-        apply(c.a, J, None, n, 1.0)
-        if c.b is not None:
-            apply(c.b, -J, None, n, -1.0)
-        # a round body touches at its rim (G - r n), not at its centre
-        body_a = self.scene.bodies[c.a.body]
-        where = f"{c.label}'s contact point" if c.a.round_contact and body_a.radius else c.a.name
-        sources.append(ImpulseSource((c.a.body, c.b.body if c.b else None), where,
-                               n if c.mode == "smooth" else None, False,
-                               f"contact {c.label}"))
-
-        def rel(sid: str) -> V2:
-            va = self.point_velocity(c.a, sid, n, 1.0)
-            vb = self.point_velocity(c.b, sid, n, -1.0) if c.b is not None else V2(ZERO, ZERO)
-            return va - vb
-
-        r1, r2 = rel(i), rel(j)
-        vn1, vn2 = r1.dot(nv), r2.dot(nv)
-        vt1, vt2 = r1.dot(tv), r2.dot(tv)
-        if t.kind == "impact" and c.separation is not None:
-            # a given separation speed instead of Newton's law (an explosive separation)
-            self.eq(vn2, Known(f"v_sep[{c.label}]", c.separation),
-                    f"separation speed at {c.label} (given)", group, c.span)
-            contacts_info.append((c.label, vn1, vn2))
-            if c.mode == "rough":
-                self.eq(vt2, ZERO, f"no slip at {c.label} (rough)", group, c.span)
-        elif t.kind == "impact":
-            if c.restitution_unknown:
-                ename = c.restitution_name or f"e[{c.label}]"
-                e: E = self.unknown(ename, NONE, "restitution", "")
-            else:
-                e = Known(f"e[{c.label}]", c.restitution)
-            self.eq(vn2, mul(neg(e), vn1), f"restitution at {c.label} (Newton)", group, c.span)
-            contacts_info.append((c.label, vn1, vn2))
-            if c.mode == "rough":
-                self.eq(vt2, ZERO, f"no slip at {c.label} (rough)", group, c.span)
-            elif c.mode == "friction":
-                site = f"{key}:{c.label}"
-                regime = self.regimes.get(site, "stick")
-                if regime == "stick":
-                    self.eq(vt2, ZERO, f"stick at {c.label} (assumed; |J_t| <= mu J_n checked)",
-                            group, c.span)
-                else:
-                    s = 1.0 if regime == "slide+" else -1.0
-                    self.eq(Jt, mul(Const(-s * c.mu), Jn),
-                            f"sliding friction at {c.label}: J_t = -mu J_n against the slip",
-                            group, c.span)
-                self.friction.append(FrictionSite(site, c.label, key, c.mu, Jn.name, Jt.name,
-                                                  regime, vt1, c.span))
-        else:
-            # an interval contact persists: no normal relative velocity at either end
-            self.eq(vn1, ZERO, f"contact {c.label} persists (no normal velocity)",
-                    f"state {i}", c.span)
-            self.eq(vn2, ZERO, f"contact {c.label} persists (no normal velocity)",
-                    f"state {j}", c.span)
-            if c.mode == "friction":
-                s = self._slip_sign(c, vt1, t)
-                site = f"{key}:{c.label}"
-                decided = s is not None
-                if s is None:
-                    regime = self.regimes.get(site, "slide+")
-                    s = 1.0 if regime == "slide+" else -1.0
-                else:
-                    regime = "slide+" if s > 0 else "slide-"
-                self.eq(Jt, mul(Const(-s * c.mu), Jn),
-                        f"kinetic friction at {c.label}: J_t = -mu J_n against the slip", group,
-                        c.span)
-                self.friction.append(FrictionSite(site, c.label, key, c.mu, Jn.name, Jt.name,
-                                                  regime, vt1, c.span, decided))
-
-    def _slip_sign(self, c: Contact, vt1: E, t: TransitionSpec) -> float | None:
-        if c.slip is not None:
-            tg = (-c.normal[1], c.normal[0])
-            d = c.slip[0] * tg[0] + c.slip[1] * tg[1]
-            if abs(d) < 1e-12:
-                raise ProblemError("the slip direction is along the normal; give a direction "
-                                   "along the surface", c.span, code="name")
-            return 1.0 if d > 0 else -1.0
-        if not variables(vt1):
-            v = evaluate(vt1, {})
-            if v == 0:
-                raise ProblemError(f"contact {c.label} does not slip at state {t.before}: kinetic "
-                                   "friction needs a slip direction", c.span, code="name",
-                                   notes=["give `slip (dx, dy)`, or make the body roll"])
-            return 1.0 if v > 0 else -1.0
-        return None
-
-    def _joint_impulse(self, t: TransitionSpec, jt: Joint, apply, sources) -> None:
-        key = t.key
-        if jt.kind == "spring":
-            return  # finite force: no impulse in an impact; intervals keep it out (see README)
-        if jt.kind == "link":
-            d = jt.along
-            Jl = self.unknown(f"J[{jt.label}]@{key}", IMPULSE, "impulse")
-            J = V2(Const(d[0]), Const(d[1])).scale(Jl)
-            apply(jt.a, J)
-            if jt.b.body is not None:
-                apply(jt.b, -J)
-            sources.append(ImpulseSource((jt.a.body, jt.b.body), jt.a.name, d, False,
-                                   f"link {jt.label}"))
-            return
-        Jx = self.unknown(f"Jx[{jt.label}]@{key}", IMPULSE, "impulse")
-        Jy = self.unknown(f"Jy[{jt.label}]@{key}", IMPULSE, "impulse")
-        J = V2(Jx, Jy)
-        M = None
-        # a weld also transmits a moment, unless one side is a particle (then it is a pin)
-        if jt.kind == "weld" and not self._has_particle(jt):
-            M = self.unknown(f"M[{jt.label}]@{key}", ANGULAR_IMPULSE, "angular-impulse")
-        apply(jt.a, J, M)
-        if jt.b.body is not None:
-            apply(jt.b, -J, neg(M) if M is not None else None)
-        sources.append(ImpulseSource((jt.a.body, jt.b.body), jt.a.name, None, False,
-                               f"{jt.kind} {jt.label}"))
-        if M is not None:
-            sources.append(ImpulseSource((jt.a.body, jt.b.body), jt.a.name, None, True,
-                                   f"weld moment {jt.label}"))
-
-    def _active(self, jt: Joint, sid: str) -> bool:
-        """Whether a joint holds in a state: always, or from its `from` state on."""
-        if jt.from_state is None:
+    def holds_at(self, from_state: str | None, sid: str) -> bool:
+        """Whether something that holds from state `from_state` on (None: always) holds
+        in state sid: sid is reachable from it through the transitions."""
+        if from_state is None:
             return True
         if self._reach is None:
             self._reach = {}
-        seen = self._reach.get(jt.from_state)
+        seen = self._reach.get(from_state)
         if seen is None:
-            seen, todo = {jt.from_state}, [jt.from_state]
+            seen, todo = {from_state}, [from_state]
             while todo:
                 s = todo.pop()
                 for t in self.scene.transitions:
                     if t.before == s and t.after not in seen:
                         seen.add(t.after)
                         todo.append(t.after)
-            self._reach[jt.from_state] = seen
+            self._reach[from_state] = seen
         return sid in seen
-
-    def _has_particle(self, jt: Joint) -> bool:
-        bodies = self.scene.bodies
-        return any(p.body is not None and bodies[p.body].is_particle for p in (jt.a, jt.b))
-
-    # ---- constraints at every state ---------------------------------------------------------
-    def _state_constraints(self, sid: str) -> None:
-        sc = self.scene
-        group = f"state {sid}"
-        for jt in sc.joints:
-            if jt.kind == "spring" or not self._active(jt, sid):
-                continue
-            a, b = jt.a, jt.b
-            if jt.kind in ("pin", "weld"):
-                pa, pb = self.point_position(a, sid), self.point_position(b, sid)
-                va, vb = self.point_velocity(a, sid), self.point_velocity(b, sid)
-                for comp, x1, x2 in (("x", pa.x, pb.x), ("y", pa.y, pb.y)):
-                    self.eq(x1, x2, f"{jt.kind} {jt.label}: points coincide ({comp})", group,
-                            jt.span)
-                for comp, x1, x2 in (("x", va.x, vb.x), ("y", va.y, vb.y)):
-                    self.eq(x1, x2, f"{jt.kind} {jt.label}: same velocity ({comp})", group,
-                            jt.span)
-                if jt.kind == "weld" and not self._has_particle(jt):
-                    wb = self.sv(b.body, "omega", sid) if b.body else ZERO
-                    self.eq(self.sv(a.body, "omega", sid), wb,
-                            f"weld {jt.label}: same angular velocity", group, jt.span)
-            elif jt.kind == "link":
-                d = V2(Const(jt.along[0]), Const(jt.along[1]))
-                va, vb = self.point_velocity(a, sid), self.point_velocity(b, sid)
-                self.eq((va - vb).dot(d), ZERO,
-                        f"link {jt.label}: no stretching along its line", group, jt.span)
 
     def _rolling(self, body: str, surface: str, sid: str, group: str, span: Span,
                  normal) -> None:
@@ -760,12 +573,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                 # V = -m g_vec . r: with gravity `down` this is m*g*y
                 h = add(mul(Const(-gx / sc.g), r.x), mul(Const(-gy / sc.g), r.y))
                 V = add(V, mul(mul(m, g), h))
-        for jt in sc.joints:
-            if jt.kind != "spring":
-                continue
-            d = self.point_position(jt.a, sid) - self.point_position(jt.b, sid)
-            stretch = add(power(d.dot(d), 0.5), Const(-jt.length))
-            V = add(V, mul(Const(0.5 * jt.stiffness), mul(stretch, stretch)))
+        for jt in self.joints:
+            e = jt.potential(self, sid)
+            if e is not ZERO:
+                V = add(V, e)
         return V
 
     def _energy(self, t: TransitionSpec) -> None:

@@ -11,6 +11,8 @@ import math
 
 from . import syntax as S
 from .diagnostics import ProblemError, did_you_mean
+from .elements.keys import duration_key
+from .elements.kinds import KeyKind, TransitionKind
 from .expr import Const, E, Known, Var, add, mul, neg, power
 from .quantity import Evaluator, Q
 from .records import record
@@ -57,7 +59,7 @@ class ReferencesMixin:
                     return Q(Known("g", sc.g), ACCELERATION)
                 if name in sc.user_unknowns:
                     dim, unit, span = sc.user_unknowns[name]
-                    return Q(self.unknown(name, dim, "user", unit or si_label(dim)), dim)
+                    return Q(self.unknown(name, dim, KeyKind.USER, unit or si_label(dim)), dim)
                 if name in self.unknowns:
                     return Q(Var(name), self.unknowns[name].dim)
             if member and len(at) == 1 and name in sc.bodies:
@@ -80,12 +82,12 @@ class ReferencesMixin:
                 if self.flows and "->".join(at) in self.flows.durations:
                     return Q(self.flows.durations["->".join(at)], TIME)
                 tr = self._transition_exists(at, ref)
-                if tr.kind != "interval":
+                if tr.kind != TransitionKind.INTERVAL:
                     raise ProblemError(f"{ref.text}: only an interval has a duration (an impact "
                                        "takes no time)", ref.span, code="name")
                 if tr.duration is not None:
-                    return Q(Known(ref.text, tr.duration), TIME)
-                return Q(self.unknown(ref.text, TIME, "duration", "s"), TIME)
+                    return Q(Known(duration_key(tr.key), tr.duration), TIME)
+                return Q(self.unknown(duration_key(tr.key), TIME, KeyKind.DURATION, "s"), TIME)
             text = ref.text
             if text in self.unknowns:
                 return Q(Var(text), self.unknowns[text].dim)
@@ -147,21 +149,21 @@ class ReferencesMixin:
         if q not in ("dx", "dy", "dtheta", "alpha"):
             return None
         tr = self._transition_exists(ref.at, ref)
-        if tr.kind != "interval":
+        if tr.kind != TransitionKind.INTERVAL:
             raise ProblemError(f"'{ref.text}': displacements belong to an interval", ref.span,
                                code="name")
         b = ref.name
         i, j = ref.at
         if tr.duration is not None:
-            t: E = Known(f"t@{tr.key}", tr.duration)
+            t: E = Known(duration_key(tr.key), tr.duration)
         else:
-            t = self.unknown(f"t@{tr.key}", TIME, "duration", "s")
+            t = self.unknown(duration_key(tr.key), TIME, KeyKind.DURATION, "s")
         if q == "alpha":
             w1, w2 = self.sv(b, "omega", i), self.sv(b, "omega", j)
             return Q(mul(add(w2, neg(w1)), power(t, -1.0)), (0, 0, -2))
         comp = {"dx": "vx", "dy": "vy", "dtheta": "omega"}[q]
         dim = LENGTH if q != "dtheta" else NONE
-        d = self.unknown(ref.text, dim, "derived", "m" if q != "dtheta" else "rad")
+        d = self.unknown(ref.text, dim, KeyKind.DERIVED, "m" if q != "dtheta" else "rad")
         a1, a2 = self.sv(b, comp, i), self.sv(b, comp, j)
         self.eq(d, mul(mul(Const(0.5), add(a1, a2)), t),
                 "constant acceleration: displacement = (start + end velocity)/2 * t",

@@ -11,6 +11,7 @@ from dataclasses import field
 
 from . import syntax as S
 from .diagnostics import Collector, ProblemError, did_you_mean
+from .elements.kinds import JointKind, Restitution, Tangential, TransitionKind
 from .expr import Const
 from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
 from .records import record
@@ -69,7 +70,7 @@ class PointOn:
 
 @record(frozen=True)
 class Joint:
-    kind: str  # pin | weld | link | spring
+    kind: JointKind  # pin | weld | link | spring (| damper: simulate)
     label: str
     a: PointOn
     b: PointOn
@@ -89,12 +90,13 @@ class Contact:
     normal: tuple[float, float]  # unit; the direction of the impulse on `a`
     restitution: float | None
     restitution_unknown: bool
-    mode: str  # smooth | rough | friction
+    mode: Tangential  # smooth | rough | friction
     mu: float | None
     slip: tuple[float, float] | None
     surface: str | None = None
     restitution_name: str | None = None  # a declared `unknown` used as this contact's e
     separation: float | None = None  # the relative normal speed after an impact, if given
+    law: Restitution = Restitution.NEWTON  # how the normal impulse ends (elements/contacts.py)
 
 
 @record
@@ -109,7 +111,7 @@ class StateSpec:
 
 @record
 class TransitionSpec:
-    kind: str
+    kind: TransitionKind
     before: str
     after: str
     span: Span
@@ -658,7 +660,8 @@ class _Builder:
                                    code="number")
             length = self.value(s.length, LENGTH, "a spring's free length") if s.length \
                 is not None else 0.0
-        return Joint(s.kind, label, a, b, s.span, along, k, length, s.from_state)
+        return Joint(kind=JointKind(s.kind), label=label, a=a, b=b, span=s.span, along=along,
+                     stiffness=k, length=length, from_state=s.from_state)
 
     # ---- states
     def _state(self, s: S.StateDecl) -> StateSpec:
@@ -728,7 +731,7 @@ class _Builder:
 
     def _transition(self, s: S.Transition, states) -> TransitionSpec:
         self._states_exist(states, s.before, s.after, s.span, (s.before_span, s.after_span))
-        t = TransitionSpec(s.kind, s.before, s.after, s.span)
+        t = TransitionSpec(TransitionKind(s.kind), s.before, s.after, s.span)
         labels = set()
         for c in s.clauses:
             if isinstance(c, S.Contact):
@@ -872,8 +875,11 @@ class _Builder:
             label = c.label or a.name
         else:
             label = c.label or f"{a.name}-{b.name}"
-        return Contact(label, c.span, a, b, normal, e, e_unknown, mode, mu, slip, surface, e_name,
-                       separation)
+        return Contact(label=label, span=c.span, a=a, b=b, normal=normal, restitution=e,
+                       restitution_unknown=e_unknown, mode=Tangential(mode), mu=mu, slip=slip,
+                       surface=surface, restitution_name=e_name, separation=separation,
+                       law=Restitution.SEPARATION if separation is not None
+                       else Restitution.NEWTON)
 
     def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
         self._states_exist(states, s.before, s.after, s.span)

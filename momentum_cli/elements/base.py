@@ -1,0 +1,108 @@
+"""The Element interface: a contact law or a joint that writes its own equations.
+
+An element is built from its scene statement and answers every question the stages ask
+of it: its unknowns and rows for an impact, an interval or a state (`stamp`), its
+regimes and inequalities (`regimes`, `check`), its rows for `simulate` (`constraint`),
+its energy (`potential`) and what the report says of it (`describe`). Compile and
+simulate iterate over elements; nothing else switches on their kind.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from ..expr import ZERO, E
+from ..records import record
+from ..source import Span
+from .keys import Key
+from .kinds import PhaseKind, Regime
+
+
+@record
+class ImpulseSource:
+    """An impulse source acting during a transition, for 'why a principle holds'."""
+
+    bodies: tuple[str | None, str | None]  # the two sides (None: ground)
+    point: str  # the name of where it acts
+    direction: tuple[float, float] | None  # None: any direction in the plane
+    torque_only: bool = False
+    what: str = ""
+
+
+@record
+class FrictionSite:
+    """A contact whose tangential law depends on a regime chosen at solve time."""
+
+    key: str
+    label: str
+    transition: str
+    mu: float
+    jn: str
+    jt: str | None
+    regime: Regime
+    slip_expr: E | None  # tangential slip velocity whose sign the slide must oppose
+    span: Span
+    decided: bool = True  # False: the slip direction is re-checked after solving
+
+
+@dataclass
+class Phase:
+    """What an element stamps rows for: an impact or interval (before -> after, with the
+    impulse bookkeeping of that transition) or one state (before == after)."""
+
+    kind: PhaseKind
+    before: str
+    after: str
+    group: str
+    span: Span | None = None
+    apply: Callable | None = None  # apply(point, J, torque=None, normal=None, sign=1.0)
+    sources: list[ImpulseSource] = field(default_factory=list)
+    contacts: list = field(default_factory=list)  # (label, v_n before, v_n after) for reports
+    dur: Callable[[], E] | None = None  # the interval's duration (made unknown on demand)
+
+    @property
+    def key(self) -> str:
+        return f"{self.before}->{self.after}"
+
+    @staticmethod
+    def state(sid: str) -> "Phase":
+        return Phase(PhaseKind.STATE, sid, sid, f"state {sid}")
+
+
+@dataclass
+class Check:
+    """One of an element's inequalities, judged on solved values."""
+
+    what: str
+    ok: bool
+    detail: str
+
+
+class Element:
+    """Base of every contact law and joint: by default it adds nothing anywhere."""
+
+    label: str
+    span: Span
+
+    def bodies(self) -> tuple[str | None, ...]:
+        return ()
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        """The keys of the unknowns it adds in `phase`."""
+        return []
+
+    def stamp(self, phase: Phase, compiler) -> None:
+        """Add its unknowns and rows for `phase` to the compiler's system."""
+
+    def regimes(self) -> tuple[Regime, ...]:
+        return ()
+
+    def check(self, values: dict) -> list[Check]:
+        return []
+
+    def potential(self, compiler, sid: str) -> E:
+        """Its potential energy at state sid (a spring's); zero for most."""
+        return ZERO
+
+    def describe(self) -> str:
+        return self.label

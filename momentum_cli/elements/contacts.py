@@ -1,0 +1,323 @@
+"""Contact elements: a normal (restitution) law and a tangential law at one contact.
+
+Compile (`stamp`) writes, per transition, the contact's impulses and rows: in an impact
+the restitution law's rows (Newton's v_n+ = -e v_n-, or a given separation speed) and
+the tangential law's (smooth: none; rough: no slip; Coulomb friction: stick or slide
+with |J_t| <= mu J_n); in an interval, persistence (no normal velocity at either end)
+and kinetic friction. Simulate asks the same tangential law for its regime and its
+friction column. A new restitution law is one `RestitutionLaw` subclass registered
+with `@restitution_law`; it may take over the tangential rows (`owns_tangential`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..diagnostics import ProblemError
+from ..expr import ZERO, Const, E, Known, V2, evaluate, mul, neg, variables
+from ..units import IMPULSE, NONE
+from .base import Check, Element, FrictionSite, ImpulseSource, Phase
+from .keys import Key, impulse_key, named_key, parameter_key
+from .kinds import Component, KeyKind, PhaseKind, Regime, Restitution, Tangential
+
+STICK_SLACK = 1e-12  # relative: |J_t| above mu J_n by more than this is a slide
+
+
+@dataclass
+class ContactRows:
+    """What a contact's laws write rows over in one transition."""
+
+    contact: "ContactElement"
+    phase: Phase
+    jn: E  # the normal impulse on body a (along n)
+    jt: E  # the tangential impulse on a (along t = (-n_y, n_x)); ZERO when smooth
+    vn1: E  # relative normal velocity of a's point to b's, before and after
+    vn2: E
+    vt1: E  # relative tangential (slip) velocity, before and after
+    vt2: E
+
+    @property
+    def site(self) -> str:
+        return f"{self.phase.key}:{self.contact.label}"
+
+
+# ---- restitution laws (impacts) -------------------------------------------------------------
+RESTITUTION_LAWS: dict[Restitution, type["RestitutionLaw"]] = {}
+
+
+def restitution_law(kind: Restitution):
+    """Register a RestitutionLaw subclass for contacts whose `law` is `kind`."""
+    def register(cls):
+        cls.kind = kind
+        RESTITUTION_LAWS[kind] = cls
+        return cls
+    return register
+
+
+class RestitutionLaw:
+    """How the normal impulse of an impact ends. Subclasses stamp their own rows."""
+
+    kind: Restitution
+    owns_tangential = False  # True: the law writes the tangential rows itself
+
+    def __init__(self, c):
+        self.c = c
+
+    def stamp_impact(self, rows: ContactRows, compiler) -> None:
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        return str(self.kind)
+
+
+@restitution_law(Restitution.NEWTON)
+class NewtonRestitution(RestitutionLaw):
+    """Newton's kinematic law: the normal separation speed is e times the approach speed."""
+
+    def coefficient(self, compiler) -> E:
+        c = self.c
+        if c.restitution_unknown:
+            key = named_key(c.restitution_name, KeyKind.RESTITUTION) if c.restitution_name \
+                else parameter_key(Component.E, c.label)
+            return compiler.unknown(key, NONE, KeyKind.RESTITUTION, "")
+        return Known(parameter_key(Component.E, c.label), c.restitution)
+
+    def stamp_impact(self, rows: ContactRows, compiler) -> None:
+        e = self.coefficient(compiler)
+        compiler.eq(rows.vn2, mul(neg(e), rows.vn1), f"restitution at {self.c.label} (Newton)",
+                    rows.phase.group, self.c.span)
+
+    def describe(self) -> str:
+        c = self.c
+        return "restitution ?" if c.restitution_unknown else f"restitution {c.restitution:g}"
+
+
+@restitution_law(Restitution.SEPARATION)
+class GivenSeparation(RestitutionLaw):
+    """A given separation speed instead of Newton's law (an explosive separation)."""
+
+    def stamp_impact(self, rows: ContactRows, compiler) -> None:
+        c = self.c
+        compiler.eq(rows.vn2, Known(parameter_key(Component.V_SEP, c.label), c.separation),
+                    f"separation speed at {c.label} (given)", rows.phase.group, c.span)
+
+    def describe(self) -> str:
+        return f"separation {self.c.separation:g} m/s"
+
+
+# ---- tangential laws -------------------------------------------------------------------------
+TANGENTIAL_LAWS: dict[Tangential, type["TangentialLaw"]] = {}
+
+
+def tangential_law(kind: Tangential):
+    def register(cls):
+        cls.kind = kind
+        TANGENTIAL_LAWS[kind] = cls
+        return cls
+    return register
+
+
+class TangentialLaw:
+    kind: Tangential
+    has_impulse = True  # a tangential impulse J_t exists
+
+    def __init__(self, c):
+        self.c = c
+
+    def stamp_impact(self, rows: ContactRows, compiler) -> None:
+        pass
+
+    def stamp_interval(self, rows: ContactRows, compiler) -> None:
+        pass
+
+    def regimes(self) -> tuple[Regime, ...]:
+        return ()
+
+    # simulate: the regime of a persistent contact ("rest", "stick", or the slip sign)
+    def sim_regime(self, slip: float, tol: float):
+        return "stick"
+
+    def stick_holds(self, jt: float, jn: float) -> bool:
+        return True
+
+    def describe(self) -> str:
+        return str(self.kind)
+
+
+@tangential_law(Tangential.SMOOTH)
+class Smooth(TangentialLaw):
+    has_impulse = False
+
+    def sim_regime(self, slip: float, tol: float):
+        return "rest"
+
+
+@tangential_law(Tangential.ROUGH)
+class Rough(TangentialLaw):
+    """No slip after the impact (enough friction to stop it)."""
+
+    def stamp_impact(self, rows: ContactRows, compiler) -> None:
+        compiler.eq(rows.vt2, ZERO, f"no slip at {self.c.label} (rough)", rows.phase.group,
+                    self.c.span)
+
+
+@tangential_law(Tangential.FRICTION)
+class Coulomb(TangentialLaw):
+    """Coulomb friction: stick (|J_t| <= mu J_n, checked) or slide (J_t = -mu J_n sgn slip)."""
+
+    @property
+    def mu(self) -> float:
+        return self.c.mu
+
+    def regimes(self) -> tuple[Regime, ...]:
+        return (Regime.STICK, Regime.SLIDE_POS, Regime.SLIDE_NEG)
+
+    def stick_holds(self, jt: float, jn: float) -> bool:
+        return not abs(jt) > self.mu * jn * (1 + STICK_SLACK) + 1e-300
+
+    def slide_row(self, rows: ContactRows, regime: Regime, principle: str, compiler) -> None:
+        compiler.eq(rows.jt, mul(Const(-regime.sign * self.mu), rows.jn), principle,
+                    rows.phase.group, self.c.span)
+
+    def stamp_impact(self, rows: ContactRows, compiler) -> None:
+        c = self.c
+        regime = Regime(compiler.regimes.get(rows.site, Regime.STICK))
+        if regime is Regime.STICK:
+            compiler.eq(rows.vt2, ZERO, f"stick at {c.label} (assumed; |J_t| <= mu J_n checked)",
+                        rows.phase.group, c.span)
+        else:
+            self.slide_row(rows, regime, f"sliding friction at {c.label}: J_t = -mu J_n "
+                           "against the slip", compiler)
+        compiler.friction.append(FrictionSite(rows.site, c.label, rows.phase.key, c.mu,
+                                              rows.jn.name, rows.jt.name, regime, rows.vt1,
+                                              c.span))
+
+    def stamp_interval(self, rows: ContactRows, compiler) -> None:
+        c = self.c
+        s = self.slip_sign(rows.vt1, rows.phase)
+        decided = s is not None
+        if s is None:
+            regime = Regime(compiler.regimes.get(rows.site, Regime.SLIDE_POS))
+        else:
+            regime = Regime.sliding(s)
+        self.slide_row(rows, regime, f"kinetic friction at {c.label}: J_t = -mu J_n against "
+                       "the slip", compiler)
+        compiler.friction.append(FrictionSite(rows.site, c.label, rows.phase.key, c.mu,
+                                              rows.jn.name, rows.jt.name, regime, rows.vt1,
+                                              c.span, decided))
+
+    def slip_sign(self, vt1: E, phase: Phase) -> float | None:
+        """The slip direction over an interval: given, or known from the start state."""
+        c = self.c
+        if c.slip is not None:
+            tg = (-c.normal[1], c.normal[0])
+            d = c.slip[0] * tg[0] + c.slip[1] * tg[1]
+            if abs(d) < 1e-12:
+                raise ProblemError("the slip direction is along the normal; give a direction "
+                                   "along the surface", c.span, code="name")
+            return 1.0 if d > 0 else -1.0
+        if not variables(vt1):
+            v = evaluate(vt1, {})
+            if v == 0:
+                raise ProblemError(f"contact {c.label} does not slip at state {phase.before}: "
+                                   "kinetic friction needs a slip direction", c.span,
+                                   code="name",
+                                   notes=["give `slip (dx, dy)`, or make the body roll"])
+            return 1.0 if v > 0 else -1.0
+        return None
+
+    def sim_regime(self, slip: float, tol: float):
+        if not self.mu:
+            return "rest"  # mu = 0: smooth
+        if abs(slip) <= tol:
+            return "stick"
+        return 1.0 if slip > 0 else -1.0
+
+    def describe(self) -> str:
+        return f"friction {self.mu:g}"
+
+
+# ---- the element --------------------------------------------------------------------------------
+class ContactElement(Element):
+    """One contact clause of a transition: its restitution law and its tangential law."""
+
+    def __init__(self, c):
+        self.c = c
+        self.label = c.label
+        self.span = c.span
+        law = getattr(c, "law", None) or (Restitution.SEPARATION if c.separation is not None
+                                          else Restitution.NEWTON)
+        self.restitution = RESTITUTION_LAWS[Restitution(law)](c)
+        self.tangential = TANGENTIAL_LAWS[Tangential(c.mode)](c)
+
+    def bodies(self) -> tuple[str | None, ...]:
+        return (self.c.a.body, self.c.b.body if self.c.b is not None else None)
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        out = [impulse_key(Component.JN, self.label, phase.key)]
+        if self.tangential.has_impulse:
+            out.append(impulse_key(Component.JT, self.label, phase.key))
+        return out
+
+    def regimes(self) -> tuple[Regime, ...]:
+        return self.tangential.regimes()
+
+    def check(self, values: dict) -> list[Check]:
+        """A compressive normal impulse; friction inside its cone."""
+        out = []
+        for k, x in values.items():
+            if not isinstance(k, Key) or k.label != self.label:
+                continue
+            if k.comp is Component.JN:
+                out.append(Check(f"contact {k}", x >= 0, f"J_n = {x:.6g} N*s"))
+                jt = values.get(impulse_key(Component.JT, self.label, k.transition), 0.0)
+                out.append(Check(f"friction at {self.label} ({k.transition})",
+                                 self.tangential.stick_holds(jt, x),
+                                 f"|J_t| = {abs(jt):.6g} N*s"))
+        return out
+
+    def describe(self) -> str:
+        return f"contact {self.label}: {self.restitution.describe()}, " \
+               f"{self.tangential.describe()}"
+
+    def stamp(self, phase: Phase, compiler) -> None:
+        c = self.c
+        n = c.normal
+        tg = (-n[1], n[0])
+        nv, tv = V2(Const(n[0]), Const(n[1])), V2(Const(tg[0]), Const(tg[1]))
+        keys = self.unknowns(phase)
+        Jn = compiler.unknown(keys[0], IMPULSE, KeyKind.IMPULSE)
+        compiler.unknowns[keys[0]].hints.append((">", 0.0, c.span))
+        Jt: E = ZERO
+        if len(keys) > 1:
+            Jt = compiler.unknown(keys[1], IMPULSE, KeyKind.IMPULSE)
+        J = nv.scale(Jn) + tv.scale(Jt)
+        phase.apply(c.a, J, None, n, 1.0)
+        if c.b is not None:
+            phase.apply(c.b, -J, None, n, -1.0)
+        # a round body touches at its rim (G - r n), not at its centre
+        body_a = compiler.scene.bodies[c.a.body]
+        where = f"{c.label}'s contact point" if c.a.round_contact and body_a.radius else c.a.name
+        phase.sources.append(ImpulseSource(self.bodies(), where,
+                                           None if self.tangential.has_impulse else n, False,
+                                           f"contact {c.label}"))
+        r1, r2 = self.relative_velocity(phase.before, compiler), \
+            self.relative_velocity(phase.after, compiler)
+        rows = ContactRows(self, phase, Jn, Jt, r1.dot(nv), r2.dot(nv), r1.dot(tv), r2.dot(tv))
+        if phase.kind is PhaseKind.IMPACT:
+            self.restitution.stamp_impact(rows, compiler)
+            phase.contacts.append((c.label, rows.vn1, rows.vn2))
+            if not self.restitution.owns_tangential:
+                self.tangential.stamp_impact(rows, compiler)
+        else:
+            # an interval contact persists: no normal relative velocity at either end
+            for sid, vn in ((phase.before, rows.vn1), (phase.after, rows.vn2)):
+                compiler.eq(vn, ZERO, f"contact {c.label} persists (no normal velocity)",
+                            f"state {sid}", c.span)
+            self.tangential.stamp_interval(rows, compiler)
+
+    def relative_velocity(self, sid: str, compiler) -> V2:
+        c = self.c
+        va = compiler.point_velocity(c.a, sid, c.normal, 1.0)
+        vb = compiler.point_velocity(c.b, sid, c.normal, -1.0) if c.b is not None \
+            else V2(ZERO, ZERO)
+        return va - vb

@@ -1,0 +1,332 @@
+"""Joint elements: pin, weld, link, spring, the simulation's damper, and bearing friction.
+
+Compile asks a joint for its reaction impulses in an impact or interval (it acts in
+every transition from its `from` state on, and in the one into that state: the plastic
+joining) and for its constraint rows at each state where it holds; a spring adds its
+potential energy instead. Simulate asks the same objects for their velocity rows, their
+position residuals (drift) and their forces along the line (springs, dampers).
+"""
+from __future__ import annotations
+
+import math
+
+from ..expr import ZERO, Const, E, V2, add, mul, neg, power
+from ..units import ANGULAR_IMPULSE, IMPULSE
+from .base import Element, ImpulseSource, Phase
+from .keys import Key, impulse_key
+from .kinds import Component, JointKind, KeyKind, PhaseKind
+
+JOINTS: dict[JointKind, type["JointElement"]] = {}
+
+
+def joint_kind(kind: JointKind):
+    """Register a JointElement subclass for joints of `kind`."""
+    def register(cls):
+        cls.kind = kind
+        JOINTS[kind] = cls
+        return cls
+    return register
+
+
+def joint_element(jt, scene) -> "JointElement":
+    """The element for a scene Joint record."""
+    return JOINTS[JointKind(jt.kind)](jt, scene)
+
+
+class JointElement(Element):
+    kind: JointKind
+    impulsive = True  # exerts reaction impulses (a spring's finite force does not)
+    constrains = True  # adds constraint rows at each state where it holds
+
+    def __init__(self, jt, scene):
+        self.record = jt
+        self.label, self.span, self.a, self.b = jt.label, jt.span, jt.a, jt.b
+        self.along, self.stiffness, self.length = jt.along, jt.stiffness, jt.length
+        self.from_state = jt.from_state
+        bodies = scene.bodies
+        self.has_particle = any(p.body is not None and bodies[p.body].is_particle
+                                for p in (jt.a, jt.b))
+
+    def bodies(self) -> tuple[str | None, ...]:
+        return (self.a.body, self.b.body)
+
+    def describe(self) -> str:
+        return f"{self.kind} {self.label}"
+
+    # ---- compile
+    def acts_in(self, compiler, t) -> bool:
+        """Whether it exerts an impulse in transition t: from its `from` state on, and in
+        the transition into that state unless a contact of t already joins its bodies."""
+        if not self.impulsive:
+            return False
+        if compiler.holds_at(self.from_state, t.before):
+            return True
+        if not compiler.holds_at(self.from_state, t.after):
+            return False
+        pair = {self.a.body, self.b.body}
+        return not any({c.a.body, c.b.body if c.b else None} == pair for c in t.contacts)
+
+    def stamp(self, phase: Phase, compiler) -> None:
+        if phase.kind is PhaseKind.STATE:
+            if self.constrains and compiler.holds_at(self.from_state, phase.before):
+                self.state_rows(phase, compiler)
+        elif self.impulsive:
+            self.impulse(phase, compiler)
+
+    def impulse(self, phase: Phase, compiler) -> None:
+        pass
+
+    def state_rows(self, phase: Phase, compiler) -> None:
+        pass
+
+    def _pair(self, J: V2, M: E | None, phase: Phase) -> None:
+        phase.apply(self.a, J, M)
+        if self.b.body is not None:
+            phase.apply(self.b, -J, neg(M) if M is not None else None)
+
+    # ---- simulate
+    def sim_rows(self, frame) -> list:
+        """[(constraint force name, velocity row, acceleration term)]."""
+        return []
+
+    def sim_reference(self, frame) -> float | None:
+        """What a drift residual is measured from (a weld's angle, a link's length)."""
+        return None
+
+    def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
+        return []
+
+    def sim_force(self, frame, Q) -> float:
+        """Add its force to the generalized forces; returns its power if dissipative."""
+        return 0.0
+
+    def sim_energy(self, frame) -> float:
+        return 0.0
+
+    def _pair_rows(self, frame):
+        """(2 x n Jacobian, 2 acceleration terms) of a's point relative to b's."""
+        ra = frame.offset(self.a.body, self.a.offset)
+        Ja, ba = frame.point_jac(self.a.body, ra)
+        if self.b.body is None:
+            return Ja, (ba[0], ba[1])
+        rb = frame.offset(self.b.body, self.b.offset)
+        Jb, bb = frame.point_jac(self.b.body, rb)
+        return Ja - Jb, (ba[0] - bb[0], ba[1] - bb[1])
+
+    def _gap(self, frame) -> tuple[float, float]:
+        pa = frame.point(self.a.body, self.a.offset)
+        pb = frame.point(self.b.body, self.b.offset)
+        return pa[0] - pb[0], pa[1] - pb[1]
+
+    def _angle(self, frame) -> float:
+        return frame.pose[self.a.body][2] - (frame.pose[self.b.body][2] if self.b.body
+                                             else 0.0)
+
+
+@joint_kind(JointKind.PIN)
+class Pin(JointElement):
+    """Points coincide: an unknown reaction impulse (Jx, Jy), two position and two velocity
+    rows at each state."""
+
+    transmits_moment = False
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        out = [impulse_key(Component.JX, self.label, phase.key),
+               impulse_key(Component.JY, self.label, phase.key)]
+        if self.transmits_moment and not self.has_particle:
+            out.append(impulse_key(Component.M, self.label, phase.key))
+        return out
+
+    def impulse(self, phase: Phase, compiler) -> None:
+        keys = self.unknowns(phase)
+        J = V2(compiler.unknown(keys[0], IMPULSE, KeyKind.IMPULSE),
+               compiler.unknown(keys[1], IMPULSE, KeyKind.IMPULSE))
+        M = compiler.unknown(keys[2], ANGULAR_IMPULSE, KeyKind.ANGULAR_IMPULSE) \
+            if len(keys) > 2 else None
+        self._pair(J, M, phase)
+        phase.sources.append(ImpulseSource(self.bodies(), self.a.name, None, False,
+                                           self.describe()))
+        if M is not None:
+            phase.sources.append(ImpulseSource(self.bodies(), self.a.name, None, True,
+                                               f"weld moment {self.label}"))
+
+    def state_rows(self, phase: Phase, compiler) -> None:
+        sid, a, b = phase.before, self.a, self.b
+        pa, pb = compiler.point_position(a, sid), compiler.point_position(b, sid)
+        va, vb = compiler.point_velocity(a, sid), compiler.point_velocity(b, sid)
+        for comp, x1, x2 in (("x", pa.x, pb.x), ("y", pa.y, pb.y)):
+            compiler.eq(x1, x2, f"{self.describe()}: points coincide ({comp})", phase.group,
+                        self.span)
+        for comp, x1, x2 in (("x", va.x, vb.x), ("y", va.y, vb.y)):
+            compiler.eq(x1, x2, f"{self.describe()}: same velocity ({comp})", phase.group,
+                        self.span)
+
+    def sim_rows(self, frame) -> list:
+        J, beta = self._pair_rows(frame)
+        return [(f"F{axis}[{self.label}]", J[k], beta[k]) for k, axis in enumerate("xy")]
+
+    def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
+        return list(self._gap(frame))
+
+
+@joint_kind(JointKind.WELD)
+class Weld(Pin):
+    """A pin that also transmits a moment (unless one side is a particle: then a pin)."""
+
+    transmits_moment = True
+
+    def state_rows(self, phase: Phase, compiler) -> None:
+        super().state_rows(phase, compiler)
+        if not self.has_particle:
+            sid, b = phase.before, self.b
+            wb = compiler.sv(b.body, "omega", sid) if b.body else ZERO
+            compiler.eq(compiler.sv(self.a.body, "omega", sid), wb,
+                        f"weld {self.label}: same angular velocity", phase.group, self.span)
+
+    def sim_rows(self, frame) -> list:
+        row = frame.jac[self.a.body][2].copy()
+        if self.b.body is not None:
+            row -= frame.jac[self.b.body][2]
+        return super().sim_rows(frame) + [(f"M[{self.label}]", row, 0.0)]
+
+    def sim_reference(self, frame) -> float | None:
+        return self._angle(frame)
+
+    def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
+        return super().sim_residuals(frame, ref, L) + [(self._angle(frame) -
+                                                        ref[self.label]) * L]
+
+
+@joint_kind(JointKind.LINK)
+class Link(JointElement):
+    """No stretching along a fixed line: one impulse along it, one velocity row."""
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        return [impulse_key(Component.J, self.label, phase.key)]
+
+    def impulse(self, phase: Phase, compiler) -> None:
+        d = self.along
+        Jl = compiler.unknown(self.unknowns(phase)[0], IMPULSE, KeyKind.IMPULSE)
+        self._pair(V2(Const(d[0]), Const(d[1])).scale(Jl), None, phase)
+        phase.sources.append(ImpulseSource(self.bodies(), self.a.name, d, False,
+                                           self.describe()))
+
+    def state_rows(self, phase: Phase, compiler) -> None:
+        sid = phase.before
+        d = V2(Const(self.along[0]), Const(self.along[1]))
+        va, vb = compiler.point_velocity(self.a, sid), compiler.point_velocity(self.b, sid)
+        compiler.eq((va - vb).dot(d), ZERO, f"link {self.label}: no stretching along its line",
+                    phase.group, self.span)
+
+    def sim_rows(self, frame) -> list:
+        J, beta = self._pair_rows(frame)
+        d = self.along
+        return [(f"F[{self.label}]", d[0] * J[0] + d[1] * J[1], d[0] * beta[0] + d[1] * beta[1])]
+
+    def sim_reference(self, frame) -> float | None:
+        dx, dy = self._gap(frame)
+        return dx * self.along[0] + dy * self.along[1]
+
+    def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
+        return [self.sim_reference(frame) - ref[self.label]]
+
+
+class _LineForce(JointElement):
+    """A force along the line between its two points: no impulse, no constraint."""
+
+    impulsive = False
+    constrains = False
+
+    def line(self, frame):
+        """(offsets ra, rb, unit direction a->b, length, rate of extension); None when
+        the ends meet (no direction)."""
+        ra = frame.offset(self.a.body, self.a.offset)
+        rb = frame.offset(self.b.body, self.b.offset) if self.b.body is not None else None
+        pa, pb = frame.point(self.a.body, self.a.offset), frame.point(self.b.body, self.b.offset)
+        dx, dy = pb[0] - pa[0], pb[1] - pa[1]
+        L = math.hypot(dx, dy)
+        if L == 0:
+            return None
+        ex, ey = dx / L, dy / L
+        va = frame.point_velocity(self.a.body, ra)
+        vb = frame.point_velocity(self.b.body, rb) if rb is not None else (0.0, 0.0)
+        return ra, rb, ex, ey, L, (vb[0] - va[0]) * ex + (vb[1] - va[1]) * ey
+
+    def tension(self, length: float, rate: float) -> float:
+        """The pull along the line (> 0 pulls the ends together)."""
+        raise NotImplementedError
+
+    def sim_force(self, frame, Q) -> float:
+        from ..sim.dynamics import add_force
+
+        line = self.line(frame)
+        if line is None:
+            return 0.0
+        ra, rb, ex, ey, L, rate = line
+        T = self.tension(L, rate)
+        add_force(frame, Q, self.a.body, ra, (T * ex, T * ey))
+        add_force(frame, Q, self.b.body, rb, (-T * ex, -T * ey))
+        return self.power(T, rate)
+
+    def power(self, tension: float, rate: float) -> float:
+        return 0.0
+
+
+@joint_kind(JointKind.SPRING)
+class Spring(_LineForce):
+    """A linear spring: potential (k/2)(L - L0)^2; a finite force has no impulse in an
+    impact, and an interval's constant forces leave it out (see README)."""
+
+    def potential(self, compiler, sid: str) -> E:
+        d = compiler.point_position(self.a, sid) - compiler.point_position(self.b, sid)
+        stretch = add(power(d.dot(d), 0.5), Const(-self.length))
+        return mul(Const(0.5 * self.stiffness), mul(stretch, stretch))
+
+    def tension(self, length: float, rate: float) -> float:
+        return self.stiffness * (length - self.length)
+
+    def sim_energy(self, frame) -> float:
+        pa, pb = frame.point(self.a.body, self.a.offset), frame.point(self.b.body, self.b.offset)
+        L = math.hypot(pb[0] - pa[0], pb[1] - pa[1])
+        return 0.5 * self.stiffness * (L - self.length) ** 2
+
+
+@joint_kind(JointKind.DAMPER)
+class Damper(_LineForce):
+    """A linear dashpot (simulate only): a pull c times the rate of extension."""
+
+    def tension(self, length: float, rate: float) -> float:
+        return self.stiffness * rate
+
+    def power(self, tension: float, rate: float) -> float:
+        return -tension * rate
+
+
+class BearingFriction(Element):
+    """A pin's bearing friction in one transition: an unknown torque impulse between its
+    two sides."""
+
+    def __init__(self, joint: JointElement, span):
+        self.joint = joint
+        self.label = joint.label
+        self.span = span
+
+    def bodies(self) -> tuple[str | None, ...]:
+        return self.joint.bodies()
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        return [impulse_key(Component.M, self.label, phase.key)]
+
+    def stamp(self, phase: Phase, compiler) -> None:
+        if phase.kind is PhaseKind.STATE:
+            return
+        M = compiler.unknown(self.unknowns(phase)[0], ANGULAR_IMPULSE, KeyKind.ANGULAR_IMPULSE)
+        jt = self.joint
+        phase.apply(jt.a, V2(ZERO, ZERO), M)
+        if jt.b.body is not None:
+            phase.apply(jt.b, V2(ZERO, ZERO), neg(M))
+        phase.sources.append(ImpulseSource(self.bodies(), self.label, None, True,
+                                           f"friction torque at {self.label}"))
+
+    def describe(self) -> str:
+        return f"friction torque at {self.label}"
