@@ -97,6 +97,7 @@ class Contact:
     restitution_name: str | None = None  # a declared `unknown` used as this contact's e
     separation: float | None = None  # the relative normal speed after an impact, if given
     law: Restitution = Restitution.NEWTON  # how the normal impulse ends (elements/contacts.py)
+    law_span: Span | None = None  # where the file states the normal law (`restitution ...`)
 
 
 @record
@@ -827,7 +828,10 @@ class _Builder:
         mu = None
         slip = None
         modes = []
+        law_span = None
         for p in c.props:
+            if p.kind in ("restitution", "restitution?", "separation"):
+                law_span = p.span
             if p.kind == "restitution" and isinstance(p.value, S.Ref) and \
                     p.value.name in self.user_unknowns and not p.value.member:
                 e_name = p.value.name
@@ -879,7 +883,7 @@ class _Builder:
                        restitution_unknown=e_unknown, mode=Tangential(mode), mu=mu, slip=slip,
                        surface=surface, restitution_name=e_name, separation=separation,
                        law=Restitution.SEPARATION if separation is not None
-                       else Restitution.NEWTON)
+                       else Restitution.NEWTON, law_span=law_span)
 
     def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
         self._states_exist(states, s.before, s.after, s.span)

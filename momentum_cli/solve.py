@@ -13,6 +13,7 @@ import math
 from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
+from .elements.kinds import Component, KeyKind
 from .expr import E, NonLinear, affine, diff, evaluate, magnitude, to_text
 from .numbers import fmt_num, fmt_tiny
 from .records import record
@@ -248,11 +249,9 @@ def _given_lines(e: Equation, system: System) -> list[tuple[str, int]]:
     while todo:
         x = todo.pop()
         t = type(x)
-        if t is Known and "@" in x.name and "." in x.name:
-            body_qty, sid = x.name.rsplit("@", 1)
-            body, qty = body_qty.split(".", 1)
-            st = system.scene.states.get(sid)
-            g = st.givens.get((body, qty)) if st else None
+        if t is Known and getattr(x.name, "kind", None) == KeyKind.STATE:
+            st = system.scene.states.get(x.name.state)
+            g = st.givens.get((x.name.body, x.name.qty)) if st else None
             if g is not None:
                 found[x.name] = g[1].line
         elif t is Add:
@@ -538,7 +537,7 @@ def _hint_checks(sol: Solution) -> None:
                                "reached forward in time", None, code="no-solution",
                                notes=["check the signs of the given velocities and the slip "
                                       "direction"])
-        if u.kind == "impulse" and name.startswith("J_n[") and v[name] < 0:
+        if getattr(name, "comp", None) == Component.JN and v[name] < 0:
             sol.checks.append(CheckReport(f"contact {name}", "warning",
                                           f"normal impulse {fmt_num(v[name], 4)} N*s < 0: the "
                                           "contact would pull; the bodies are separating", v[name]))

@@ -41,10 +41,10 @@ class ContactRows:
 
 
 # ---- restitution laws (impacts) -------------------------------------------------------------
-RESTITUTION_LAWS: dict[Restitution, type["RestitutionLaw"]] = {}
+RESTITUTION_LAWS: dict[str, type["RestitutionLaw"]] = {}
 
 
-def restitution_law(kind: Restitution):
+def restitution_law(kind: str):
     """Register a RestitutionLaw subclass for contacts whose `law` is `kind`."""
     def register(cls):
         cls.kind = kind
@@ -64,6 +64,14 @@ class RestitutionLaw:
 
     def stamp_impact(self, rows: ContactRows, compiler) -> None:
         raise NotImplementedError
+
+    def sim_restitution(self) -> float:
+        """The coefficient a simulation applies at each impact of this contact."""
+        c = self.c
+        raise ProblemError(f"simulate cannot apply {self.describe()} at contact {c.label}: "
+                           "it needs a coefficient of restitution", c.law_span or c.span,
+                           code="simulate", notes=["write `restitution 0.5` (a number) for "
+                                                   "the simulation"])
 
     def describe(self) -> str:
         return str(self.kind)
@@ -88,7 +96,15 @@ class NewtonRestitution(RestitutionLaw):
 
     def describe(self) -> str:
         c = self.c
-        return "restitution ?" if c.restitution_unknown else f"restitution {c.restitution:g}"
+        if c.restitution_unknown:
+            return f"restitution {c.restitution_name or '?'}"
+        return f"restitution {c.restitution:g}"
+
+    def sim_restitution(self) -> float:
+        if self.c.restitution_unknown:
+            return super().sim_restitution()  # found by `solve`, not known to a simulation
+        # a contact that only persists (an interval's) closes plastically
+        return self.c.restitution if self.c.restitution is not None else 0.0
 
 
 @restitution_law(Restitution.SEPARATION)
@@ -137,7 +153,18 @@ class TangentialLaw:
         return "stick"
 
     def stick_holds(self, jt: float, jn: float) -> bool:
+        """Whether a sticking contact's tangential impulse (or force) jt is inside the
+        cone of its normal one jn."""
         return True
+
+    def sim_column(self, rn, rt, regime):
+        """The column of B that carries the normal force of a persistent contact (a
+        sliding one also carries its friction, -mu N along the slip)."""
+        return rn
+
+    def sim_power(self, normal: float, slip: float, regime) -> float:
+        """The power of the tangential force of a persistent contact."""
+        return 0.0
 
     def describe(self) -> str:
         return str(self.kind)
@@ -225,6 +252,16 @@ class Coulomb(TangentialLaw):
             return 1.0 if v > 0 else -1.0
         return None
 
+    def sim_column(self, rn, rt, regime):
+        if regime in (1.0, -1.0):
+            return rn - self.mu * regime * rt
+        return rn
+
+    def sim_power(self, normal: float, slip: float, regime) -> float:
+        if regime in (1.0, -1.0):
+            return -self.mu * max(normal, 0.0) * abs(slip)
+        return 0.0
+
     def sim_regime(self, slip: float, tol: float):
         if not self.mu:
             return "rest"  # mu = 0: smooth
@@ -246,7 +283,7 @@ class ContactElement(Element):
         self.span = c.span
         law = getattr(c, "law", None) or (Restitution.SEPARATION if c.separation is not None
                                           else Restitution.NEWTON)
-        self.restitution = RESTITUTION_LAWS[Restitution(law)](c)
+        self.restitution = RESTITUTION_LAWS[law](c)
         self.tangential = TANGENTIAL_LAWS[Tangential(c.mode)](c)
 
     def bodies(self) -> tuple[str | None, ...]:

@@ -9,6 +9,7 @@ position residuals (drift) and their forces along the line (springs, dampers).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from ..expr import ZERO, Const, E, V2, add, mul, neg, power
 from ..units import ANGULAR_IMPULSE, IMPULSE
@@ -17,6 +18,15 @@ from .keys import Key, impulse_key
 from .kinds import Component, JointKind, KeyKind, PhaseKind
 
 JOINTS: dict[JointKind, type["JointElement"]] = {}
+
+
+class SimRow(NamedTuple):
+    """One velocity constraint row for simulate: A u' = -beta."""
+
+    name: str  # its constraint force: Fx[O], F[link], M[weld]
+    row: object  # numpy row over the velocities u
+    beta: float  # the acceleration term without u'
+    angular: bool = False  # a rotation row (drift scales it by the length scale)
 
 
 def joint_kind(kind: JointKind):
@@ -85,8 +95,7 @@ class JointElement(Element):
             phase.apply(self.b, -J, neg(M) if M is not None else None)
 
     # ---- simulate
-    def sim_rows(self, frame) -> list:
-        """[(constraint force name, velocity row, acceleration term)]."""
+    def sim_rows(self, frame) -> list[SimRow]:
         return []
 
     def sim_reference(self, frame) -> float | None:
@@ -163,7 +172,7 @@ class Pin(JointElement):
 
     def sim_rows(self, frame) -> list:
         J, beta = self._pair_rows(frame)
-        return [(f"F{axis}[{self.label}]", J[k], beta[k]) for k, axis in enumerate("xy")]
+        return [SimRow(f"F{axis}[{self.label}]", J[k], beta[k]) for k, axis in enumerate("xy")]
 
     def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
         return list(self._gap(frame))
@@ -187,7 +196,7 @@ class Weld(Pin):
         row = frame.jac[self.a.body][2].copy()
         if self.b.body is not None:
             row -= frame.jac[self.b.body][2]
-        return super().sim_rows(frame) + [(f"M[{self.label}]", row, 0.0)]
+        return super().sim_rows(frame) + [SimRow(f"M[{self.label}]", row, 0.0, True)]
 
     def sim_reference(self, frame) -> float | None:
         return self._angle(frame)
@@ -221,7 +230,8 @@ class Link(JointElement):
     def sim_rows(self, frame) -> list:
         J, beta = self._pair_rows(frame)
         d = self.along
-        return [(f"F[{self.label}]", d[0] * J[0] + d[1] * J[1], d[0] * beta[0] + d[1] * beta[1])]
+        return [SimRow(f"F[{self.label}]", d[0] * J[0] + d[1] * J[1],
+                       d[0] * beta[0] + d[1] * beta[1])]
 
     def sim_reference(self, frame) -> float | None:
         dx, dy = self._gap(frame)

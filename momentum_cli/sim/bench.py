@@ -15,18 +15,18 @@ import time
 from dataclasses import dataclass
 
 # file -> (what the simulation measures, the solve value it must equal, unit, label)
-# `final:B.q`: at the end of the run; `impact:B.q` / `lock:B.q`: just after the first
-# such event; `stop_time`: when the run stopped.
+# what it measures is (when, body, qty): `final` at the end of the run; `impact` /
+# `lock` just after the first such event; `stop_time` when the run stopped.
 CASES = {
-    "seed_pendulum_wall.mom": ("final:pendulum.angle", "pendulum.angle@4", "deg",
+    "seed_pendulum_wall.mom": (("final", "pendulum", "angle"), "pendulum.angle@4", "deg",
                                "pendulum rebound angle"),
-    "seed_disk_wall.mom": ("stop_time", "t@1->2", "s", "disk stopping time"),
-    "seed_rod_drop_smooth.mom": ("impact:rod.omega", "rod.omega@3", "rad/s",
+    "seed_disk_wall.mom": (("stop_time", None, None), "t@1->2", "s", "disk stopping time"),
+    "seed_rod_drop_smooth.mom": (("impact", "rod", "omega"), "rod.omega@3", "rad/s",
                                  "rod spin after a smooth impact"),
-    "seed_rod_drop_rough.mom": ("impact:rod.omega", "rod.omega@3", "rad/s",
+    "seed_rod_drop_rough.mom": (("impact", "rod", "omega"), "rod.omega@3", "rad/s",
                                 "rod spin after a rough impact"),
-    "seed_billiards_elastic.mom": ("impact:C.vx", "C.vx@2", "m/s", "billiard ball C"),
-    "seed_rod_disk_bearing.mom": ("lock:rod.omega", "rod.omega@2", "rad/s",
+    "seed_billiards_elastic.mom": (("impact", "C", "vx"), "C.vx@2", "m/s", "billiard ball C"),
+    "seed_rod_disk_bearing.mom": (("lock", "rod", "omega"), "rod.omega@2", "rad/s",
                                   "rod and disk after the bearing locks"),
 }
 RTOLS = tuple(10.0 ** -k for k in range(3, 13))
@@ -45,12 +45,11 @@ class Row:
     evaluations: int
 
 
-def _measure(res, how: str) -> float:
+def _measure(res, how: tuple) -> float:
     f = res.frame()
-    kind, _, target = how.partition(":")
+    kind, body, qty = how
     if kind == "stop_time":
         return float(res.events[-1].t)
-    body, qty = target.split(".")
     k = {"vx": 0, "vy": 1, "omega": 2}
     if kind == "final":
         if qty == "angle":

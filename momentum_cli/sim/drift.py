@@ -28,11 +28,9 @@ def reference(model: Model, frame: Frame) -> dict:
     """What each weld's angle and each link's length along its line are at the start."""
     ref = {}
     for j in model.joints:
-        if j.kind == "weld":
-            ref[j.label] = frame.pose[j.a.body][2] - (frame.pose[j.b.body][2] if j.b.body else 0.0)
-        elif j.kind == "link":
-            pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
-            ref[j.label] = (pa[0] - pb[0]) * j.along[0] + (pa[1] - pb[1]) * j.along[1]
+        r = j.sim_reference(frame)
+        if r is not None:
+            ref[j.label] = r
     return ref
 
 
@@ -42,14 +40,7 @@ def residuals(model: Model, phase: Phase, frame: Frame, ref: dict) -> list[float
     out = []
     L = model.length_scale
     for j in model.joints:
-        pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
-        if j.kind == "link":
-            out.append((pa[0] - pb[0]) * j.along[0] + (pa[1] - pb[1]) * j.along[1] - ref[j.label])
-            continue
-        out += [pa[0] - pb[0], pa[1] - pb[1]]
-        if j.kind == "weld":
-            th = frame.pose[j.a.body][2] - (frame.pose[j.b.body][2] if j.b.body else 0.0)
-            out.append((th - ref[j.label]) * L)
+        out += j.sim_residuals(frame, ref, L)
     for w in model.watches:
         if w.label in phase.contacts:
             out.append(contact_geometry(frame, w)[0])
@@ -61,8 +52,8 @@ def rows(model: Model, phase: Phase, frame: Frame, velocity: bool = False) -> li
     rolling contacts' tangential rows (a velocity constraint only)."""
     L = model.length_scale
     out = []
-    for name, r, _ in joint_rows(frame, model):
-        out.append(r * L if name.startswith("M[") else r)
+    for r in joint_rows(frame, model):
+        out.append(r.row * L if r.angular else r.row)
     for w in model.watches:
         mode = phase.contacts.get(w.label)
         if mode is None:

@@ -6,7 +6,6 @@ of joints and of the contacts that persist in this phase.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,42 +38,6 @@ class Instant:
     power: float  # of the forces that are not potentials (work W is its integral)
 
 
-def _joint_points(frame: Frame, j):
-    ra = frame.offset(j.a.body, j.a.offset)
-    rb = frame.offset(j.b.body, j.b.offset) if j.b.body is not None else None
-    return ra, rb
-
-
-def _line(frame: Frame, j):
-    """A spring's or damper's line from a to b: offsets, unit direction, length and rate
-    of extension; None when its ends meet (no direction)."""
-    ra, rb = _joint_points(frame, j)
-    pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
-    dx, dy = pb[0] - pa[0], pb[1] - pa[1]
-    L = math.hypot(dx, dy)
-    if L == 0:
-        return None
-    ex, ey = dx / L, dy / L
-    va = frame.point_velocity(j.a.body, ra)
-    vb = frame.point_velocity(j.b.body, rb) if rb is not None else (0.0, 0.0)
-    return ra, rb, ex, ey, L, (vb[0] - va[0]) * ex + (vb[1] - va[1]) * ey
-
-
-def _pull(frame: Frame, Q, j, ra, rb, tension: float, ex: float, ey: float) -> None:
-    """Equal and opposite forces along the line: `tension` > 0 pulls the ends together."""
-    add_force(frame, Q, j.a.body, ra, (tension * ex, tension * ey))
-    add_force(frame, Q, j.b.body, rb, (-tension * ex, -tension * ey))
-
-
-def _pair_rows(frame: Frame, j):
-    ra, rb = _joint_points(frame, j)
-    Ja, ba = frame.point_jac(j.a.body, ra)
-    if rb is None:
-        return Ja, np.array(ba)
-    Jb, bb = frame.point_jac(j.b.body, rb)
-    return Ja - Jb, np.array(ba) - np.array(bb)
-
-
 def _rotation_row(frame: Frame, a: str, b: str | None):
     row = frame.jac[a][2].copy()
     if b is not None:
@@ -95,20 +58,8 @@ def relative_spin(frame: Frame, model: Model, label: str) -> float:
 
 
 def joint_rows(frame: Frame, model: Model) -> list:
-    """[(force name, velocity row, acceleration term)] of the pins, welds and links."""
-    out = []
-    for j in model.joints:
-        J, beta = _pair_rows(frame, j)
-        if j.kind == "link":
-            d = j.along
-            out.append((f"F[{j.label}]", d[0] * J[0] + d[1] * J[1],
-                        d[0] * beta[0] + d[1] * beta[1]))
-            continue
-        for k, axis in enumerate("xy"):
-            out.append((f"F{axis}[{j.label}]", J[k], beta[k]))
-        if j.kind == "weld":
-            out.append((f"M[{j.label}]", _rotation_row(frame, j.a.body, j.b.body), 0.0))
-    return out
+    """The velocity rows (SimRow) of the pins, welds and links, each from its element."""
+    return [r for j in model.joints for r in j.sim_rows(frame)]
 
 
 def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
@@ -128,17 +79,8 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
     for Mo, body, _ in model.moments:
         add_moment(frame, Q, body, Mo)
         power += Mo * frame.twist[body][2]
-    for j in model.springs:
-        line = _line(frame, j)
-        if line is not None:
-            ra, rb, ex, ey, L, _ = line
-            _pull(frame, Q, j, ra, rb, j.stiffness * (L - j.length), ex, ey)
-    for j in model.dampers:
-        line = _line(frame, j)
-        if line is not None:
-            ra, rb, ex, ey, _, rate = line
-            _pull(frame, Q, j, ra, rb, j.stiffness * rate, ex, ey)
-            power -= j.stiffness * rate * rate
+    for j in model.springs + model.dampers:
+        power += j.sim_force(frame, Q)
     rows, betas, cols, names = [], [], [], []
     for label, torque in model.bearings.items():
         a, b = pin_bodies(model, label)
@@ -153,11 +95,11 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
             add_moment(frame, Q, a, -torque * s)
             add_moment(frame, Q, b, torque * s)
             power -= torque * abs(relative_spin(frame, model, label))
-    for name, r, beta in joint_rows(frame, model):
-        rows.append(r)
-        cols.append(r)
-        betas.append(beta)
-        names.append(name)
+    for r in joint_rows(frame, model):
+        rows.append(r.row)
+        cols.append(r.row)
+        betas.append(r.beta)
+        names.append(r.name)
     sliding = []
     for w in model.watches:
         mode = phase.contacts.get(w.label)
@@ -168,7 +110,7 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
         col = rn
         if mode in (1.0, -1.0):
             rt, _, t = tangent_row(frame, w, geo)
-            col = rn - w.spec.mu * mode * rt
+            col = w.element.tangential.sim_column(rn, rt, mode)
             sliding.append((w, geo, len(rows)))
         rows.append(rn)
         cols.append(col)
@@ -203,7 +145,8 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
 
         v = relative_velocity(frame, w, geo)
         t = (-geo[1][1], geo[1][0])
-        power -= w.spec.mu * max(x[n + k], 0.0) * abs(v[0] * t[0] + v[1] * t[1])
+        power += w.element.tangential.sim_power(x[n + k], v[0] * t[0] + v[1] * t[1],
+                                                phase.contacts[w.label])
     return Instant(x[:n], lam, power)
 
 
@@ -220,9 +163,7 @@ def energy(model: Model, frame: Frame) -> float:
             gx, gy, _ = frame.pose[b.name]
             E -= b.mass * (g[0] * gx + g[1] * gy)
     for j in model.springs:
-        pa, pb = frame.point(j.a.body, j.a.offset), frame.point(j.b.body, j.b.offset)
-        L = math.hypot(pb[0] - pa[0], pb[1] - pa[1])
-        E += 0.5 * j.stiffness * (L - j.length) ** 2
+        E += j.sim_energy(frame)
     return E
 
 

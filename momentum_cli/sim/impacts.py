@@ -3,14 +3,18 @@
 The moment of contact becomes a two-state scene (`state 1` fully given, `state 2`
 unknown) with an `impact 1 -> 2` whose contacts sit where the bodies touch; the
 compiler writes impulse-momentum, restitution and friction for it exactly as for a
-file, and the solver picks the friction regime.
+file (the same contact and joint elements), and the solver picks the friction regime.
 """
 from __future__ import annotations
 
 from ..diagnostics import Collector
+from ..elements.keys import state_key
+from ..elements.kinds import TransitionKind
 from ..scene import Contact, PointOn, Scene, StateSpec, TransitionSpec
 from .dynamics import Frame
 from .model import Model, Watch, rot
+
+IMPACT = "1->2"
 
 
 def _givens(model: Model, frame: Frame, span) -> dict:
@@ -37,8 +41,9 @@ def _contact(frame: Frame, w: Watch, geometry) -> Contact:
     if rb is not None:
         b = PointOn(w.b.body, rot(-frame.pose[w.b.body][2], rb), w.b.name, w.b.span)
     s = w.spec
-    e = s.restitution if s.restitution is not None else 0.0
-    return Contact(w.label, s.span, a, b, n, e, False, s.mode, s.mu, None, None)
+    return Contact(label=w.label, span=s.span, a=a, b=b, normal=n,
+                   restitution=w.element.restitution.sim_restitution(),
+                   restitution_unknown=False, mode=s.mode, mu=s.mu, slip=None, surface=None)
 
 
 def resolve(model: Model, frame: Frame, hits: list) -> tuple[dict, dict, dict]:
@@ -50,17 +55,20 @@ def resolve(model: Model, frame: Frame, hits: list) -> tuple[dict, dict, dict]:
     span = hits[0][0].spec.span
     before = StateSpec("1", "before", span, _givens(model, frame, span))
     after = StateSpec("2", "after", span)
-    impact = TransitionSpec("impact", "1", "2", span, [_contact(frame, w, g) for w, g in hits])
-    joints = [j for j in scene.joints if j.kind in ("pin", "weld", "link")]
-    sub = Scene(scene.title, scene.gravity, scene.g, scene.constants, scene.user_unknowns,
-                scene.bodies, scene.points, scene.surfaces, joints, {"1": before, "2": after},
-                [impact], [], [], [], Collector(), scene.gravity_span)
+    impact = TransitionSpec(TransitionKind.IMPACT, "1", "2", span,
+                            [_contact(frame, w, g) for w, g in hits])
+    sub = Scene(title=scene.title, gravity=scene.gravity, g=scene.g, constants=scene.constants,
+                user_unknowns=scene.user_unknowns, bodies=scene.bodies, points=scene.points,
+                surfaces=scene.surfaces, joints=[j.record for j in model.scene_joints if j.impulsive],
+                states={"1": before, "2": after}, transitions=[impact], stated=[],
+                equations=[], finds=[], notes=Collector(), gravity_span=scene.gravity_span)
     sol = solve_scene(sub, solve_all=True)
     v = sol.values
     out = {}
     for b in model.bodies:
         old = frame.twist[b.name]
-        out[b.name] = tuple(v.get(f"{b.name}.{q}@2", old[k])
+        out[b.name] = tuple(v.get(state_key(b.name, q, "2"), old[k])
                             for k, q in enumerate(("vx", "vy", "omega")))
-    impulses = {k.split("@")[0]: x for k, x in v.items() if "@1->2" in k}
+    impulses = {k.local: v[k] for k in sol.system.unknowns
+                if getattr(k, "transition", None) == IMPACT and k in v}
     return out, impulses, dict(sol.regimes)

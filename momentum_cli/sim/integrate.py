@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..diagnostics import ProblemError
+from ..elements.kinds import JointKind, Tangential
 from ..scene import Scene
 from . import advance
 from .drift import drift_event, project, reference, tolerance
@@ -295,17 +296,9 @@ class Simulator:
         for w, geo, vn in touching(model, frame, self.gap_tol):
             if abs(vn) > self.v_rest:
                 continue
-            if w.spec.mode == "smooth":
-                phase.contacts[w.label] = "rest"
-                continue
             v = relative_velocity(frame, w, geo)
             slip = -v[0] * geo[1][1] + v[1] * geo[1][0]
-            if w.spec.mode == "friction" and not w.spec.mu:
-                phase.contacts[w.label] = "rest"  # mu = 0: smooth
-            elif w.spec.mode == "rough" or abs(slip) <= 10 * self.v_tol:
-                phase.contacts[w.label] = "stick"
-            else:
-                phase.contacts[w.label] = math.copysign(1.0, slip)
+            phase.contacts[w.label] = w.element.tangential.sim_regime(slip, 10 * self.v_tol)
         for label in model.bearings:
             spin = relative_spin(frame, model, label)
             if abs(spin) * model.length_scale <= 10 * self.v_tol:
@@ -327,11 +320,9 @@ class Simulator:
                 if mode != "stick":
                     continue
                 w = next(x for x in model.watches if x.label == label)
-                if w.spec.mode == "rough":
-                    continue
                 Ft = inst.lam.get(f"F_t[{label}]", 0.0)
                 N = inst.lam.get(f"N[{label}]", 0.0)
-                if abs(Ft) > w.spec.mu * N * (1 + 1e-12):
+                if not w.element.tangential.stick_holds(Ft, N):
                     phase.contacts[label] = -math.copysign(1.0, Ft)
                     changed = True
             for label in list(phase.locked):
@@ -379,7 +370,7 @@ class Simulator:
             evs.append(separation_event(w))
             if mode in (1.0, -1.0):
                 evs.append(slip_event(w))
-            elif mode == "stick" and w.spec.mode == "friction":
+            elif mode == "stick" and w.element.tangential.kind is Tangential.FRICTION:
                 evs.append(stick_limit_event(w))
         for label in model.bearings:
             evs.append(bearing_events(model, label, label in phase.locked))
@@ -394,7 +385,7 @@ class Simulator:
         if any(b.size == 1 and b.pin_offset != (0.0, 0.0) for b in m.bodies):
             return False
         for j in m.joints:
-            if j.kind == "weld" or j.a.offset != (0.0, 0.0) or \
+            if j.kind is JointKind.WELD or j.a.offset != (0.0, 0.0) or \
                     (j.b.body is not None and j.b.offset != (0.0, 0.0)):
                 return False
         for F, p, _ in m.forces:

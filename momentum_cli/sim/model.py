@@ -8,10 +8,13 @@ x, y) and the remaining joints and persistent contacts enter as constraint force
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..diagnostics import ProblemError
-from ..scene import Contact, Joint, PointOn, Scene
+from ..elements.contacts import ContactElement
+from ..elements.joints import JointElement, joint_element
+from ..elements.kinds import JointKind
+from ..scene import Contact, PointOn, Scene
 
 
 @dataclass
@@ -40,6 +43,7 @@ class Watch:
     spec: Contact  # restitution, mode, mu, source line
     plane: tuple[float, float] = (0.0, 0.0)  # a point of the plane
     gap0: float = 0.0  # subtracted from the raw gap (surfaces placed by a transition)
+    element: ContactElement | None = None  # its laws (restitution, tangential)
 
 
 @dataclass
@@ -49,14 +53,15 @@ class Model:
     by_name: dict[str, SimBody]
     n: int
     gravity: tuple[float, float] | None
-    joints: list[Joint]  # pins, welds, links not reduced into coordinates
-    springs: list[Joint]
-    dampers: list[Joint]
+    joints: list[JointElement]  # pins, welds, links not reduced into coordinates
+    springs: list[JointElement]
+    dampers: list[JointElement]
     forces: list  # (F, PointOn, Span)
     moments: list  # (M, body, Span)
     bearings: dict[str, float]  # pin label -> friction torque
     watches: list[Watch]
     length_scale: float = 1.0
+    scene_joints: list[JointElement] = field(default_factory=list)  # every joint of the file
 
 
 def rot(theta: float, r: tuple[float, float]) -> tuple[float, float]:
@@ -66,12 +71,13 @@ def rot(theta: float, r: tuple[float, float]) -> tuple[float, float]:
 
 def build_model(scene: Scene, spec) -> Model:
     """Coordinates for each body, and the effects the file declares (nothing else)."""
-    ground_pins: dict[str, list[Joint]] = {}
-    for j in scene.joints:
-        if j.kind == "pin" and j.b.body is None and j.from_state is None:
+    elements = [joint_element(j, scene) for j in scene.joints]
+    ground_pins: dict[str, list[JointElement]] = {}
+    for j in elements:
+        if j.kind is JointKind.PIN and j.b.body is None and j.from_state is None:
             ground_pins.setdefault(j.a.body, []).append(j)
     bodies: list[SimBody] = []
-    joints: list[Joint] = []
+    joints: list[JointElement] = []
     reduced: set[str] = set()
     k = 0
     for name, b in scene.bodies.items():
@@ -85,8 +91,8 @@ def build_model(scene: Scene, spec) -> Model:
             sb = SimBody(name, k, size, b.mass, b.inertia, b.is_particle, b.radius)
         bodies.append(sb)
         k += sb.size
-    for j in scene.joints:
-        if j.kind in ("pin", "weld", "link") and j.label not in reduced:
+    for j in elements:
+        if j.constrains and j.label not in reduced:
             if j.from_state is not None:
                 raise ProblemError(f"'{j.label}' holds from state {j.from_state}: a simulation "
                                    "takes joints that hold throughout", j.span, code="name")
@@ -94,9 +100,11 @@ def build_model(scene: Scene, spec) -> Model:
     by_name = {b.name: b for b in bodies}
     bearings = {label: torque for label, torque, _ in spec.bearings}
     model = Model(scene, bodies, by_name, k, scene.gravity, joints,
-                  [j for j in scene.joints if j.kind == "spring"], list(spec.dampers),
+                  [j for j in elements if j.kind is JointKind.SPRING],
+                  [joint_element(d, scene) for d in spec.dampers],
                   list(spec.forces), list(spec.moments), bearings, [])
     model.length_scale = _length_scale(scene)
+    model.scene_joints = elements
     return model
 
 
@@ -111,15 +119,17 @@ def watch_for(model: Model, c: Contact, placed_at: dict | None) -> Watch:
     """A watched contact. `placed_at` (a transition's start-state poses) places a ground or
     an unlocated surface where the contact is in that state: the file says it touches there."""
     scene = model.scene
+    element = ContactElement(c)
+    element.restitution.sim_restitution()  # a law a simulation cannot apply is refused here
     ra = _radius(scene, c.a)
     if c.b is not None:
-        w = Watch(c.label, c.a, c.b, c.normal, ra, _radius(scene, c.b), c)
+        w = Watch(c.label, c.a, c.b, c.normal, ra, _radius(scene, c.b), c, element=element)
         if c.normal is not None and placed_at is not None:
             w.ra = w.rb = 0.0  # the gap along the normal is measured from where it touches
     else:
         sf = scene.surfaces.get(c.surface) if c.surface else None
         w = Watch(c.label, c.a, None, c.normal, ra, 0.0, c,
-                  sf.at if sf is not None else (0.0, 0.0))
+                  sf.at if sf is not None else (0.0, 0.0), element=element)
         located = sf is not None and sf.located
         if located or placed_at is None:
             return w
