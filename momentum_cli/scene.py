@@ -11,7 +11,7 @@ from dataclasses import field
 
 from . import syntax as S
 from .diagnostics import Collector, ProblemError, did_you_mean
-from .elements.kinds import JointKind, Restitution, Tangential, TransitionKind
+from .elements.kinds import Clause, JointKind, Prop, Restitution, Tangential, TransitionKind
 from .expr import Const
 from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
 from .records import record
@@ -386,10 +386,12 @@ class _Builder:
                                        f"second; the first is at line {simulations[0].span.line})",
                                        s.span, code="name")
                 simulations.append(build_simulation(self, s, states))
-        return Scene(title, self.gravity, self.g, self.constants, self.user_unknowns,
-                     self.bodies, self.points, self.surfaces, joints, states, transitions, stated,
-                     equations, finds, self.notes, self.gravity_span, steady, burns, gains,
-                     simulations)
+        return Scene(title=title, gravity=self.gravity, g=self.g, constants=self.constants,
+                     user_unknowns=self.user_unknowns, bodies=self.bodies, points=self.points,
+                     surfaces=self.surfaces, joints=joints, states=states,
+                     transitions=transitions, stated=stated, equations=equations, finds=finds,
+                     notes=self.notes, gravity_span=self.gravity_span, steady=steady,
+                     burns=burns, gains=gains, simulations=simulations)
 
     def _gain(self, s: S.GainDecl, states, transitions, taken: dict) -> None:
         """A gain or loss of mass: a particle between two declared states, with a rate,
@@ -736,7 +738,7 @@ class _Builder:
         labels = set()
         for c in s.clauses:
             if isinstance(c, S.Contact):
-                if s.kind == "energy":
+                if s.kind == TransitionKind.ENERGY:
                     raise ProblemError("contacts belong to impacts and intervals; an energy phase "
                                        "takes gravity, springs, forces and moments", c.span,
                                        code="name")
@@ -747,41 +749,41 @@ class _Builder:
                                        notes=["name them: `contact NAME: A with B`"])
                 labels.add(con.label)
                 t.contacts.append(con)
-            elif c.kind == "bearing-friction":
-                if c.names[0] not in {j.label for j in self.joints if j.kind == "pin"}:
-                    pins = [j.label for j in self.joints if j.kind == "pin"]
+            elif c.kind == Clause.BEARING_FRICTION:
+                if c.names[0] not in {j.label for j in self.joints if j.kind == JointKind.PIN}:
+                    pins = [j.label for j in self.joints if j.kind == JointKind.PIN]
                     raise ProblemError(f"no pin called '{c.names[0]}'" +
                                        did_you_mean(c.names[0], pins), c.span, code="name",
                                        notes=["name a pin: `pin bearing: disk to rod.A`"])
                 t.bearing_friction.append((c.names[0], c.span))
-            elif c.kind == "stops-relative":
+            elif c.kind == Clause.STOPS_RELATIVE:
                 for n in c.names:
                     self._body_named(n, c.span)
                 t.stops_relative.append((c.names[0], c.names[1], c.span))
-            elif c.kind == "stops":
+            elif c.kind == Clause.STOPS:
                 self._body_named(c.names[0], c.span)
                 t.stops.append((c.names[0], c.span))
-            elif c.kind == "rolls":
+            elif c.kind == Clause.ROLLS:
                 self._body_named(c.names[0], c.span)
                 self._surface_named(c.names[1], c.span)
                 t.rolls.append((c.names[0], c.names[1], c.span))
-            elif c.kind == "force":
+            elif c.kind == Clause.FORCE:
                 f = self.vector(c.value, FORCE, "a force")
                 t.forces.append((f, self.point(c.point), c.span))
-            elif c.kind == "moment":
+            elif c.kind == Clause.MOMENT:
                 body = self._body_named(c.names[0], c.span)
                 t.moments.append((self.value(c.value, MOMENT, "a moment"), body.name, c.span))
-            elif c.kind == "duration":
-                if s.kind != "interval":
+            elif c.kind == Clause.DURATION:
+                if s.kind != TransitionKind.INTERVAL:
                     raise ProblemError("only an interval has a duration", c.span, code="name")
                 d = self.value(c.value, TIME, "a duration")
                 if d <= 0:
                     raise ProblemError("a duration must be positive", c.value.span,
                                        code="number")
                 t.duration = d
-            elif c.kind == "free":
+            elif c.kind == Clause.FREE:
                 self._body_named(c.names[0], c.span)
-        if s.kind == "impact" and (t.forces or t.moments):
+        if s.kind == TransitionKind.IMPACT and (t.forces or t.moments):
             raise ProblemError("an impact is instantaneous: finite forces and moments give no "
                                "impulse; put them in an interval", (t.forces or t.moments)[0][2],
                                code="name")
@@ -824,36 +826,36 @@ class _Builder:
         e_unknown = False
         e_name = None
         separation = None
-        mode = "smooth"
+        mode = Tangential.SMOOTH
         mu = None
         slip = None
         modes = []
         law_span = None
         for p in c.props:
-            if p.kind in ("restitution", "restitution?", "separation"):
+            if p.kind in (Prop.RESTITUTION, Prop.RESTITUTION_UNKNOWN, Prop.SEPARATION):
                 law_span = p.span
-            if p.kind == "restitution" and isinstance(p.value, S.Ref) and \
+            if p.kind == Prop.RESTITUTION and isinstance(p.value, S.Ref) and \
                     p.value.name in self.user_unknowns and not p.value.member:
                 e_name = p.value.name
                 e_unknown = True
-            elif p.kind == "restitution":
+            elif p.kind == Prop.RESTITUTION:
                 e = self.value(p.value, NONE, "a coefficient of restitution")
                 self._check_restitution(e, p.value.span)
-            elif p.kind == "restitution?":
+            elif p.kind == Prop.RESTITUTION_UNKNOWN:
                 e_unknown = True
-            elif p.kind in ("smooth", "rough"):
-                mode = p.kind
+            elif p.kind in (Prop.SMOOTH, Prop.ROUGH):
+                mode = Tangential(p.kind)
                 modes.append(p)
-            elif p.kind == "friction":
+            elif p.kind == Prop.FRICTION:
                 mu = self.value(p.value, NONE, "a friction coefficient")
                 if mu < 0:
                     raise ProblemError(f"a friction coefficient cannot be negative; got {mu:g}",
                                        p.value.span, code="number")
-                mode = "friction"
+                mode = Tangential.FRICTION
                 modes.append(p)
-            elif p.kind == "slip":
+            elif p.kind == Prop.SLIP:
                 slip = self.unit_vector(p.value, "a slip direction")
-            elif p.kind == "separation":
+            elif p.kind == Prop.SEPARATION:
                 separation = self.value(p.value, VELOCITY, "a separation speed")
                 if separation < 0:
                     raise ProblemError("a separation speed cannot be negative (the bodies would "
@@ -871,7 +873,7 @@ class _Builder:
         if separation is not None and (e is not None or e_unknown):
             raise ProblemError("give either a restitution or a separation speed, not both",
                                c.span, code="name")
-        if kind == "interval" and mode == "rough":
+        if kind == TransitionKind.INTERVAL and mode == Tangential.ROUGH:
             raise ProblemError("in an interval a rough contact needs a friction coefficient "
                                "(`friction 0.3`); rolling is `BODY rolls on SURFACE`",
                                modes[0].span, code="name")

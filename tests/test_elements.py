@@ -46,6 +46,17 @@ def replace(rec, **changes):
     return type(rec)(**(fields | changes))
 
 
+# a 2 kg particle at 5 m/s strikes a 3 kg one at rest, e = 1
+TWO_PARTICLES = """
+body a: particle(mass = 2 kg)
+body b: particle(mass = 3 kg)
+state 1: a.v = (5 m/s, 0), b at rest
+state 2
+impact 1 -> 2:
+    contact a with b normal (-1, 0): restitution 1, smooth
+"""
+
+
 # ---- keys and kinds -------------------------------------------------------------------------
 def test_a_key_is_its_name_and_carries_its_fields():
     k = state_key("rod", "omega", "3")
@@ -66,15 +77,7 @@ def test_kinds_print_as_the_file_writes_them():
 
 
 def test_the_solved_unknowns_are_keys():
-    sol = solve_text("""
-body a: particle(mass = 2 kg)
-body b: particle(mass = 3 kg)
-state 1: a.v = (5 m/s, 0), b at rest
-state 2
-impact 1 -> 2:
-    contact a with b normal (-1, 0): restitution 1, smooth
-find b.vx@2
-""")
+    sol = solve_text(TWO_PARTICLES + "find b.vx@2\n")
     keys = {k: k for k in sol.system.unknowns}
     jn = keys["J_n[a-b]@1->2"]
     assert isinstance(jn, Key) and jn.comp is Component.JN and jn.transition == "1->2"
@@ -137,15 +140,7 @@ def test_a_new_restitution_law_is_one_subclass():
                         self.c.span)
 
     try:
-        sc = scene_of("""
-body a: particle(mass = 2 kg)
-body b: particle(mass = 3 kg)
-state 1: a.v = (5 m/s, 0), b at rest
-state 2
-impact 1 -> 2:
-    contact a with b normal (-1, 0): restitution 1, smooth
-find a.vx@2, b.vx@2
-""")
+        sc = scene_of(TWO_PARTICLES + "find a.vx@2, b.vx@2\n")
         t = sc.transitions[0]
         t.contacts = [replace(c, law="third") for c in t.contacts]
         got = {n: si for n, _v, _u, si in solve_scene(sc).answers}

@@ -78,6 +78,18 @@ class Check:
     detail: str
 
 
+def registrar(table: dict):
+    """A class decorator factory: `@by_kind(KIND)` sets the class's `kind` and files it
+    in `table` under that kind (how a new law or joint joins its family)."""
+    def by_kind(kind):
+        def register(cls):
+            cls.kind = kind
+            table[kind] = cls
+            return cls
+        return register
+    return by_kind
+
+
 class Element:
     """Base of every contact law and joint: by default it adds nothing anywhere."""
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from ..diagnostics import ProblemError
 from ..expr import ZERO, Const, E, Known, V2, evaluate, mul, neg, variables
 from ..units import IMPULSE, NONE
-from .base import Check, Element, FrictionSite, ImpulseSource, Phase
+from .base import Check, Element, FrictionSite, ImpulseSource, Phase, registrar
 from .keys import Key, impulse_key, named_key, parameter_key
 from .kinds import Component, KeyKind, PhaseKind, Regime, Restitution, Tangential
 
@@ -42,15 +42,7 @@ class ContactRows:
 
 # ---- restitution laws (impacts) -------------------------------------------------------------
 RESTITUTION_LAWS: dict[str, type["RestitutionLaw"]] = {}
-
-
-def restitution_law(kind: str):
-    """Register a RestitutionLaw subclass for contacts whose `law` is `kind`."""
-    def register(cls):
-        cls.kind = kind
-        RESTITUTION_LAWS[kind] = cls
-        return cls
-    return register
+restitution_law = registrar(RESTITUTION_LAWS)  # @restitution_law(KIND) on a subclass
 
 
 class RestitutionLaw:
@@ -122,14 +114,7 @@ class GivenSeparation(RestitutionLaw):
 
 # ---- tangential laws -------------------------------------------------------------------------
 TANGENTIAL_LAWS: dict[Tangential, type["TangentialLaw"]] = {}
-
-
-def tangential_law(kind: Tangential):
-    def register(cls):
-        cls.kind = kind
-        TANGENTIAL_LAWS[kind] = cls
-        return cls
-    return register
+tangential_law = registrar(TANGENTIAL_LAWS)
 
 
 class TangentialLaw:
@@ -148,9 +133,9 @@ class TangentialLaw:
     def regimes(self) -> tuple[Regime, ...]:
         return ()
 
-    # simulate: the regime of a persistent contact ("rest", "stick", or the slip sign)
+    # simulate: the regime of a persistent contact (REST, STICK, or the slip sign +-1.0)
     def sim_regime(self, slip: float, tol: float):
-        return "stick"
+        return Regime.STICK
 
     def stick_holds(self, jt: float, jn: float) -> bool:
         """Whether a sticking contact's tangential impulse (or force) jt is inside the
@@ -175,7 +160,7 @@ class Smooth(TangentialLaw):
     has_impulse = False
 
     def sim_regime(self, slip: float, tol: float):
-        return "rest"
+        return Regime.REST
 
 
 @tangential_law(Tangential.ROUGH)
@@ -264,9 +249,9 @@ class Coulomb(TangentialLaw):
 
     def sim_regime(self, slip: float, tol: float):
         if not self.mu:
-            return "rest"  # mu = 0: smooth
+            return Regime.REST  # mu = 0: smooth
         if abs(slip) <= tol:
-            return "stick"
+            return Regime.STICK
         return 1.0 if slip > 0 else -1.0
 
     def describe(self) -> str:

@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 from ..expr import ZERO, Const, E, V2, add, mul, neg, power
 from ..units import ANGULAR_IMPULSE, IMPULSE
-from .base import Element, ImpulseSource, Phase
+from .base import Element, ImpulseSource, Phase, registrar
 from .keys import Key, impulse_key
 from .kinds import Component, JointKind, KeyKind, PhaseKind
 
@@ -29,13 +29,7 @@ class SimRow(NamedTuple):
     angular: bool = False  # a rotation row (drift scales it by the length scale)
 
 
-def joint_kind(kind: JointKind):
-    """Register a JointElement subclass for joints of `kind`."""
-    def register(cls):
-        cls.kind = kind
-        JOINTS[kind] = cls
-        return cls
-    return register
+joint_kind = registrar(JOINTS)  # @joint_kind(KIND) on a JointElement subclass
 
 
 def joint_element(jt, scene) -> "JointElement":

@@ -43,13 +43,14 @@ class Regime(_Word):
     """A Coulomb contact's state for one transition."""
 
     STICK = "stick"
+    REST = "rest"  # simulate: a persistent contact with no tangential force (smooth)
     SLIDE_POS = "slide+"  # slipping along +t: friction along -t
     SLIDE_NEG = "slide-"
 
     @property
     def sign(self) -> float:
         """The slip direction along t (0 when sticking)."""
-        return {Regime.STICK: 0.0, Regime.SLIDE_POS: 1.0, Regime.SLIDE_NEG: -1.0}[self]
+        return {Regime.SLIDE_POS: 1.0, Regime.SLIDE_NEG: -1.0}.get(self, 0.0)
 
     @staticmethod
     def sliding(slip: float) -> "Regime":
@@ -94,3 +95,29 @@ class Component(_Word):
     M = "M"  # a moment impulse (weld, bearing friction)
     E = "e"
     V_SEP = "v_sep"
+
+
+class Clause(_Word):
+    """A clause of a transition or a simulate block (syntax.Clause.kind)."""
+
+    BEARING_FRICTION = "bearing-friction"
+    BEARING_TORQUE = "bearing-torque"
+    STOPS_RELATIVE = "stops-relative"
+    STOPS = "stops"
+    ROLLS = "rolls"
+    FORCE = "force"
+    MOMENT = "moment"
+    DURATION = "duration"
+    FREE = "free"
+
+
+class Prop(_Word):
+    """A property of a contact clause (syntax.Prop.kind)."""
+
+    RESTITUTION = "restitution"
+    RESTITUTION_UNKNOWN = "restitution?"
+    SMOOTH = "smooth"
+    ROUGH = "rough"
+    FRICTION = "friction"
+    SLIP = "slip"
+    SEPARATION = "separation"

@@ -13,6 +13,7 @@ import numpy as np
 from .dynamics import Frame, contact_geometry, mass_diagonal, normal_row, tangent_row
 from .events import Event
 from .forces import Phase, joint_rows
+from ..elements.kinds import Regime
 from .model import Model
 
 FLOOR = 1e-9  # the tightest drift tolerance, of the length scale
@@ -62,7 +63,7 @@ def rows(model: Model, phase: Phase, frame: Frame, velocity: bool = False) -> li
         out.append(normal_row(frame, w, geo)[0])
     if velocity:
         for w in model.watches:
-            if phase.contacts.get(w.label) == "stick":
+            if phase.contacts.get(w.label) == Regime.STICK:
                 out.append(tangent_row(frame, w, contact_geometry(frame, w))[0])
     return out
 

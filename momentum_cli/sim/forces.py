@@ -19,6 +19,7 @@ from .dynamics import (
     normal_row,
     tangent_row,
 )
+from ..elements.kinds import Regime
 from .model import Model
 
 
@@ -26,7 +27,7 @@ from .model import Model
 class Phase:
     """What holds between two events: persistent contacts and the bearings' states."""
 
-    contacts: dict = field(default_factory=dict)  # label -> "rest" | "stick" | +1.0 | -1.0
+    contacts: dict = field(default_factory=dict)  # label -> Regime.REST | STICK | +1.0 | -1.0
     locked: set = field(default_factory=set)  # bearing pins turning together
     bearing_sign: dict = field(default_factory=dict)  # pin -> sign of the relative rotation
 
@@ -116,7 +117,7 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
         cols.append(col)
         betas.append(bn)
         names.append(f"N[{w.label}]")
-        if mode == "stick":
+        if mode == Regime.STICK:
             rt, bt, _ = tangent_row(frame, w, geo)
             rows.append(rt)
             cols.append(rt)

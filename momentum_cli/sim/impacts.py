@@ -53,10 +53,10 @@ def resolve(model: Model, frame: Frame, hits: list) -> tuple[dict, dict, dict]:
 
     scene = model.scene
     span = hits[0][0].spec.span
-    before = StateSpec("1", "before", span, _givens(model, frame, span))
-    after = StateSpec("2", "after", span)
-    impact = TransitionSpec(TransitionKind.IMPACT, "1", "2", span,
-                            [_contact(frame, w, g) for w, g in hits])
+    before = StateSpec(id="1", label="before", span=span, givens=_givens(model, frame, span))
+    after = StateSpec(id="2", label="after", span=span)
+    impact = TransitionSpec(kind=TransitionKind.IMPACT, before="1", after="2", span=span,
+                            contacts=[_contact(frame, w, g) for w, g in hits])
     sub = Scene(title=scene.title, gravity=scene.gravity, g=scene.g, constants=scene.constants,
                 user_unknowns=scene.user_unknowns, bodies=scene.bodies, points=scene.points,
                 surfaces=scene.surfaces, joints=[j.record for j in model.scene_joints if j.impulsive],

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..diagnostics import ProblemError
-from ..elements.kinds import JointKind, Tangential
+from ..elements.kinds import JointKind, Regime, Tangential
 from ..scene import Scene
 from . import advance
 from .drift import drift_event, project, reference, tolerance
@@ -317,7 +317,7 @@ class Simulator:
                 del phase.contacts[worst[0]]
                 continue
             for label, mode in list(phase.contacts.items()):
-                if mode != "stick":
+                if mode != Regime.STICK:
                     continue
                 w = next(x for x in model.watches if x.label == label)
                 Ft = inst.lam.get(f"F_t[{label}]", 0.0)
@@ -370,7 +370,7 @@ class Simulator:
             evs.append(separation_event(w))
             if mode in (1.0, -1.0):
                 evs.append(slip_event(w))
-            elif mode == "stick" and w.element.tangential.kind is Tangential.FRICTION:
+            elif mode == Regime.STICK and w.element.tangential.kind is Tangential.FRICTION:
                 evs.append(stick_limit_event(w))
         for label in model.bearings:
             evs.append(bearing_events(model, label, label in phase.locked))

@@ -9,6 +9,7 @@ from dataclasses import field
 
 from .. import syntax as S
 from ..diagnostics import ProblemError, did_you_mean
+from ..elements.kinds import Clause, JointKind
 from ..records import record
 from ..source import Span
 from ..units import FORCE, MOMENT, TIME
@@ -45,7 +46,7 @@ def build_simulation(b, s: S.SimulateDecl, states) -> SimSpec:
         raise ProblemError(f"state {s.start} is not declared" + did_you_mean(s.start, states),
                            s.start_span, code="name", notes=[f"add a line `state {s.start}`"])
     spec = SimSpec(s.start, s.span)
-    pins = {j.label for j in b.joints if j.kind == "pin"}
+    pins = {j.label for j in b.joints if j.kind == JointKind.PIN}
     for c in s.clauses:
         if isinstance(c, S.Until):
             spec.untils.append(_until(b, c))
@@ -63,13 +64,14 @@ def build_simulation(b, s: S.SimulateDecl, states) -> SimSpec:
                 raise ProblemError("a damping coefficient cannot be negative", c.stiffness.span,
                                    code="number")
             label = c.label or (a.name if p.body is None else f"{a.name}-{p.name}")
-            spec.dampers.append(Joint("damper", label, a, p, c.span, None, damping))
-        elif c.kind == "force":
+            spec.dampers.append(Joint(kind=JointKind.DAMPER, label=label, a=a, b=p, span=c.span,
+                                      stiffness=damping))
+        elif c.kind == Clause.FORCE:
             spec.forces.append((b.vector(c.value, FORCE, "a force"), b.point(c.point), c.span))
-        elif c.kind == "moment":
+        elif c.kind == Clause.MOMENT:
             body = b._body_named(c.names[0], c.span)
             spec.moments.append((b.value(c.value, MOMENT, "a moment"), body.name, c.span))
-        elif c.kind == "bearing-torque":
+        elif c.kind == Clause.BEARING_TORQUE:
             if c.names[0] not in pins:
                 raise ProblemError(f"no pin called '{c.names[0]}'" + did_you_mean(c.names[0], pins),
                                    c.span, code="name",

@@ -8,6 +8,7 @@ velocity that nothing fixes is an error, because the motion would be a guess.
 from __future__ import annotations
 
 from ..diagnostics import Collector, ProblemError
+from ..elements.kinds import JointKind
 from ..scene import Scene, StateSpec
 
 POSITIONS = ("angle", "x", "y")
@@ -15,10 +16,12 @@ VELOCITIES = ("vx", "vy", "omega")
 
 
 def _reduced(scene: Scene, spec: StateSpec) -> Scene:
-    return Scene(scene.title, scene.gravity, scene.g, scene.constants, scene.user_unknowns,
-                 scene.bodies, scene.points, scene.surfaces,
-                 [j for j in scene.joints if j.kind != "spring" and j.from_state is None],
-                 {spec.id: spec}, [], [], [], [], Collector(), scene.gravity_span)
+    joints = [j for j in scene.joints if j.kind != JointKind.SPRING and j.from_state is None]
+    return Scene(title=scene.title, gravity=scene.gravity, g=scene.g, constants=scene.constants,
+                 user_unknowns=scene.user_unknowns, bodies=scene.bodies, points=scene.points,
+                 surfaces=scene.surfaces, joints=joints, states={spec.id: spec}, transitions=[],
+                 stated=[], equations=[], finds=[], notes=Collector(),
+                 gravity_span=scene.gravity_span)
 
 
 def _given_directly(scene: Scene, spec: StateSpec, need_velocities: bool) -> dict | None:
@@ -26,14 +29,14 @@ def _given_directly(scene: Scene, spec: StateSpec, need_velocities: bool) -> dic
     omega) of a body whose only joint is a pin to the ground (the pin places it)."""
     from .model import rot
 
-    joints = [j for j in scene.joints if j.kind != "spring" and j.from_state is None]
+    joints = [j for j in scene.joints if j.kind != JointKind.SPRING and j.from_state is None]
     if spec.rolls:
         return None
     out = {}
     for name, b in scene.bodies.items():
         g = {q: v for (body, q), (v, _) in spec.givens.items() if body == name}
         mine = [j for j in joints if name in (j.a.body, j.b.body)]
-        if len(mine) == 1 and mine[0].kind == "pin" and mine[0].b.body is None and \
+        if len(mine) == 1 and mine[0].kind == JointKind.PIN and mine[0].b.body is None and \
                 not b.is_particle and "angle" in g and \
                 (not need_velocities or "omega" in g) and not ({"x", "y", "vx", "vy"} & set(g)):
             j, th = mine[0], g["angle"]
@@ -61,7 +64,8 @@ def state_values(scene: Scene, sid: str, need_velocities: bool, where=None) -> d
     direct = _given_directly(scene, base, need_velocities)
     if direct is not None:
         return direct
-    spec = StateSpec(base.id, base.label, base.span, dict(base.givens), {}, list(base.rolls))
+    spec = StateSpec(id=base.id, label=base.label, span=base.span, givens=dict(base.givens),
+                     hints={}, rolls=list(base.rolls))
     for _ in range(4):
         sol = solve_scene(_reduced(scene, spec))
         values = dict(sol.values)
