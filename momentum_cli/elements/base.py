@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from ..expr import ZERO, E
 from ..records import record
@@ -69,6 +70,17 @@ class Phase:
         return Phase(PhaseKind.STATE, sid, sid, f"state {sid}")
 
 
+class SimRow(NamedTuple):
+    """One velocity constraint row for simulate: A u' = -beta, its force along `col` of B
+    (None: along the row itself)."""
+
+    name: str  # its constraint force: Fx[O], F[link], M[weld], N[A], F_t[A]
+    row: object  # numpy row over the velocities u
+    beta: float  # the acceleration term without u'
+    angular: bool = False  # a rotation row (drift scales it by the length scale)
+    col: object = None
+
+
 @dataclass
 class Check:
     """One of an element's inequalities, judged on solved values."""
@@ -110,6 +122,10 @@ class Element:
         return ()
 
     def check(self, values: dict) -> list[Check]:
+        return []
+
+    def constraint(self, frame, *args) -> list[SimRow]:
+        """Its velocity constraint rows for simulate at one frame (sim.dynamics.Frame)."""
         return []
 
     def potential(self, compiler, sid: str) -> E:

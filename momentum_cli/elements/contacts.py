@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from ..diagnostics import ProblemError
 from ..expr import ZERO, Const, E, Known, V2, evaluate, mul, neg, variables
 from ..units import IMPULSE, NONE
-from .base import Check, Element, FrictionSite, ImpulseSource, Phase, registrar
+from .base import Check, Element, FrictionSite, ImpulseSource, Phase, SimRow, registrar
 from .keys import Key, impulse_key, named_key, parameter_key
 from .kinds import Component, KeyKind, PhaseKind, Regime, Restitution, Tangential
 
@@ -336,6 +336,20 @@ class ContactElement(Element):
                 compiler.eq(vn, ZERO, f"contact {c.label} persists (no normal velocity)",
                             f"state {sid}", c.span)
             self.tangential.stamp_interval(rows, compiler)
+
+    def constraint(self, frame, watch, geometry, regime) -> list[SimRow]:
+        """Simulate: a persistent contact's normal row (its column carries a sliding
+        friction too) and, sticking, its tangential row."""
+        rn, bn = frame.normal_row(watch, geometry)
+        col = rn
+        if regime in (1.0, -1.0):
+            rt, _, _ = frame.tangent_row(watch, geometry)
+            col = self.tangential.sim_column(rn, rt, regime)
+        out = [SimRow(f"N[{watch.label}]", rn, bn, col=col)]
+        if regime == Regime.STICK:
+            rt, bt, _ = frame.tangent_row(watch, geometry)
+            out.append(SimRow(f"F_t[{watch.label}]", rt, bt))
+        return out
 
     def relative_velocity(self, sid: str, compiler) -> V2:
         c = self.c

@@ -9,24 +9,16 @@ position residuals (drift) and their forces along the line (springs, dampers).
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 from ..expr import ZERO, Const, E, V2, add, mul, neg, power
 from ..units import ANGULAR_IMPULSE, IMPULSE
-from .base import Element, ImpulseSource, Phase, registrar
+from .base import Element, ImpulseSource, Phase, SimRow, registrar
 from .keys import Key, impulse_key
 from .kinds import Component, JointKind, KeyKind, PhaseKind
 
 JOINTS: dict[JointKind, type["JointElement"]] = {}
 
 
-class SimRow(NamedTuple):
-    """One velocity constraint row for simulate: A u' = -beta."""
-
-    name: str  # its constraint force: Fx[O], F[link], M[weld]
-    row: object  # numpy row over the velocities u
-    beta: float  # the acceleration term without u'
-    angular: bool = False  # a rotation row (drift scales it by the length scale)
 
 
 joint_kind = registrar(JOINTS)  # @joint_kind(KIND) on a JointElement subclass
@@ -89,9 +81,6 @@ class JointElement(Element):
             phase.apply(self.b, -J, neg(M) if M is not None else None)
 
     # ---- simulate
-    def sim_rows(self, frame) -> list[SimRow]:
-        return []
-
     def sim_reference(self, frame) -> float | None:
         """What a drift residual is measured from (a weld's angle, a link's length)."""
         return None
@@ -164,7 +153,7 @@ class Pin(JointElement):
             compiler.eq(x1, x2, f"{self.describe()}: same velocity ({comp})", phase.group,
                         self.span)
 
-    def sim_rows(self, frame) -> list:
+    def constraint(self, frame) -> list:
         J, beta = self._pair_rows(frame)
         return [SimRow(f"F{axis}[{self.label}]", J[k], beta[k]) for k, axis in enumerate("xy")]
 
@@ -186,11 +175,11 @@ class Weld(Pin):
             compiler.eq(compiler.sv(self.a.body, "omega", sid), wb,
                         f"weld {self.label}: same angular velocity", phase.group, self.span)
 
-    def sim_rows(self, frame) -> list:
+    def constraint(self, frame) -> list:
         row = frame.jac[self.a.body][2].copy()
         if self.b.body is not None:
             row -= frame.jac[self.b.body][2]
-        return super().sim_rows(frame) + [SimRow(f"M[{self.label}]", row, 0.0, True)]
+        return super().constraint(frame) + [SimRow(f"M[{self.label}]", row, 0.0, True)]
 
     def sim_reference(self, frame) -> float | None:
         return self._angle(frame)
@@ -221,7 +210,7 @@ class Link(JointElement):
         compiler.eq((va - vb).dot(d), ZERO, f"link {self.label}: no stretching along its line",
                     phase.group, self.span)
 
-    def sim_rows(self, frame) -> list:
+    def constraint(self, frame) -> list:
         J, beta = self._pair_rows(frame)
         d = self.along
         return [SimRow(f"F[{self.label}]", d[0] * J[0] + d[1] * J[1],
@@ -261,15 +250,13 @@ class _LineForce(JointElement):
         raise NotImplementedError
 
     def sim_force(self, frame, Q) -> float:
-        from ..sim.dynamics import add_force
-
         line = self.line(frame)
         if line is None:
             return 0.0
         ra, rb, ex, ey, L, rate = line
         T = self.tension(L, rate)
-        add_force(frame, Q, self.a.body, ra, (T * ex, T * ey))
-        add_force(frame, Q, self.b.body, rb, (-T * ex, -T * ey))
+        frame.add_force(Q, self.a.body, ra, (T * ex, T * ey))
+        frame.add_force(Q, self.b.body, rb, (-T * ex, -T * ey))
         return self.power(T, rate)
 
     def power(self, tension: float, rate: float) -> float:

@@ -80,6 +80,16 @@ class Frame:
         vx, vy, w = self.twist[body]
         return (vx - w * r_world[1], vy + w * r_world[0])
 
+    # ---- for the elements (they do not import this module)
+    def add_force(self, Q, body: str | None, r_world, F) -> None:
+        add_force(self, Q, body, r_world, F)
+
+    def normal_row(self, w: Watch, geometry):
+        return normal_row(self, w, geometry)
+
+    def tangent_row(self, w: Watch, geometry):
+        return tangent_row(self, w, geometry)
+
     def point_jac(self, body: str | None, r_world, centripetal: bool = True):
         """(2 x n Jacobian, 2 acceleration terms without u') of a point at world offset
         r from G; `centripetal=False` for a round body's contact point, which is not a

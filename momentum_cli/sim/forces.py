@@ -16,10 +16,7 @@ from .dynamics import (
     add_moment,
     contact_geometry,
     mass_diagonal,
-    normal_row,
-    tangent_row,
 )
-from ..elements.kinds import Regime
 from .model import Model
 
 
@@ -60,7 +57,7 @@ def relative_spin(frame: Frame, model: Model, label: str) -> float:
 
 def joint_rows(frame: Frame, model: Model) -> list:
     """The velocity rows (SimRow) of the pins, welds and links, each from its element."""
-    return [r for j in model.joints for r in j.sim_rows(frame)]
+    return [r for j in model.joints for r in j.constraint(frame)]
 
 
 def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
@@ -96,33 +93,21 @@ def instant(model: Model, phase: Phase, frame: Frame) -> Instant:
             add_moment(frame, Q, a, -torque * s)
             add_moment(frame, Q, b, torque * s)
             power -= torque * abs(relative_spin(frame, model, label))
-    for r in joint_rows(frame, model):
-        rows.append(r.row)
-        cols.append(r.row)
-        betas.append(r.beta)
-        names.append(r.name)
+    constraints = joint_rows(frame, model)
     sliding = []
     for w in model.watches:
         mode = phase.contacts.get(w.label)
         if mode is None:
             continue
         geo = contact_geometry(frame, w)
-        rn, bn = normal_row(frame, w, geo)
-        col = rn
         if mode in (1.0, -1.0):
-            rt, _, t = tangent_row(frame, w, geo)
-            col = w.element.tangential.sim_column(rn, rt, mode)
-            sliding.append((w, geo, len(rows)))
-        rows.append(rn)
-        cols.append(col)
-        betas.append(bn)
-        names.append(f"N[{w.label}]")
-        if mode == Regime.STICK:
-            rt, bt, _ = tangent_row(frame, w, geo)
-            rows.append(rt)
-            cols.append(rt)
-            betas.append(bt)
-            names.append(f"F_t[{w.label}]")
+            sliding.append((w, geo, len(constraints)))
+        constraints += w.element.constraint(frame, w, geo, mode)
+    for r in constraints:
+        rows.append(r.row)
+        cols.append(r.row if r.col is None else r.col)
+        betas.append(r.beta)
+        names.append(r.name)
     m = len(rows)
     if m == 0:
         return Instant(np.array([q / m for q, m in zip(Q, mdiag)]), {}, power)
