@@ -402,6 +402,14 @@ def disk_climbs_curb():
     check(a, {"v_min": v, "wheel.omega@2": w2, "lost": 1 - m * g * h / T1})
 
 
+def joint_forms_in_impact():
+    a = got("joint_forms_in_impact")
+    m1, m2, v1 = 1.0, 3.0, 4.0
+    v = m1 * v1 / (m1 + m2)  # momentum conserved: the latched pair moves together
+    check(a, {"a.vx@2": v, "b.vx@2": v, "Jx[latch]@1->2": m1 * (v - v1),
+              "T_lost@1->2": 0.5 * m1 * v1 * v1 - 0.5 * (m1 + m2) * v * v})
+
+
 CHECKS = {f.__name__: f for f in [
     seed_billiards_elastic, seed_billiards_find_e, seed_disk_wall, seed_oblique_particles,
     seed_pendulum_wall, seed_plastic_collision, seed_rod_disk_bearing, seed_rod_drop_rough,
@@ -410,7 +418,7 @@ CHECKS = {f.__name__: f for f in [
     wall_oblique_slide, us_rod_center_of_percussion, newtons_cradle_sequence,
     newtons_cradle_simultaneous, ball_bounce_rebound, bounce_find_e, sphere_backspin_returns,
     sphere_rough_bounce, crate_pushed_force, flywheel_torque, spring_launch_collision,
-    disk_rolls_down_ramp, disk_climbs_curb,
+    disk_rolls_down_ramp, disk_climbs_curb, joint_forms_in_impact,
 ]}
 
 # the open-system examples (flow_*) are checked against their closed forms in test_flows.py

@@ -44,6 +44,7 @@ class FrictionSite:
     slip_expr: E | None  # tangential slip velocity whose sign the slide must oppose
     span: Span
     decided: bool = True  # False: the slip direction is re-checked after solving
+    law: object = None  # its tangential law (contacts.Coulomb): `law.stick_holds(jt, jn)`
 
 
 @dataclass

@@ -201,7 +201,7 @@ class Coulomb(TangentialLaw):
                            "against the slip", compiler)
         compiler.friction.append(FrictionSite(rows.site, c.label, rows.phase.key, c.mu,
                                               rows.jn.name, rows.jt.name, regime, rows.vt1,
-                                              c.span))
+                                              c.span, law=self))
 
     def stamp_interval(self, rows: ContactRows, compiler) -> None:
         c = self.c
@@ -215,7 +215,7 @@ class Coulomb(TangentialLaw):
                        "the slip", compiler)
         compiler.friction.append(FrictionSite(rows.site, c.label, rows.phase.key, c.mu,
                                               rows.jn.name, rows.jt.name, regime, rows.vt1,
-                                              c.span, decided))
+                                              c.span, decided, self))
 
     def slip_sign(self, vt1: E, phase: Phase) -> float | None:
         """The slip direction over an interval: given, or known from the start state."""
