@@ -410,6 +410,20 @@ def joint_forms_in_impact():
               "T_lost@1->2": 0.5 * m1 * v1 * v1 - 0.5 * (m1 + m2) * v * v})
 
 
+def weld_forms_in_impact():
+    a = got("weld_forms_in_impact")
+    M, L, m, r, v0 = 3.0, 1.0, 1.0, 0.1, 4.0
+    xc = m * (L / 2) / (M + m)  # the welded pair's centre of mass, on the rod's axis
+    vc = m * v0 / (M + m)  # linear momentum conserved
+    I = M * L * L / 12 + M * xc ** 2 + m * r * r / 2 + m * (L / 2 - xc) ** 2
+    w = m * (L / 2 - xc) * v0 / I  # angular momentum about the pair's centre conserved
+    T2 = 0.5 * (M + m) * vc * vc + 0.5 * I * w * w
+    check(a, {"rod.omega@2": w, "disk.omega@2": w, "rod.vy@2": vc - w * xc,
+              "disk.vy@2": vc + w * (L / 2 - xc),
+              "M[glue]@1->2": m * r * r / 2 * w,  # the weld's moment alone turns the disk
+              "T_lost@1->2": 0.5 * m * v0 * v0 - T2})
+
+
 CHECKS = {f.__name__: f for f in [
     seed_billiards_elastic, seed_billiards_find_e, seed_disk_wall, seed_oblique_particles,
     seed_pendulum_wall, seed_plastic_collision, seed_rod_disk_bearing, seed_rod_drop_rough,
@@ -418,7 +432,7 @@ CHECKS = {f.__name__: f for f in [
     wall_oblique_slide, us_rod_center_of_percussion, newtons_cradle_sequence,
     newtons_cradle_simultaneous, ball_bounce_rebound, bounce_find_e, sphere_backspin_returns,
     sphere_rough_bounce, crate_pushed_force, flywheel_torque, spring_launch_collision,
-    disk_rolls_down_ramp, disk_climbs_curb, joint_forms_in_impact,
+    disk_rolls_down_ramp, disk_climbs_curb, joint_forms_in_impact, weld_forms_in_impact,
 ]}
 
 # the open-system examples (flow_*) are checked against their closed forms in test_flows.py
