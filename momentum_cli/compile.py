@@ -22,7 +22,7 @@ from .elements.base import FrictionSite, ImpulseSource, Phase
 from .elements.contacts import ContactElement
 from .elements.joints import BearingFriction, joint_element
 from .elements.keys import duration_key, state_key
-from .elements.kinds import KeyKind, PhaseKind, TransitionKind
+from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
 from .expr import (
     V2,
     ZERO,
@@ -74,7 +74,7 @@ class Equation:
     principle: str
     group: str
     span: Span | None
-    kind: str = "auto"  # auto | stated | user | consistency
+    kind: EquationKind = EquationKind.AUTO
     index: int = 0
     _residual: E | None = None
     _texts: dict | None = None
@@ -226,7 +226,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if t.kind == TransitionKind.ENERGY:
             return False
         if qty in ("x", "y", "angle"):
-            return not (t.kind == TransitionKind.INTERVAL and self._given((body, qty, t.after)) is not None)
+            return not (t.kind == TransitionKind.INTERVAL and
+                        self._given((body, qty, t.after)) is not None)
         return body not in self._busy[t.key]
 
     def _given(self, key):
@@ -307,7 +308,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     # ---- equations ------------------------------------------------------------------------------
     def eq(self, lhs: E, rhs: E, principle: str, group: str, span: Span | None,
-           kind: str = "auto") -> Equation | None:
+           kind: EquationKind = EquationKind.AUTO) -> Equation | None:
         e = Equation(lhs, rhs, principle, group, span, kind)
         key = principle + "|" + e.text()
         if key in self._seen:
@@ -377,7 +378,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                            else f"no impulse acts on {b}: its velocity is unchanged")
                     self.eq(Known(state_key(b, q, t.after), gc[0]),
                             Known(state_key(b, q, sid), value),
-                            why, f"{t.kind} {t.before} -> {t.after}", gc[1], "consistency")
+                            why, f"{t.kind} {t.before} -> {t.after}", gc[1],
+                            EquationKind.CONSISTENCY)
 
     def _busy_bodies(self, t: TransitionSpec) -> set[str]:
         """Bodies that something acts on during an impact or interval."""

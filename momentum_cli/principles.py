@@ -8,6 +8,7 @@ equation, which the analysis matches last, so a redundant one becomes a check.
 """
 from __future__ import annotations
 
+from .elements.kinds import EquationKind
 from .expr import V2, ZERO, Const, E, add, mul
 from .scene import PointOn, StatedAngular, StatedMomentum, StatedRestitution
 from .source import Span
@@ -47,7 +48,7 @@ class PrinciplesMixin:
                                   f"{s.axis_text} is not conserved over {key}: "
                                   f"{bad[0].what} gives an external impulse along it")
                     return
-            self.eq(lhs, rhs, principle, group, s.span, "stated")
+            self.eq(lhs, rhs, principle, group, s.span, EquationKind.STATED)
         elif isinstance(s, StatedAngular):
             lhs = self._angular_momentum(s.bodies, s.about, s.before)
             rhs = self._angular_momentum(s.bodies, s.about, s.after)
@@ -61,7 +62,7 @@ class PrinciplesMixin:
                                   f"{bad[0].what} has a moment about it")
                     return
             self.eq(lhs, rhs, f"conservation of angular momentum of {{{', '.join(s.bodies)}}} "
-                    f"about {s.about.name} (stated)", group, s.span, "stated")
+                    f"about {s.about.name} (stated)", group, s.span, EquationKind.STATED)
         elif isinstance(s, StatedRestitution):
             n = V2(Const(s.along[0]), Const(s.along[1]))
 
@@ -72,7 +73,7 @@ class PrinciplesMixin:
 
             self.eq(rel(s.after), mul(Const(-s.value), rel(s.before)),
                     f"restitution along the line of impact (stated, e = {s.value:g})", group,
-                    s.span, "stated")
+                    s.span, EquationKind.STATED)
 
     def _invalid(self, span: Span, message: str) -> None:
         self.invalid.append((span, message))

@@ -12,7 +12,7 @@ import math
 from . import syntax as S
 from .diagnostics import ProblemError, did_you_mean
 from .elements.keys import duration_key
-from .elements.kinds import KeyKind, TransitionKind
+from .elements.kinds import EquationKind, KeyKind, TransitionKind
 from .expr import Const, E, Known, Var, add, mul, neg, power
 from .quantity import Evaluator, Q
 from .records import record
@@ -190,11 +190,12 @@ class ReferencesMixin:
         if a.is_vector != b.is_vector:
             raise ProblemError("one side is a vector and the other a scalar", ue.span,
                                code="type")
+        user = EquationKind.USER
         if a.is_vector:
-            self.eq(a.value.x, b.value.x, "equation (x)", "user equations", ue.span, "user")
-            self.eq(a.value.y, b.value.y, "equation (y)", "user equations", ue.span, "user")
+            self.eq(a.value.x, b.value.x, "equation (x)", "user equations", ue.span, user)
+            self.eq(a.value.y, b.value.y, "equation (y)", "user equations", ue.span, user)
         else:
-            self.eq(a.value, b.value, "equation", "user equations", ue.span, "user")
+            self.eq(a.value, b.value, "equation", "user equations", ue.span, user)
 
     def _finds(self) -> list[FindSpec]:
         from .quantity import unit_readings

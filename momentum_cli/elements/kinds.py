@@ -121,3 +121,12 @@ class Prop(_Word):
     FRICTION = "friction"
     SLIP = "slip"
     SEPARATION = "separation"
+
+
+class EquationKind(_Word):
+    """Where an equation comes from: the scene's physics, or a statement to check."""
+
+    AUTO = "auto"  # written by the compiler from the scene
+    STATED = "stated"  # a principle the file states (checked when redundant)
+    USER = "user"  # an `equation` line
+    CONSISTENCY = "consistency"  # two givens that must agree

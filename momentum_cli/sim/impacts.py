@@ -59,7 +59,8 @@ def resolve(model: Model, frame: Frame, hits: list) -> tuple[dict, dict, dict]:
                             contacts=[_contact(frame, w, g) for w, g in hits])
     sub = Scene(title=scene.title, gravity=scene.gravity, g=scene.g, constants=scene.constants,
                 user_unknowns=scene.user_unknowns, bodies=scene.bodies, points=scene.points,
-                surfaces=scene.surfaces, joints=[j.record for j in model.scene_joints if j.impulsive],
+                surfaces=scene.surfaces,
+                joints=[j.record for j in model.scene_joints if j.impulsive],
                 states={"1": before, "2": after}, transitions=[impact], stated=[],
                 equations=[], finds=[], notes=Collector(), gravity_span=scene.gravity_span)
     sol = solve_scene(sub, solve_all=True)
