@@ -148,13 +148,13 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
 
             console = Console()
         if simulation:
-            from .sim.output import render_rich as render
+            from .report.sim_rich import render
         else:
             from .report.rich_out import render
         render(report, console, digits)
         return console
     if simulation:
-        from .sim.output import render_plain as render
+        from .report.sim_text import render
     else:
         from .report.text import render
     if index:
@@ -335,7 +335,7 @@ def simulate(
       momentum simulate --csv swing.csv --rtol 1e-12 examples/seed_pendulum_wall.mom
       momentum simulate --json examples/simulate/*.mom
     """
-    from .sim.run_file import simulate_source
+    from .run import simulate_source
 
     if (csv or plot) and len(files) > 1:
         raise typer.BadParameter("--csv and --plot take one problem file")
@@ -376,7 +376,7 @@ def simulate(
 
             draw(sim, plot)
         if mode == "json":
-            from .sim.output import json_result
+            from .report.sim_json import json_result
 
             results.append(json_result(res.report, name, res.status if res.status != "internal"
                                        else "error", res.diagnostics))
