@@ -48,7 +48,8 @@ def main() -> None:
             if r.rel_error is None:
                 return "—" if r.note.startswith("skipped") else "refused"
             e = "0" if r.rel_error == 0 else f"{r.rel_error:.1e}"
-            return f"{r.seconds * 1e3:.3g} ms, {e}" if p != "exact" else f"{r.seconds * 1e3:.3g} ms"
+            t = f"{r.seconds:.3g} s" if r.seconds >= 1 else f"{r.seconds * 1e3:.3g} ms"
+            return f"{t}, {e}" if p != "exact" else t
         short = os.path.relpath(name, root) if os.path.exists(name) else name
         n = max(r.unknowns for r in d.values())
         print(f"| {short} | {n} | {cell('float')} | {cell('refine')} | {cell('exact')} |")
