@@ -254,8 +254,9 @@ class AccretionCompiler:
                  if end else f"over t@{key} = {fmt_num(T, 6)} s")
         integ = Integration(group, g.span, inputs, names, run, what)
         emit(c, integ, f"{how}, {until}: {balance}", group, self.flows.integrations)
-        c.notes.note(f"{group}: {balance}; {how}, {until}, when solve reaches it (its start "
-                     f"state known)", g.span, code="integrated")
+        c.notes.note(f"{group}: {balance}; no closed form: solve integrates it numerically "
+                     f"once its start state is known (scipy DOP853, rtol {RTOL:g}), {until}",
+                     g.span, code="integrated")
         self.flows.masses[(b, g.after)] = Var(names[4])
         self.flows.durations[key] = Var(names[5]) if end else Known(f"t@{key}", T)
         i, j = g.before, g.after

@@ -306,8 +306,9 @@ class FlowCompiler:
                             ["the speed the thrust adds", "the distance the thrust adds",
                              f"{b.body}'s mass at state {b.after}"])
         emit(c, integ, f"{how}: dV/dt = c mdot/m, dX/dt = V", group, self.integrations)
-        c.notes.note(f"{group}: the rate or exhaust speed varies with t, so the motion is "
-                     f"{how}", b.span, code="integrated")
+        c.notes.note(f"{group}: the rate or exhaust speed varies with t, so solve integrates "
+                     f"the motion numerically (scipy DOP853, rtol {RTOL:g})", b.span,
+                     code="integrated")
         self.masses[(b.body, b.after)] = Var(names[2])
         self.durations[key] = Known(f"t@{key}", T_val)
         g = c.scene.gravity or (0.0, 0.0)
