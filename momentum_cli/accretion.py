@@ -252,7 +252,7 @@ class AccretionCompiler:
                    f"{to_text(force.y)})")
         until = (f"until {b}.{end[0]}@{g.after} = {fmt_num(end[1], 6)} {MEMBERS[end[0]]}"
                  if end else f"over t@{key} = {fmt_num(T, 6)} s")
-        integ = Integration(group, g.span, inputs, names, run, what)
+        integ = Integration(group, g.span, inputs, names, run, what, RTOL)
         emit(c, integ, f"{how}, {until}: {balance}", group, self.flows.integrations)
         c.notes.note(f"{group}: {balance}; no closed form: solve integrates it numerically "
                      f"once its start state is known (scipy DOP853, rtol {RTOL:g}), {until}",

@@ -304,7 +304,7 @@ class FlowCompiler:
             c.unknown(n, dim, "derived", unit)
         integ = Integration(group, b.span, {"mass": m0}, names, run,
                             ["the speed the thrust adds", "the distance the thrust adds",
-                             f"{b.body}'s mass at state {b.after}"])
+                             f"{b.body}'s mass at state {b.after}"], RTOL)
         emit(c, integ, f"{how}: dV/dt = c mdot/m, dX/dt = V", group, self.integrations)
         c.notes.note(f"{group}: the rate or exhaust speed varies with t, so solve integrates "
                      f"the motion numerically (scipy DOP853, rtol {RTOL:g})", b.span,

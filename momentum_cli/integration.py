@@ -27,6 +27,7 @@ class Integration:
     outputs: list  # unknown names `run` sets, in the order it returns them
     run: object  # callable({input: float}) -> list[float]; raises ProblemError
     what: list  # per output, what it is ("the change of vx over the gain")
+    rtol: float = 1e-10  # the integrator's relative tolerance: the outputs' error scale
     equations: list = field(default_factory=list)  # indices of its output equations
     result: list | None = None  # computed once, when solve first reaches the block
 
@@ -66,13 +67,14 @@ def matched_outputs(system) -> dict[int, str]:
     return out
 
 
-def solve_integration(system, block, values: dict) -> bool:
-    """Solve `block` if it is an integration's output equation (False otherwise)."""
+def solve_integration(system, block, values: dict) -> Integration | None:
+    """Solve `block` if it is an integration's output equation: the Integration (None
+    for any other block)."""
     owner = {k: (integ, j) for integ in system.integrations
              for j, k in enumerate(integ.equations)}
     mine = [k for k in block.equations if k in owner]
     if not mine:
-        return False
+        return None
     integ, j = owner[mine[0]]
     if len(block.equations) > 1:
         loop = sorted(set(block.unknowns) - set(integ.outputs))
@@ -94,4 +96,4 @@ def solve_integration(system, block, values: dict) -> bool:
     values[integ.outputs[j]] = value
     e = system.equations[mine[0]]
     e._texts[True] = f"{integ.outputs[j]} = {fmt_num(value, 6)}"
-    return True
+    return integ

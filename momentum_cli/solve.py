@@ -307,8 +307,10 @@ def _solve_block(system: System, structure: Structure, block, values,
     if system.integrations:  # a phase integrated numerically (integration.py)
         from .integration import solve_integration
 
-        if solve_integration(system, block, values):
-            return BlockReport(block.index, block.unknowns, block.equations, "integrated")
+        integ = solve_integration(system, block, values)
+        if integ is not None:  # its residual: the integrator's tolerance
+            return BlockReport(block.index, block.unknowns, block.equations, "integrated",
+                               residual=integ.rtol)
     eqs = [system.equations[k] for k in block.equations]
     names = block.unknowns
     bset = set(names)

@@ -202,3 +202,23 @@ find b.vx@1
 """
     d = error_of(text)
     assert d.span.line == 5 and "integrated" in d.message, d.message
+
+
+LOADED_UNTIL = """
+body c: particle(mass = 200 kg)
+state 1: c.v = (3 m/s, 0 m/s), c.pos = (0, 0)
+state 2: c.vx = 2.4 m/s
+gain c 1 -> 2:
+    rate 5 kg/s
+equation t@1->2 = {t} s
+find t@1->2, c.x@2
+"""
+
+
+def test_a_redundant_statement_of_an_integrated_answer_is_judged_at_its_tolerance():
+    """m v = m0 v0: the cart slows to 2.4 m/s at m = 250 kg, t = 10 s. Stating t = 10 s
+    holds within the integrator's tolerance; 1e-3 of it off is an inconsistency."""
+    got = answers(LOADED_UNTIL.format(t=10))
+    assert math.isclose(got["t@1->2"], 10.0, rel_tol=1e-9)
+    d = error_of(LOADED_UNTIL.format(t=10.01))
+    assert d.code == "inconsistent" and d.span.line == 7, d.message
