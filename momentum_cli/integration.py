@@ -28,7 +28,7 @@ class Integration:
     run: object  # callable({input: float}) -> list[float]; raises ProblemError
     what: list  # per output, what it is ("the change of vx over the gain")
     rtol: float = 1e-10  # the integrator's relative tolerance: the outputs' error scale
-    equations: list = field(default_factory=list)  # indices of its output equations
+    equations: dict = field(default_factory=dict)  # equation index -> output position
     result: list | None = None  # computed once, when solve first reaches the block
 
     def depends_on(self) -> list[str]:
@@ -49,11 +49,11 @@ def emit(c, integ: Integration, principle: str, group: str, registry: list) -> N
                            [Known(f"integral[{out}]", math.nan)])
         how = f"{what} ({principle})" if n == 0 else f"{what} (the same integration)"
         e = c.eq(Var(out), stand_in, how, group, integ.span)
-        if e is None:
+        if e is None:  # the same equation twice: the compiler keeps the first
             continue
         text = f"{out} = integrated from " + (", ".join(deps) if deps else "the given start")
         e._texts = {False: text, True: text}
-        integ.equations.append(e.index)
+        integ.equations[e.index] = n
     registry.append(integ)
 
 
@@ -62,8 +62,8 @@ def matched_outputs(system) -> dict[int, str]:
     never the reverse, so analyse matches each such equation to its output only."""
     out = {}
     for integ in system.integrations:
-        for k, name in zip(integ.equations, integ.outputs):
-            out[k] = name
+        for k, j in integ.equations.items():
+            out[k] = integ.outputs[j]
     return out
 
 
@@ -71,7 +71,7 @@ def solve_integration(system, block, values: dict) -> Integration | None:
     """Solve `block` if it is an integration's output equation: the Integration (None
     for any other block)."""
     owner = {k: (integ, j) for integ in system.integrations
-             for j, k in enumerate(integ.equations)}
+             for k, j in integ.equations.items()}
     mine = [k for k in block.equations if k in owner]
     if not mine:
         return None
