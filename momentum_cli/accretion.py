@@ -144,11 +144,13 @@ class AccretionCompiler:
                                    code="number")
         m0 = c.mass(g.body, g.before)
         constant = not (variables(mdot) or variables(v_in.x + v_in.y) or
-                        variables(force.x + force.y) or variables(m0))
-        if constant and not relative and duration is not None:
+                        variables(force.x + force.y))
+        if constant and not relative and duration is not None and not variables(m0):
             self._closed_form(g, mdot, v_in, force, duration, m0)
         else:
-            self._integrated(g, mdot, v_in, relative, force, duration, m0)
+            why = ("its start mass is known only once solved" if constant and not relative and
+                   duration is not None else "no closed form")
+            self._integrated(g, mdot, v_in, relative, force, duration, m0, why)
 
     def _names(self, g: S.GainDecl) -> tuple[str, str, str]:
         key = f"{g.before}->{g.after}"
@@ -217,7 +219,7 @@ class AccretionCompiler:
         return given[0]
 
     def _integrated(self, g, mdot: E, v_in: V2, relative: bool, force: V2, duration,
-                    m0: E) -> None:
+                    m0: E, why: str) -> None:
         """No closed form: an integration block (integration.py) that solve runs when the
         start state is known; here, its description and v1 = v0 + dv, r1 = r0 + dr."""
         c = self.c
@@ -254,7 +256,7 @@ class AccretionCompiler:
                  if end else f"over t@{key} = {fmt_num(T, 6)} s")
         integ = Integration(group, g.span, inputs, names, run, what, RTOL)
         emit(c, integ, f"{how}, {until}: {balance}", group, self.flows.integrations)
-        c.notes.note(f"{group}: {balance}; no closed form: solve integrates it numerically "
+        c.notes.note(f"{group}: {balance}; {why}: solve integrates it numerically "
                      f"once its start state is known (scipy DOP853, rtol {RTOL:g}), {until}",
                      g.span, code="integrated")
         self.flows.masses[(b, g.after)] = Var(names[4])

@@ -222,3 +222,28 @@ def test_a_redundant_statement_of_an_integrated_answer_is_judged_at_its_toleranc
     assert math.isclose(got["t@1->2"], 10.0, rel_tol=1e-9)
     d = error_of(LOADED_UNTIL.format(t=10.01))
     assert d.code == "inconsistent" and d.span.line == 7, d.message
+
+
+def test_a_gain_starts_with_the_mass_an_integrated_burn_leaves():
+    """A throttled burn (12 -> 4 kg/s over 50 s: 400 kg of 1000 kg) gives v1 = c ln(m0/m1)
+    whatever the rate's profile; then 100 kg joins at rest: m v = const. The gain's start
+    mass exists only once the burn's block is solved, so it is an integration block too."""
+    text = """
+body r: particle(mass = 1000 kg)
+state 1: r at rest, r.pos = (0, 0)
+state 2
+state 3
+burn r 1 -> 2:
+    exhaust 2400 m/s along (-1, 0)
+    rate 12 kg/s - (8 kg/s) * t / (50 s)
+    duration 50 s
+gain r 2 -> 3:
+    rate 10 kg/s
+    duration 10 s
+find r.vx@2, r.vx@3, r.mass@3
+"""
+    got = answers(text)
+    v1 = 2400 * math.log(1000 / 600)
+    assert math.isclose(got["r.vx@2"], v1, rel_tol=1e-9)
+    assert math.isclose(got["r.vx@3"], v1 * 600 / 700, rel_tol=1e-9)
+    assert math.isclose(got["r.mass@3"], 700.0, rel_tol=1e-9)
