@@ -1,10 +1,13 @@
 """Accuracy against time, for the README: every precision mode on the seed and hard
 examples and on ball chains of growing length.
 
-    python bench/accuracy.py [--sizes 10,100,1000,10000] [--plot bench/results/accuracy.png]
+    python bench/accuracy.py [FILE ...] [--sizes 10,100,1000,10000] [--repeat 3]
+                             [--plot bench/results/accuracy.png]
 
-Prints a Markdown table (the one in the README) and, if matplotlib is installed
-(`pip install matplotlib`), draws error against time. A benchmark, not a test.
+Prints a Markdown table (the one in the README), with the command, the number of runs
+and the library versions under it, and, if matplotlib is installed, draws error
+against time. Times are the best of --repeat runs, in process (start-up excluded).
+Files default to the seed examples and the hard cases. A benchmark, not a test.
 """
 from __future__ import annotations
 
@@ -15,19 +18,22 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
-from momentum_cli.bench import accuracy, default_files, default_problems  # noqa: E402
+from momentum_cli.bench import accuracy, default_files, default_problems, versions  # noqa: E402
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
+    ap.add_argument("files", nargs="*", help="problem files (default: seeds and hard cases)")
     ap.add_argument("--sizes", default="10,100,1000,10000")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--plot", default=None)
     args = ap.parse_args()
     root = os.path.join(os.path.dirname(__file__), "..")
-    files = default_files(root)
-    sizes = [int(s) for s in args.sizes.split(",")]
-    rows = accuracy(default_problems(files, sizes), args.repeat,
+    files = args.files or default_files(root)
+    sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
+    problems = default_problems(files, sizes)
+    accuracy(problems[:1], 1)  # warm-up, untimed: imports and the parser's cache
+    rows = accuracy(problems, args.repeat,
                     progress=lambda n, p: print(f"  {n}: {p}", file=sys.stderr))
     print("| problem | unknowns | float: ms, error | refine: ms, error | exact: ms |")
     print("|---|---:|---:|---:|---:|")
@@ -37,13 +43,19 @@ def main() -> None:
     for name, d in by.items():
         def cell(p):
             r = d.get(p)
-            if r is None or r.rel_error is None:
+            if r is None:
                 return "failed"
+            if r.rel_error is None:
+                return "—" if r.note.startswith("skipped") else "refused"
             e = "0" if r.rel_error == 0 else f"{r.rel_error:.1e}"
-            return f"{r.seconds * 1e3:.3g} ms, {e}" if p != "exact" else f"{r.seconds * 1e3:.3g} ms"
+            t = f"{r.seconds:.3g} s" if r.seconds >= 1 else f"{r.seconds * 1e3:.3g} ms"
+            return f"{t}, {e}" if p != "exact" else t
         short = os.path.relpath(name, root) if os.path.exists(name) else name
         n = max(r.unknowns for r in d.values())
         print(f"| {short} | {n} | {cell('float')} | {cell('refine')} | {cell('exact')} |")
+    cmd = " ".join(["python bench/accuracy.py"] + sys.argv[1:])
+    print(f"\nProduced by `{cmd}`: best of {args.repeat} run(s) per cell, in process; "
+          f"{versions()}.")
     if args.plot:
         try:
             import matplotlib

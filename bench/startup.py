@@ -9,7 +9,8 @@ median is reported (with min, mean, spread).
   (i)   start-up: `python -c "import numpy, lark, rich, typer"` (the four heavy
         dependencies, which a one-shot CLI pays for if it imports them) against
         `python -m momentum_cli solve --plain examples/seed_rod_drop_smooth.mom`
-        (and the `momentum` entry point, if installed) -> ratio;
+        (and the `momentum` entry point, if installed) -> ratio; and
+        `python -m momentum_cli simulate --plain examples/seed_pendulum_wall.mom`;
   (ii)  marginal cost per file: one call on 1000 generated problem files (variations
         of the seed examples) against one call on one file:
         (T1000 - T1) / 999, in ms;
@@ -18,6 +19,7 @@ median is reported (with min, mean, spread).
         --plain mode) is imported on that path.
 
     python bench/startup.py                 # table
+    python bench/startup.py --markdown      # the README's table, with versions
     python bench/startup.py --json          # one JSON document
     python bench/startup.py --runs 30 --files 1000
 """
@@ -39,6 +41,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
 SEED = EXAMPLES / "seed_rod_drop_smooth.mom"
+SIM_SEED = EXAMPLES / "seed_pendulum_wall.mom"
 PY = sys.executable
 HEAVY = "import numpy, lark, rich, typer"
 
@@ -222,6 +225,7 @@ def main(argv=None) -> int:
     ap.add_argument("--batch-runs", type=int, default=None,
                     help="timed runs of the batch measurement (default: --runs)")
     ap.add_argument("--json", action="store_true", help="print one JSON document")
+    ap.add_argument("--markdown", action="store_true", help="print the README's table")
     ap.add_argument("--skip-batch", action="store_true", help="only start-up and importtime")
     ap.add_argument("--no-pyc-cache", action="store_true",
                     help="keep the environment's bytecode setting (by default bytecode is "
@@ -254,6 +258,8 @@ def main(argv=None) -> int:
             f'python -c "{HEAVY}"': [PY, "-c", HEAVY],
             f"python -m momentum_cli solve --plain {seed}":
                 [PY, "-m", "momentum_cli", "solve", "--plain", seed],
+            f"python -m momentum_cli simulate --plain {SIM_SEED.relative_to(ROOT)}":
+                [PY, "-m", "momentum_cli", "simulate", "--plain", str(SIM_SEED.relative_to(ROOT))],
         }
         entry = shutil.which("momentum")
         if entry:
@@ -272,6 +278,8 @@ def main(argv=None) -> int:
         # (iii) importtime -------------------------------------------------------------
         log("(iii) -X importtime of the seed solve")
         result["importtime"] = importtime(["-m", "momentum_cli", "solve", "--plain", seed], env)
+        result["importtime_simulate"] = importtime(
+            ["-m", "momentum_cli", "simulate", "--plain", str(SIM_SEED.relative_to(ROOT))], env)
 
         # (ii) marginal cost per file -------------------------------------------------
         if not args.skip_batch:
@@ -289,6 +297,7 @@ def main(argv=None) -> int:
             runs = args.batch_runs or args.runs
             log(f"(ii) batch: 1 file vs {args.files} files ({len(seeds)} seeds) x {runs} runs")
             res = measure(batch, runs, 1, env, log)
+            result["batch_runs"] = runs
             t1, tn = res["T1"]["median_ms"], res[f"T{args.files}"]["median_ms"]
             result["batch"] = res
             result["batch_files"] = args.files
@@ -304,9 +313,52 @@ def main(argv=None) -> int:
 
     if args.json:
         print(json.dumps(result, indent=2))
+    elif args.markdown:
+        print_markdown(result, " ".join(["python bench/startup.py"] + list(
+            sys.argv[1:] if argv is None else argv)))
     else:
         print_table(result)
     return 0
+
+
+def print_markdown(r: dict, command: str) -> None:
+    """The README's table "What it costs (measured)", from one run's results."""
+    sys.path.insert(0, str(ROOT))
+    from momentum_cli.bench import versions
+
+    seed = str(SEED.relative_to(ROOT))
+    sim = str(SIM_SEED.relative_to(ROOT))
+    st = r["startup"]
+    solve = st[f"python -m momentum_cli solve --plain {seed}"]["median_ms"]
+    heavy = st[f'python -c "{HEAVY}"']["median_ms"]
+    print("| measure | result | aim |")
+    print("|---|---|---|")
+    print(f"| `python -m momentum_cli solve --plain {seed}`, whole process | {solve:.0f} ms, "
+          f"**{solve / heavy:.2f}×** `python -c \"{HEAVY}\"` ({heavy:.0f} ms) | ≤ 1.0× |")
+    if "batch" in r:
+        n, m = r["batch_files"], r["marginal_ms_per_file"]
+        print(f"| {n:,} files in one call, marginal cost per file | {m:.1f} ms "
+              f"({1e3 / m:.0f} files/s): files are solved by worker processes on every core "
+              f"({r['cpus']} here) and reported in order | < 2 ms |")
+    it = r["importtime"]
+    heavy_mods = [name for name, key in (("numpy", "numpy_imported"), ("rich", "rich_imported"))
+                  if it[key]]
+    print("| what a one-shot plain solve imports | " + (
+        "numpy and rich are never imported" if not heavy_mods else
+        f"**{', '.join(heavy_mods)} imported**") + f" ({it['modules']} modules, "
+          f"{it['total_self_ms']:.0f} ms of import time) | no numpy, no rich |")
+    sim_ms = st[f"python -m momentum_cli simulate --plain {sim}"]["median_ms"]
+    its = r["importtime_simulate"]
+    scipy = any(row["package"] == "scipy" for row in its["top"])
+    print(f"| `python -m momentum_cli simulate --plain {sim}`, whole process | "
+          f"{sim_ms / 1e3:.2f} s: numpy for the dynamics, "
+          f"{'scipy imported' if scipy else 'no scipy (the swing is an elliptic closed form)'}"
+          " | |")
+    print()
+    batch = f" (batch: {r['batch_runs']} runs)" if "batch" in r else ""
+    print(f"Produced by `{command}`: medians of {r['runs']} whole-process runs per command"
+          f"{batch}, load average "
+          f"{r['loadavg_start'][0]:.2f} -> {r['loadavg_end'][0]:.2f}; {versions()}.")
 
 
 def print_table(r: dict) -> None:

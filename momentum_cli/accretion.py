@@ -5,12 +5,13 @@ form one system, so
     d(m v)/dt = sum F + m g + mdot v_in,   i.e.   m a = sum F + m g + mdot (v_in - v),
 with mdot < 0 for mass leaving at v_in (`lose`). With a constant rate, a constant
 absolute v_in and a constant applied force (u = m0 + mdot t, K = F + mdot v_in):
-    m1 v1 = m0 v0 + K t + g (m1^2 - m0^2) / (2 mdot)
-    r1 = r0 + (K/mdot) t + (m0/mdot)(v0 - K/mdot) ln(m1/m0)
-         + g/(2 mdot^2) ((m1^2 - m0^2)/2 - m0^2 ln(m1/m0)).
-Otherwise (a rate that depends on t or the body's state, a relative v_in, an end
-condition instead of a duration) the balance is integrated numerically: scipy's
-DOP853 at rtol 1e-10, imported only then.
+    m1 v1 = m0 v0 + K t + g t (m0 + m1)/2
+    r1 = r0 + phi v0 t + psi K t^2/m0 + (psi + 1/2) g t^2/2,
+with x = mdot t/m0, phi = ln(1+x)/x and psi = (x - ln(1+x))/x^2 (massratio.py: exact
+as mdot -> 0, where ln(m1/m0)/mdot would cancel). Otherwise (a rate that depends on t
+or the body's state, a relative v_in, an end condition instead of a duration, a start
+mass only known when solved) the phase is an integration block (integration.py) that
+solve runs, with scipy's DOP853 at rtol 1e-10, once its start state is known.
 """
 from __future__ import annotations
 
@@ -26,15 +27,16 @@ from .expr import (
     Var,
     add_all,
     evaluate,
-    fn,
     mul,
     neg,
     power,
     to_text,
     variables,
 )
+from .integration import Integration, emit
+from .massratio import ln1p_over_x, x_minus_ln1p_over_x2
 from .numbers import fmt_num
-from .units import FORCE, MASS, TIME, VELOCITY, describe
+from .units import FORCE, LENGTH, MASS, TIME, VELOCITY, describe
 
 MASS_RATE = (1, 0, -1)
 WEIGHT_RATE = (1, 1, -3)
@@ -103,11 +105,11 @@ class AccretionCompiler:
         elif q.dim != MASS_RATE:
             raise ProblemError("the rate needs a mass rate such as 5 kg/s or 2 kg/m * "
                                f"{g.body}.vy; got {describe(q.dim)}", node.span, code="units")
-        if isinstance(value, Const) and value.value <= 0:
+        if isinstance(value, Const) and value.value < 0:
             other = "gain" if g.is_loss else "lose"
             flow = "joining" if g.is_loss else "leaving"
-            raise ProblemError(f"the rate must be positive (mass {flow} is written `{other}`)",
-                               node.span, code="number")
+            raise ProblemError(f"the rate cannot be negative (mass {flow} is written "
+                               f"`{other}`)", node.span, code="number")
         return neg(value) if g.is_loss else value
 
     def _allowed(self, g: S.GainDecl, e: E, node, what: str) -> None:
@@ -143,10 +145,12 @@ class AccretionCompiler:
         m0 = c.mass(g.body, g.before)
         constant = not (variables(mdot) or variables(v_in.x + v_in.y) or
                         variables(force.x + force.y))
-        if constant and not relative and duration is not None:
+        if constant and not relative and duration is not None and not variables(m0):
             self._closed_form(g, mdot, v_in, force, duration, m0)
         else:
-            self._integrated(g, mdot, v_in, relative, force, duration, m0)
+            why = ("its start mass is known only once solved" if constant and not relative and
+                   duration is not None else "no closed form")
+            self._integrated(g, mdot, v_in, relative, force, duration, m0, why)
 
     def _names(self, g: S.GainDecl) -> tuple[str, str, str]:
         key = f"{g.before}->{g.after}"
@@ -154,7 +158,9 @@ class AccretionCompiler:
         return key, f"{verb} {g.body} {g.before} -> {g.after}", "loss" if g.is_loss else "gain"
 
     def _closed_form(self, g, mdot: E, v_in: V2, force: V2, duration: E, m0: E) -> None:
-        """Constant rate, absolute velocity of the mass and force: the closed form."""
+        """Constant rate, absolute velocity of the mass and force: the closed form, with
+        x = mdot t/m0 and the factors ln(1+x)/x, (x - ln(1+x))/x^2 (massratio.py), which
+        stay exact as mdot -> 0 (no ln(m1/m0)/mdot to cancel)."""
         c = self.c
         key, group, noun = self._names(g)
         md, T, m_start = evaluate(mdot, {}), evaluate(duration, {}), evaluate(m0, {})
@@ -162,50 +168,40 @@ class AccretionCompiler:
         if m_end <= 0:
             raise ProblemError(f"the body loses {-md * T:g} kg out of {m_start:g} kg: no mass "
                                "would be left", g.span, code="number")
+        x = md * T / m_start
         t = Known(f"t@{key}", T)
         r = Known("mdot", md)
         m1 = Known(f"m_{g.body}@{g.after}", m_end)
+        phi = Known(f"phi_{noun}", ln1p_over_x(x))
+        psi = Known(f"psi_{noun}", x_minus_ln1p_over_x2(x))
         self.flows.masses[(g.body, g.after)] = m1
         self.flows.durations[key] = t
         grav = c.scene.gravity or (0.0, 0.0)
-        ln = fn("ln", mul(m1, power(m0, -1.0)))
         i, j = g.before, g.after
         v0, v1 = c.vel(g.body, i), c.vel(g.body, j)
         p0, p1 = c.pos(g.body, i), c.pos(g.body, j)
-        dm2 = add_all([mul(m1, m1), neg(mul(m0, m0))])
         how = "closed form: constant rate, velocity of the mass and force"
         heavy = c.scene.gravity is not None
-        law = ("d(m v)/dt = F + m g + mdot v_in, so m1 v1 = m0 v0 + (F + mdot v_in) t + g (m1^2 "
-               "- m0^2)/(2 mdot)" if heavy else
+        law = ("d(m v)/dt = F + m g + mdot v_in, so m1 v1 = m0 v0 + (F + mdot v_in) t + g t "
+               "(m0 + m1)/2" if heavy else
                "d(m v)/dt = F + mdot v_in, so m1 v1 = m0 v0 + (F + mdot v_in) t")
-        path = ("r1 = r0 + (K/mdot) t + (m0/mdot)(v0 - K/mdot) ln(m1/m0) + g/(2 mdot^2)((m1^2 -"
-                " m0^2)/2 - m0^2 ln(m1/m0))" if heavy else
-                "r1 = r0 + (K/mdot) t + (m0/mdot)(v0 - K/mdot) ln(m1/m0)")
+        factors = (", x = mdot t/m0, phi = ln(1+x)/x, psi = (x - ln(1+x))/x^2 (series for "
+                   "small x)")
+        path = ("r1 = r0 + phi v0 t + psi K t^2/m0 + (psi + 1/2) g t^2/2" if heavy else
+                "r1 = r0 + phi v0 t + psi K t^2/m0") + ", K = F + mdot v_in" + factors
+        half_sum = Const(0.5 * (m_start + m_end))
         for comp, F, vin, gk, a0, a1, q0, q1 in (
                 ("x", force.x, v_in.x, grav[0], v0.x, v1.x, p0.x, p1.x),
                 ("y", force.y, v_in.y, grav[1], v0.y, v1.y, p0.y, p1.y)):
             K = add_all([F, mul(r, vin)])  # F + mdot v_in
-            gt = mul(Const(gk / (2 * md)), dm2)  # the impulse of the growing weight
+            gt = mul(Const(gk), mul(t, half_sum))  # the impulse of the growing weight
             c.eq(mul(m1, a1), add_all([mul(m0, a0), mul(K, t), gt]),
                  f"momentum {comp} over the {noun} ({how}): {law}", group, g.span)
-            Km = mul(K, power(r, -1.0))
-            drift = add_all([mul(Km, t),
-                             mul(mul(m0, power(r, -1.0)), mul(add_all([a0, neg(Km)]), ln)),
-                             mul(Const(gk / (2 * md * md)),
-                                 add_all([mul(Const(0.5), dm2), neg(mul(mul(m0, m0), ln))]))])
+            drift = add_all([mul(phi, mul(a0, t)),
+                             mul(psi, mul(K, mul(mul(t, t), power(m0, -1.0)))),
+                             mul(Const(0.5 * gk), mul(add_all([psi, Const(0.5)]), mul(t, t)))])
             c.eq(q1, add_all([q0, drift]),
-                 f"position {comp} at the end of the {noun} ({how}): {path}, K = F + mdot v_in",
-                 group, g.span)
-
-    def _start(self, g, m0: E) -> dict[str, float | None]:
-        """The start state's values (None where the state leaves one unknown)."""
-        c = self.c
-        out: dict[str, float | None] = {}
-        for q in ("x", "y", "vx", "vy"):
-            e = c.sv(g.body, q, g.before)
-            out[q] = evaluate(e, {}) if not variables(e) else None
-        out["mass"] = evaluate(m0, {}) if not variables(m0) else None
-        return out
+                 f"position {comp} at the end of the {noun} ({how}): {path}", group, g.span)
 
     def _end_condition(self, g) -> tuple[str, float] | None:
         """What the end state gives of the body (one of x, y, vx, vy): the phase ends
@@ -223,148 +219,156 @@ class AccretionCompiler:
         return given[0]
 
     def _integrated(self, g, mdot: E, v_in: V2, relative: bool, force: V2, duration,
-                    m0: E) -> None:
-        """No closed form: integrate m, r and v from the start state (scipy DOP853)."""
-        c = self.c
-        noun = self._names(g)[2]
-        start = self._start(g, m0)
-        used = set().union(*(variables(e) for e in (mdot, v_in.x, v_in.y, force.x, force.y)))
-        end = self._end_condition(g) if duration is None else None
-        need = {"vx", "vy", "mass"} | {q for q in ("x", "y") if f"{g.body}.{q}" in used}
-        if end is not None and end[0] in ("x", "y"):
-            need.add(end[0])
-        missing = sorted(q for q in need if start[q] is None)
-        if missing:
-            raise ProblemError(f"the {noun} is integrated numerically from state {g.before}: "
-                               f"give {', '.join(g.body + '.' + q for q in missing)} there",
-                               g.span, code="name")
-        m_start = start["mass"]
-        if m_start <= 0:
-            raise ProblemError(f"{g.body} has no mass at state {g.before}", g.span, code="number")
-        x0 = start["x"] or 0.0
-        y0 = start["y"] or 0.0
-        grav = c.scene.gravity or (0.0, 0.0)
-        b = g.body
-        calls = [0]
-
-        def env(tau, s):
-            m, dx, dy, vx, vy = s
-            return {PHASE_TIME: tau, f"{b}.x": x0 + dx, f"{b}.y": y0 + dy, f"{b}.vx": vx,
-                    f"{b}.vy": vy, f"{b}.speed": math.hypot(vx, vy), f"{b}.mass": m}
-
-        def rhs(tau, s):
-            calls[0] += 1
-            if calls[0] > MAX_CALLS:
-                raise _GaveUp()
-            e = env(tau, s)
-            m, vx, vy = s[0], s[3], s[4]
-            md = evaluate(mdot, e)
-            ux, uy = evaluate(v_in.x, e), evaluate(v_in.y, e)
-            if not relative:
-                ux, uy = ux - vx, uy - vy
-            ax = (evaluate(force.x, e) + md * ux) / m + grav[0]
-            ay = (evaluate(force.y, e) + md * uy) / m + grav[1]
-            return [md, vx, vy, ax, ay]
-
-        def empty(tau, s):
-            return s[0] - 1e-9 * m_start
-
-        empty.terminal = True
-        events = [empty]
-        s0 = [m_start, 0.0, 0.0, start["vx"], start["vy"]]
-        index = {"x": 1, "y": 2, "vx": 3, "vy": 4}
-        if end is not None:
-            q, target = end
-            k = index[q]
-            origin = {"x": x0, "y": y0}.get(q, 0.0)
-            sign = 1.0 if target >= origin + s0[k] else -1.0
-
-            def reached(tau, s):
-                return s[k] + origin - target
-
-            reached.terminal = True
-            events.append(reached)
-            if q in ("x", "y"):
-                def turns_back(tau, s):  # the velocity toward the target changes sign
-                    return s[k + 2]
-
-                turns_back.terminal = True
-                turns_back.direction = -sign
-                events.append(turns_back)
-        T = evaluate(duration, {}) if duration is not None else HORIZON
-        from scipy.integrate import solve_ivp
-
-        try:
-            sol = solve_ivp(rhs, (0.0, T), s0, method="DOP853", rtol=RTOL,
-                            atol=[RTOL * m_start, 1e-12, 1e-12, 1e-12, 1e-12], events=events)
-        except _GaveUp:
-            sol = None
-        except (ValueError, ZeroDivisionError, OverflowError) as exc:
-            raise ProblemError(f"the {noun} cannot be integrated: {exc}", g.span,
-                               code="number") from None
-        if sol is not None and len(sol.t_events[0]):
-            raise ProblemError(f"{b} loses all its mass at t = {sol.t_events[0][0]:.6g} s: no "
-                               "mass would be left", g.span, code="number")
-        if end is not None:
-            q, target = end
-            line = c.scene.states[g.after].givens[(b, q)][1].line
-            if sol is None or not len(sol.t_events[1]):
-                why = ""
-                if sol is not None and len(sol.t_events) > 2 and len(sol.t_events[2]):
-                    why = f": it turns back at t = {sol.t_events[2][0]:.6g} s"
-                elif sol is None or sol.status == 0:
-                    why = f" within {HORIZON:g} s of integration"
-                else:
-                    why = f": {sol.message}"
-                raise ProblemError(f"the end condition {b}.{q} = {fmt_num(target, 6)} "
-                                   f"{MEMBERS[q]} (state {g.after}, "
-                                   f"line {line}) is never reached{why}", g.span,
-                                   code="unreached")
-            t_end = float(sol.t_events[1][0])
-            final = [float(v) for v in sol.y_events[1][0]]
-        else:
-            if sol is None or not sol.success:
-                raise ProblemError(f"the {noun} cannot be integrated"
-                                   + (f": {sol.message}" if sol is not None else ""), g.span,
-                                   code="number")
-            t_end = T
-            final = [float(v) for v in sol.y[:, -1]]
-        self._integrated_equations(g, mdot, v_in, relative, force, m0, t_end, final, end)
-
-    def _integrated_equations(self, g, mdot, v_in, relative, force, m0, t_end, final,
-                              end) -> None:
-        """v1 = v0 + dv and r1 = r0 + dr with the integrated changes (knowns)."""
+                    m0: E, why: str) -> None:
+        """No closed form: an integration block (integration.py) that solve runs when the
+        start state is known; here, its description and v1 = v0 + dv, r1 = r0 + dr."""
         c = self.c
         key, group, noun = self._names(g)
+        b = g.body
+        used = set().union(*(variables(e) for e in (mdot, v_in.x, v_in.y, force.x, force.y)))
+        end = self._end_condition(g) if duration is None else None
+        need = {"vx", "vy", "mass"} | {q for q in ("x", "y") if f"{b}.{q}" in used}
+        if end is not None and end[0] in ("x", "y"):
+            need.add(end[0])
+        inputs = {q: (m0 if q == "mass" else c.sv(b, q, g.before)) for q in sorted(need)}
+        T = evaluate(duration, {}) if duration is not None else None
+        grav = c.scene.gravity or (0.0, 0.0)
+        line = c.scene.states[g.after].givens[(b, end[0])][1].line if end else None
+
+        def run(start: dict) -> list[float]:
+            return _integrate(g, noun, mdot, v_in, relative, force, grav, T, end, line, start)
+
+        names = [f"dvx_{noun}@{key}", f"dvy_{noun}@{key}", f"dx_{noun}@{key}",
+                 f"dy_{noun}@{key}", f"m_{b}@{g.after}"] + ([f"t@{key}"] if end else [])
+        what = [f"the change of {b}.vx over the {noun}", f"the change of {b}.vy over the {noun}",
+                f"the change of {b}.x over the {noun}", f"the change of {b}.y over the {noun}",
+                f"{b}'s mass at state {g.after}"] + ([f"the {noun}'s duration"] if end else [])
+        for n, dim, unit in zip(names, (VELOCITY, VELOCITY, LENGTH, LENGTH, MASS, TIME),
+                                ("m/s", "m/s", "m", "m", "kg", "s")):
+            c.unknown(n, dim, "duration" if unit == "s" else "derived", unit)
         how = f"integrated numerically: scipy DOP853, rtol {RTOL:g}"
-        m1 = Known(f"m_{g.body}@{g.after}", final[0])
-        self.flows.masses[(g.body, g.after)] = m1
-        self.flows.durations[key] = Known(f"t@{key}", t_end)
         vin = "v + " if relative else ""
         rate = f"-({to_text(neg(mdot))}) (mass leaving)" if g.is_loss else to_text(mdot)
         balance = (f"m a = F + m g + mdot (v_in - v), mdot = {rate}, v_in = {vin}("
                    f"{to_text(v_in.x)}, {to_text(v_in.y)}), F = ({to_text(force.x)}, "
                    f"{to_text(force.y)})")
-        until = (f"until {g.body}.{end[0]}@{g.after} = {fmt_num(end[1], 6)} {MEMBERS[end[0]]}, "
-                 "reached at "
-                 f"t@{key} = {fmt_num(t_end, 6)} s" if end else
-                 f"over t@{key} = {fmt_num(t_end, 6)} s")
-        c.notes.note(f"{group}: {balance}; {how}, {until}; m_{g.body}@{g.after} = "
-                     f"{fmt_num(final[0], 6)} kg", g.span, code="integrated")
+        until = (f"until {b}.{end[0]}@{g.after} = {fmt_num(end[1], 6)} {MEMBERS[end[0]]}"
+                 if end else f"over t@{key} = {fmt_num(T, 6)} s")
+        integ = Integration(group, g.span, inputs, names, run, what, RTOL)
+        emit(c, integ, f"{how}, {until}: {balance}", group, self.flows.integrations)
+        c.notes.note(f"{group}: {balance}; {why}: solve integrates it numerically "
+                     f"once its start state is known (scipy DOP853, rtol {RTOL:g}), {until}",
+                     g.span, code="integrated")
+        self.flows.masses[(b, g.after)] = Var(names[4])
+        self.flows.durations[key] = Var(names[5]) if end else Known(f"t@{key}", T)
         i, j = g.before, g.after
-        v0, v1 = c.vel(g.body, i), c.vel(g.body, j)
-        p0, p1 = c.pos(g.body, i), c.pos(g.body, j)
+        v0, v1 = c.vel(b, i), c.vel(b, j)
+        p0, p1 = c.pos(b, i), c.pos(b, j)
         skip = end[0] if end else None
-        for comp, k, a0, a1, q0, q1 in (("x", 1, v0.x, v1.x, p0.x, p1.x),
-                                        ("y", 2, v0.y, v1.y, p0.y, p1.y)):
-            dv = Known(f"dv{comp}_{noun}", final[k + 2] - evaluate(a0, {}))
+        for comp, k, a0, a1, q0, q1 in (("x", 0, v0.x, v1.x, p0.x, p1.x),
+                                        ("y", 1, v0.y, v1.y, p0.y, p1.y)):
             if skip != "v" + comp:
-                c.eq(a1, add_all([a0, dv]),
-                     f"velocity {comp} at the end of the {noun} ({how}, {until}): {balance}",
-                     group, g.span)
+                c.eq(a1, add_all([a0, Var(names[k])]),
+                     f"velocity {comp} at the end of the {noun} ({how}, {until})", group,
+                     g.span)
             if skip != comp:
-                c.eq(q1, add_all([q0, Known(f"d{comp}_{noun}", final[k])]),
+                c.eq(q1, add_all([q0, Var(names[k + 2])]),
                      f"position {comp} at the end of the {noun} ({how})", group, g.span)
+
+
+def _integrate(g, noun: str, mdot: E, v_in: V2, relative: bool, force: V2, grav, T, end,
+               line, start: dict) -> list[float]:
+    """Integrate m, r and v over the phase from `start` (scipy DOP853): [dvx, dvy, dx,
+    dy, m1] and the duration if the phase ends on a condition."""
+    b = g.body
+    m_start = start["mass"]
+    if not m_start > 0:
+        raise ProblemError(f"{b} has no mass at state {g.before}", g.span, code="number")
+    x0, y0 = start.get("x", 0.0), start.get("y", 0.0)
+    calls = [0]
+
+    def env(tau, s):
+        m, dx, dy, vx, vy = s
+        return {PHASE_TIME: tau, f"{b}.x": x0 + dx, f"{b}.y": y0 + dy, f"{b}.vx": vx,
+                f"{b}.vy": vy, f"{b}.speed": math.hypot(vx, vy), f"{b}.mass": m}
+
+    def rhs(tau, s):
+        calls[0] += 1
+        if calls[0] > MAX_CALLS:
+            raise _GaveUp()
+        e = env(tau, s)
+        m, vx, vy = s[0], s[3], s[4]
+        md = evaluate(mdot, e)
+        ux, uy = evaluate(v_in.x, e), evaluate(v_in.y, e)
+        if not relative:
+            ux, uy = ux - vx, uy - vy
+        ax = (evaluate(force.x, e) + md * ux) / m + grav[0]
+        ay = (evaluate(force.y, e) + md * uy) / m + grav[1]
+        return [md, vx, vy, ax, ay]
+
+    def empty(tau, s):
+        return s[0] - 1e-9 * m_start
+
+    empty.terminal = True
+    events = [empty]
+    s0 = [m_start, 0.0, 0.0, start["vx"], start["vy"]]
+    index = {"x": 1, "y": 2, "vx": 3, "vy": 4}
+    if end is not None:
+        q, target = end
+        k = index[q]
+        origin = {"x": x0, "y": y0}.get(q, 0.0)
+        sign = 1.0 if target >= origin + s0[k] else -1.0
+
+        def reached(tau, s):
+            return s[k] + origin - target
+
+        reached.terminal = True
+        events.append(reached)
+        if q in ("x", "y"):
+            def turns_back(tau, s):  # the velocity toward the target changes sign
+                return s[k + 2]
+
+            turns_back.terminal = True
+            turns_back.direction = -sign
+            events.append(turns_back)
+    horizon = T if T is not None else HORIZON
+    from scipy.integrate import solve_ivp
+
+    try:
+        sol = solve_ivp(rhs, (0.0, horizon), s0, method="DOP853", rtol=RTOL,
+                        atol=[RTOL * m_start, 1e-12, 1e-12, 1e-12, 1e-12], events=events)
+    except _GaveUp:
+        sol = None
+    except (ValueError, ZeroDivisionError, OverflowError) as exc:
+        raise ProblemError(f"the {noun} cannot be integrated: {exc}", g.span,
+                           code="number") from None
+    if sol is not None and len(sol.t_events[0]):
+        raise ProblemError(f"{b} loses all its mass at t = {sol.t_events[0][0]:.6g} s: no "
+                           "mass would be left", g.span, code="number")
+    if end is not None:
+        q, target = end
+        if sol is None or not len(sol.t_events[1]):
+            why = ""
+            if sol is not None and len(sol.t_events) > 2 and len(sol.t_events[2]):
+                why = f": it turns back at t = {sol.t_events[2][0]:.6g} s"
+            elif sol is None or sol.status == 0:
+                why = f" within {HORIZON:g} s of integration"
+            else:
+                why = f": {sol.message}"
+            raise ProblemError(f"the end condition {b}.{q} = {fmt_num(target, 6)} "
+                               f"{MEMBERS[q]} (state {g.after}, line {line}) is never "
+                               f"reached{why}", g.span, code="unreached")
+        t_end = float(sol.t_events[1][0])
+        final = [float(v) for v in sol.y_events[1][0]]
+    else:
+        if sol is None or not sol.success:
+            raise ProblemError(f"the {noun} cannot be integrated"
+                               + (f": {sol.message}" if sol is not None else ""), g.span,
+                               code="number")
+        t_end = T
+        final = [float(v) for v in sol.y[:, -1]]
+    out = [final[3] - start["vx"], final[4] - start["vy"], final[1], final[2], final[0]]
+    return out + ([t_end] if end is not None else [])
 
 
 class _GaveUp(Exception):

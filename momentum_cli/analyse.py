@@ -76,8 +76,15 @@ def analyse(system: System) -> Structure:
     # redundant statement becomes a check instead of displacing a derived equation
     auto = [k for k in order if eqs[k].kind not in ("stated", "user")]
     extra = [k for k in order if eqs[k].kind in ("stated", "user")]
-    match_eq, match_var = _max_matching(auto, incidence)
-    _augment(extra, incidence, match_eq, match_var)
+    matchable = incidence
+    if system.integrations:  # an integration sets its outputs from its inputs, not the reverse
+        from .integration import matched_outputs
+
+        matchable = list(incidence)
+        for k, out in matched_outputs(system).items():
+            matchable[k] = {out}
+    match_eq, match_var = _max_matching(auto, matchable)
+    _augment(extra, matchable, match_eq, match_var)
     # Dulmage-Mendelsohn: under-determined = reachable from unmatched unknowns by
     # alternating paths (unknown -> equation containing it -> that equation's unknown).
     var_eqs: dict[str, list[int]] = {n: [] for n in names}

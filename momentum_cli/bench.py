@@ -14,6 +14,25 @@ import time
 from .records import record
 
 PRECISIONS = ("float", "refine", "exact")
+LIBRARIES = ("numpy", "scipy", "lark")
+
+
+def versions() -> str:
+    """Python and the numeric libraries' versions (from their metadata: importing them
+    here would be timed), and the machine, for the line under a measured table."""
+    import os
+    import platform
+    import sys
+    from importlib import metadata
+
+    libs = []
+    for name in LIBRARIES:
+        try:
+            libs.append(f"{name} {metadata.version(name)}")
+        except metadata.PackageNotFoundError:
+            libs.append(f"{name} (not installed)")
+    return (f"python {sys.version.split()[0]}, {', '.join(libs)}; {platform.system()} "
+            f"{platform.machine()}, {os.cpu_count()} CPUs")
 
 
 @record

@@ -148,13 +148,13 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
 
             console = Console()
         if simulation:
-            from .sim.output import render_rich as render
+            from .report.sim_rich import render
         else:
             from .report.rich_out import render
         render(report, console, digits)
         return console
     if simulation:
-        from .sim.output import render_plain as render
+        from .report.sim_text import render
     else:
         from .report.text import render
     if index:
@@ -335,7 +335,7 @@ def simulate(
       momentum simulate --csv swing.csv --rtol 1e-12 examples/seed_pendulum_wall.mom
       momentum simulate --json examples/simulate/*.mom
     """
-    from .sim.run_file import simulate_source
+    from .run import simulate_source
 
     if (csv or plot) and len(files) > 1:
         raise typer.BadParameter("--csv and --plot take one problem file")
@@ -376,7 +376,7 @@ def simulate(
 
             draw(sim, plot)
         if mode == "json":
-            from .sim.output import json_result
+            from .report.sim_json import json_result
 
             results.append(json_result(res.report, name, res.status if res.status != "internal"
                                        else "error", res.diagnostics))
@@ -493,6 +493,8 @@ def bench_simulate(
     plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE.png",
                                        help="Draw error against time (needs matplotlib)."),
     json_flag: bool = typer.Option(False, "--json", help="Print JSON."),
+    markdown: bool = typer.Option(False, "--markdown",
+                                  help="Print Markdown tables with the library versions."),
 ) -> None:
     """Error against `solve` and wall time of the seed scenes at each tolerance.
 
@@ -503,6 +505,7 @@ def bench_simulate(
     Examples:
       momentum bench simulate
       momentum bench simulate --repeat 5 --plot simulate.png
+      momentum bench simulate --markdown
     """
     import json
 
@@ -531,6 +534,15 @@ def bench_simulate(
                     seconds=r.seconds, steps=r.steps, evaluations=r.evaluations) for r in rows]
         sys.stdout.write(json.dumps({"schema_version": "1", "simulate": clean(doc)}, indent=2,
                                     allow_nan=False) + "\n")
+        return
+    if markdown:
+        from .bench import versions
+        from .sim.bench import markdown as md
+
+        command = "momentum bench simulate" + (f" --repeat {repeat}" if repeat != 3 else "")
+        sys.stdout.write(md(rows) + f"\nProduced by `{command} --markdown`: median of "
+                         f"{repeat} run(s) per row, from the parsed file to the result "
+                         f"(start-up excluded); {versions()}.\n")
         return
     from .report.text import table as text_table
 

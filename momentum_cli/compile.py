@@ -119,6 +119,7 @@ class System:
     notes: Collector
     invalid_stated: list[tuple[Span, str]]
     flow_rows: list = field(default_factory=list)  # flows.FlowRow, for the report
+    integrations: list = field(default_factory=list)  # integration.Integration: solve runs them
 
 
 def compile_scene(scene: Scene, regimes: dict[str, str] | None = None) -> System:
@@ -351,7 +352,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._user_equation(ue)
         finds = self._finds()
         return System(sc, self.unknowns, self.equations, finds, self.transitions, self.friction,
-                      self.notes, self.invalid, self.flows.rows if self.flows else [])
+                      self.notes, self.invalid, self.flows.rows if self.flows else [],
+                      self.flows.integrations if self.flows else [])
 
     def _positions(self) -> None:
         """Which quantities each transition leaves unchanged, and checks of the givens.

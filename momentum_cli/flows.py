@@ -10,9 +10,14 @@ balance sum_in mdot = sum_out mdot. A support is an unknown force and moment.
 A burning particle (constant exhaust speed c relative to it, along e, constant
 rate mdot, gravity g) has the closed form of the rocket equation:
     m1 = m0 - mdot t,   v1 = v0 - e c ln(m0/m1) + g t,
-    r1 = r0 + v0 t + g t^2/2 - e c (t - (m1/mdot) ln(m0/m1)).
+    r1 = r0 + v0 t + g t^2/2 - e c (t - (m1/mdot) ln(m0/m1)),
+evaluated without cancellation (massratio.py) when the rate, time and mass are known
+numbers. A burn whose rate or exhaust speed varies is an integration block
+(integration.py) that solve runs.
 """
 from __future__ import annotations
+
+import math
 
 from . import syntax as S
 from .diagnostics import ProblemError
@@ -30,6 +35,8 @@ from .expr import (
     power,
     variables,
 )
+from .integration import Integration, emit
+from .massratio import burn_drift
 from .records import record
 from .units import FORCE, LENGTH, MASS, MOMENT, NONE, TIME, VELOCITY, describe
 
@@ -60,6 +67,7 @@ class FlowCompiler:
         self.rows: list[FlowRow] = []
         self.masses: dict[tuple[str, str], E] = {}  # (body, state) -> mass after a burn
         self.durations: dict[str, E] = {}  # "1->2" -> burn time
+        self.integrations: list[Integration] = []  # phases solve integrates numerically
 
     # ---- evaluation helpers
     def _evaluator(self):
@@ -200,7 +208,8 @@ class FlowCompiler:
                                code="number")
         e = (d.x.value / n, d.y.value / n)
         mdot = self._rate(b.rate, "the burn rate")
-        if isinstance(mdot, Const) and mdot.value <= 0:
+        if isinstance(mdot, Const) and (mdot.value < 0 or mdot.value == 0 and b.burned
+                                        is not None):
             raise ProblemError("the burn rate must be positive", b.rate.span, code="number")
         m0 = c.mass(b.body, b.before)  # what earlier burns left, or the declared mass
         if BURN_TIME in variables(mdot) or BURN_TIME in variables(speed):
@@ -219,6 +228,8 @@ class FlowCompiler:
         self.masses[(b.body, b.after)] = m1
         self.durations[key] = t
         g = sc.gravity or (0.0, 0.0)
+        if not (variables(m0) or variables(dm) or variables(t)):
+            return self._burn_numbers(b, speed, e, evaluate(m0, {}), evaluate(dm, {}), t)
         ln = fn("ln", mul(m0, power(m1, -1.0)))
         i, j = b.before, b.after
         span = b.span
@@ -235,10 +246,37 @@ class FlowCompiler:
                  f"position {comp} at the end of the burn (closed form): r1 = r0 + v0 t + g t^2/2"
                  " - e c (t - (m1/mdot) ln(m0/m1))", group, span)
 
+    def _burn_numbers(self, b: S.BurnDecl, speed: E, e, m0: float, dm: float,
+                      t: E) -> None:
+        """The rocket equation with known rate, time and mass: with the fraction burnt
+        x = dm/m0, ln(m0/m1) = -log1p(-x) and t - (m1/mdot) ln(m0/m1) = t x D(x),
+        D = 1/2 + x/6 + ... (massratio.py): exact down to a vanishing rate."""
+        c = self.c
+        group = f"burn {b.body} {b.before} -> {b.after}"
+        x = dm / m0
+        ln = Known("ln(m0/m1)", -math.log1p(-x))
+        drift = mul(t, Known("x*D(x)", x * burn_drift(x)))
+        g = c.scene.gravity or (0.0, 0.0)
+        i, j = b.before, b.after
+        v0, v1 = c.vel(b.body, i), c.vel(b.body, j)
+        r0, r1 = c.pos(b.body, i), c.pos(b.body, j)
+        for comp, ek, gk, a0, a1, p0, p1 in (("x", e[0], g[0], v0.x, v1.x, r0.x, r1.x),
+                                             ("y", e[1], g[1], v0.y, v1.y, r0.y, r1.y)):
+            c.eq(a1, add_all([a0, mul(Const(-ek), mul(speed, ln)), mul(Const(gk), t)]),
+                 f"rocket equation {comp} (closed form: constant exhaust speed and rate): "
+                 "v1 = v0 - e c ln(m0/m1) + g t, ln(m0/m1) = -ln(1 - x), x = mdot t/m0",
+                 group, b.span)
+            c.eq(p1, add_all([p0, mul(a0, t), mul(Const(0.5 * gk), mul(t, t)),
+                              mul(Const(-ek), mul(speed, drift))]),
+                 f"position {comp} at the end of the burn (closed form): r1 = r0 + v0 t + g t^2/2"
+                 " - e c t x D(x), D = (1 - (1 - x) ln(1/(1 - x))/x)/x = 1/2 + x/6 + x^2/12 + "
+                 "... (series for small x)", group, b.span)
+
     def _burn_integrated(self, b: S.BurnDecl, mdot: E, speed: E, e, m0: E) -> None:
-        """A burn whose rate or exhaust speed varies with its time t: no closed form, so
-        integrate dM/dt = mdot, dV/dt = c mdot/(m0 - M), dX/dt = V numerically (scipy's
-        DOP853 at rtol 1e-10); v1 = v0 - e V + g T and r1 = r0 + v0 T + g T^2/2 - e X."""
+        """A burn whose rate or exhaust speed varies with its time t: no closed form, so an
+        integration block (integration.py) of dM/dt = mdot, dV/dt = c mdot/(m0 - M),
+        dX/dt = V (scipy's DOP853 at rtol 1e-10) that solve runs once m0 is known;
+        v1 = v0 - e V + g T and r1 = r0 + v0 T + g T^2/2 - e X."""
         c = self.c
         for what, ex_, node in (("rate", mdot, b.rate), ("exhaust speed", speed, b.exhaust)):
             if variables(ex_) - {BURN_TIME}:
@@ -248,47 +286,36 @@ class FlowCompiler:
             raise ProblemError("a burn whose rate varies with t needs a `duration`", b.span,
                                code="name")
         T = self._q(b.duration, TIME, "the burn's duration", False)
-        if variables(T) or variables(m0):
-            raise ProblemError("a varying burn needs a known duration and starting mass",
-                               b.span, code="type")
-        T_val, m_start = evaluate(T, {}), evaluate(m0, {})
+        if variables(T):
+            raise ProblemError("a varying burn needs a known duration", b.span, code="type")
+        T_val = evaluate(T, {})
         if T_val <= 0:
             raise ProblemError("a burn's duration must be positive", b.duration.span,
                                code="number")
-        from scipy.integrate import solve_ivp
-
-        def rhs(tau, y):
-            env = {BURN_TIME: tau}
-            md, cc = evaluate(mdot, env), evaluate(speed, env)
-            return [md, cc * md / (m_start - y[0]), y[1]]
-
-        def empty(tau, y):
-            return m_start - y[0]
-
-        empty.terminal = True
-        try:
-            sol = solve_ivp(rhs, (0.0, T_val), [0.0, 0.0, 0.0], method="DOP853", rtol=RTOL,
-                            atol=[RTOL * m_start, 1e-12, 1e-12], events=empty)
-        except (ValueError, ZeroDivisionError, OverflowError) as exc:
-            raise ProblemError(f"the burn cannot be integrated: {exc}", b.span,
-                               code="number") from None
-        if sol.status == 1 or not sol.success:
-            raise ProblemError("the burn runs out of mass before its duration ends: no mass "
-                               "would be left", b.span, code="number")
-        M, V, X = (float(v) for v in sol.y[:, -1])
         key = f"{b.before}->{b.after}"
         group = f"burn {b.body} {b.before} -> {b.after}"
         how = f"integrated numerically: scipy DOP853, rtol {RTOL:g}"
-        m1 = Known(f"m_{b.body}@{b.after}", m_start - M)
-        self.masses[(b.body, b.after)] = m1
+
+        def run(start: dict) -> list[float]:
+            return _integrate_burn(b, mdot, speed, T_val, start["mass"])
+
+        names = [f"dv_thrust@{key}", f"dx_thrust@{key}", f"m_{b.body}@{b.after}"]
+        for n, dim, unit in zip(names, (VELOCITY, LENGTH, MASS), ("m/s", "m", "kg")):
+            c.unknown(n, dim, "derived", unit)
+        integ = Integration(group, b.span, {"mass": m0}, names, run,
+                            ["the speed the thrust adds", "the distance the thrust adds",
+                             f"{b.body}'s mass at state {b.after}"], RTOL)
+        emit(c, integ, f"{how}: dV/dt = c mdot/m, dX/dt = V", group, self.integrations)
+        c.notes.note(f"{group}: the rate or exhaust speed varies with t, so solve integrates "
+                     f"the motion numerically (scipy DOP853, rtol {RTOL:g})", b.span,
+                     code="integrated")
+        self.masses[(b.body, b.after)] = Var(names[2])
         self.durations[key] = Known(f"t@{key}", T_val)
-        self.c.notes.note(f"{group}: the rate or exhaust speed varies with t, so the motion is "
-                          f"{how}", b.span, code="integrated")
         g = c.scene.gravity or (0.0, 0.0)
         i, j = b.before, b.after
         v0, v1 = c.vel(b.body, i), c.vel(b.body, j)
         r0, r1 = c.pos(b.body, i), c.pos(b.body, j)
-        dv, dx = Known("dv_thrust", V), Known("dx_thrust", X)
+        dv, dx = Var(names[0]), Var(names[1])
         Tk = self.durations[key]
         for comp, ek, gk, a0, a1, p0, p1 in (("x", e[0], g[0], v0.x, v1.x, r0.x, r1.x),
                                              ("y", e[1], g[1], v0.y, v1.y, r0.y, r1.y)):
@@ -299,3 +326,31 @@ class FlowCompiler:
                               mul(Const(-ek), dx)]),
                  f"position {comp} after the burn ({how}): r1 = r0 + v0 t + g t^2/2 - e "
                  "dx_thrust", group, b.span)
+
+
+def _integrate_burn(b: S.BurnDecl, mdot: E, speed: E, T: float, m_start: float) -> list:
+    """[V, X, m1] of a varying burn from mass m_start (scipy DOP853)."""
+    if not m_start > 0:
+        raise ProblemError(f"{b.body} has no mass at state {b.before}", b.span, code="number")
+    from scipy.integrate import solve_ivp
+
+    def rhs(tau, y):
+        env = {BURN_TIME: tau}
+        md, cc = evaluate(mdot, env), evaluate(speed, env)
+        return [md, cc * md / (m_start - y[0]), y[1]]
+
+    def empty(tau, y):
+        return m_start - y[0]
+
+    empty.terminal = True
+    try:
+        sol = solve_ivp(rhs, (0.0, T), [0.0, 0.0, 0.0], method="DOP853", rtol=RTOL,
+                        atol=[RTOL * m_start, 1e-12, 1e-12], events=empty)
+    except (ValueError, ZeroDivisionError, OverflowError) as exc:
+        raise ProblemError(f"the burn cannot be integrated: {exc}", b.span,
+                           code="number") from None
+    if sol.status == 1 or not sol.success:
+        raise ProblemError("the burn runs out of mass before its duration ends: no mass "
+                           "would be left", b.span, code="number")
+    M, V, X = (float(v) for v in sol.y[:, -1])
+    return [V, X, m_start - M]

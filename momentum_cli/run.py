@@ -1,7 +1,8 @@
 """Running one problem file through the pipeline, as a value the CLI can render.
 
-`solve_source` and `check_source` never raise for a bad problem file: they return a
-`FileResult` with diagnostics. Only a bug in momentum escapes as an exception.
+`solve_source`, `check_source` and `simulate_source` never raise for a bad problem
+file: they return a `FileResult` with diagnostics. Only a bug in momentum escapes as an
+exception.
 """
 from __future__ import annotations
 
@@ -124,6 +125,27 @@ def _too_deep(source: Source) -> FileResult:
     return FileResult(source.name, "error", source, None,
                       [Diagnostic("error", "too-deep", "expression too long or nested too deeply",
                                   None, ("split it into parts with `let`",))])
+
+
+def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
+                    progress=None, closed_forms: bool = True):
+    """One file through `simulate`: (FileResult with `report` = the simulation's report
+    dict, SimResult or None); never raises for a bad file."""
+    from .scene import build
+    from .sim.integrate import simulate
+    from .sim.output import build as build_report
+    from .syntax import parse
+
+    try:
+        with _NoCyclicGC():
+            scene = build(parse(source))
+            res = simulate(scene, rtol=rtol, dt=dt, progress=progress, closed_forms=closed_forms)
+            rep = build_report(source.name, res)
+        return FileResult(source.name, "solved", source, rep, []), res
+    except ProblemError as exc:
+        return FileResult(source.name, "error", source, None, list(exc.diagnostics)), None
+    except RecursionError:
+        return _too_deep(source), None
 
 
 def check_source(source: Source) -> FileResult:

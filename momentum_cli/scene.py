@@ -902,3 +902,25 @@ class _Builder:
     def _body_names(self, names, span) -> None:
         for n in names:
             self._body_named(n, span)
+
+    # ---- the public interface `simulate`'s block (sim/spec.py) is resolved through
+    def body_named(self, name: str, span: Span) -> Body:
+        """The body called `name`, or a located error naming the closest one."""
+        return self._body_named(name, span)
+
+    def contact(self, c: S.Contact, kind: str) -> Contact:
+        """A contact clause resolved for `kind` (impact, interval, simulate)."""
+        return self._contact(c, kind)
+
+    def state_qty_dim(self, body: Body, qty: str, span: Span) -> Dim:
+        """The dimension of a scalar state quantity of `body` (x, y, angle, vx, vy,
+        omega), or a located error if it is not one or the body has no such quantity."""
+        if qty not in STATE_QTYS:
+            raise ProblemError(f"'{qty}' is not a state quantity" +
+                               did_you_mean(qty, STATE_QTYS), span, code="name")
+        self._qty(body, qty, span)
+        return STATE_QTYS[qty][0]
+
+    def damper(self, label: str, a: PointOn, b: PointOn, span: Span, damping: float) -> Joint:
+        """A damper as a joint record whose `stiffness` holds the damping coefficient."""
+        return Joint(kind=JointKind.DAMPER, label=label, a=a, b=b, span=span, stiffness=damping)

@@ -121,6 +121,9 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
     # every redundant equation is checked (an inconsistent file must never pass silently)
     for k in structure.redundant:
         names |= structure.incidence[k]
+    # every integration runs (integration.py): an end it never reaches is an error
+    for integ in system.integrations:
+        names.update(integ.outputs)
     # the report's energy check for each impact needs the velocities on both sides
     for t in system.transitions:
         if t.kind == "impact" and t.energy is not None:
@@ -300,6 +303,13 @@ def _under_determined(system: System, structure: Structure, missing: list[str]) 
 
 def _solve_block(system: System, structure: Structure, block, values,
                  precision: str = "float") -> BlockReport:
+    if system.integrations:  # a phase integrated numerically (integration.py)
+        from .integration import solve_integration
+
+        integ = solve_integration(system, block, values)
+        if integ is not None:  # its residual: the integrator's tolerance
+            return BlockReport(block.index, block.unknowns, block.equations, "integrated",
+                               residual=integ.rtol)
     eqs = [system.equations[k] for k in block.equations]
     names = block.unknowns
     bset = set(names)

@@ -71,6 +71,7 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
         console.print(Text("Solving, block by block", style="bold cyan"))
         for b in rep.blocks:
             how = (f"linear, cond {f(b['condition_number'])}" if b["method"] == "linear"
+                   else "integrated" if b["method"] == "integrated"
                    else f"Newton, {b['iterations']} iterations")
             console.print(f"  block {b['index']}: [bold]{escape(', '.join(b['unknowns']))}[/bold]"
                           f" ({how})")

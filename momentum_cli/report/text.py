@@ -76,6 +76,7 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
         for b in rep.blocks:
             how = (f"linear, condition number {f(b['condition_number'])}"
                    if b["method"] == "linear" else
+                   "integrated numerically from its inputs" if b["method"] == "integrated" else
                    f"Newton, {b['iterations']} iterations, residual {fmt_tiny(b['residual'] or 0)}")
             lines = ", ".join(map(str, b["lines"]))
             out.append(f"  block {b['index']}: {', '.join(b['unknowns'])} ({how}; lines {lines})")

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .model import Model, Watch, rot
+from .model import Model, Watch, centre, rot
 
 
 class Frame:
@@ -110,37 +110,16 @@ class Frame:
 
 
 # ---- contact geometry -----------------------------------------------------------------
-def _centre(frame_pose, p) -> tuple[float, float]:
-    if p.body is None:
-        return (p.offset[0], p.offset[1])
-    gx, gy, th = frame_pose[p.body]
-    rx, ry = rot(th, p.offset)
-    return (gx + rx, gy + ry)
-
-
-def raw_gap(model: Model, w: Watch, pose: dict) -> float:
-    """The gap before subtracting `gap0`, from poses {body: (x, y, angle)}."""
-    pa = _centre(pose, w.a)
-    if w.b is None:
-        n = w.normal
-        return (pa[0] - w.plane[0]) * n[0] + (pa[1] - w.plane[1]) * n[1] - w.ra
-    pb = _centre(pose, w.b)
-    if w.normal is not None:
-        n = w.normal
-        return (pa[0] - pb[0]) * n[0] + (pa[1] - pb[1]) * n[1] - w.ra - w.rb
-    return math.hypot(pa[0] - pb[0], pa[1] - pb[1]) - w.ra - w.rb
-
-
 def contact_geometry(frame: Frame, w: Watch):
     """(gap, unit normal on a, world contact point, offset of that point from a's G,
     from b's G (None for a plane))."""
-    pa = _centre(frame.pose, w.a)
+    pa = centre(frame.pose, w.a)
     if w.b is None:
         n = w.normal
         gap = (pa[0] - w.plane[0]) * n[0] + (pa[1] - w.plane[1]) * n[1] - w.ra - w.gap0
         pb = None
     else:
-        pb = _centre(frame.pose, w.b)
+        pb = centre(frame.pose, w.b)
         if w.normal is not None:
             n = w.normal
             gap = (pa[0] - pb[0]) * n[0] + (pa[1] - pb[1]) * n[1] - w.ra - w.rb - w.gap0

@@ -134,8 +134,6 @@ def watch_for(model: Model, c: Contact, placed_at: dict | None) -> Watch:
         if located or placed_at is None:
             return w
     if placed_at is not None:
-        from .dynamics import raw_gap
-
         w.gap0 = raw_gap(model, w, placed_at)
     return w
 
@@ -144,3 +142,25 @@ def _radius(scene: Scene, p: PointOn) -> float:
     if p.body is None or not p.round_contact:
         return 0.0
     return scene.bodies[p.body].radius or 0.0
+
+
+def centre(frame_pose, p) -> tuple[float, float]:
+    """World position of point `p` from poses {body: (x, y, angle)}."""
+    if p.body is None:
+        return (p.offset[0], p.offset[1])
+    gx, gy, th = frame_pose[p.body]
+    rx, ry = rot(th, p.offset)
+    return (gx + rx, gy + ry)
+
+
+def raw_gap(model: Model, w: Watch, pose: dict) -> float:
+    """The gap before subtracting `gap0`, from poses {body: (x, y, angle)}."""
+    pa = centre(pose, w.a)
+    if w.b is None:
+        n = w.normal
+        return (pa[0] - w.plane[0]) * n[0] + (pa[1] - w.plane[1]) * n[1] - w.ra
+    pb = centre(pose, w.b)
+    if w.normal is not None:
+        n = w.normal
+        return (pa[0] - pb[0]) * n[0] + (pa[1] - pb[1]) * n[1] - w.ra - w.rb
+    return math.hypot(pa[0] - pb[0], pa[1] - pb[1]) - w.ra - w.rb

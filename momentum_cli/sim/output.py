@@ -1,8 +1,8 @@
-"""A simulation's report as data, and its renderings: plain text, rich, JSON, CSV, plot.
+"""A simulation's report as data (rendered by report/sim_text, sim_rich, sim_json), and
+its time series as CSV and a plot.
 
-The plain text is deterministic (golden files): numbers to N significant figures,
-round-off-sized values shown as 0, and no wall times or step counts, which depend on
-the machine and the scipy version; those are in the rich and JSON output.
+Values of round-off size are snapped to 0 here, so that the plain text (golden files)
+is deterministic; wall times and step counts are kept for the rich and JSON output.
 """
 from __future__ import annotations
 
@@ -154,127 +154,6 @@ def _scales(res: SimResult) -> tuple[float, float]:
             speed = max(speed, abs(vx), abs(vy), abs(w) * L)
         E = max(E, kinetic(res.model, f))
     return speed, max(E, 1e-300)
-
-
-def _vec(v, k=0, sig=6):
-    return f"({fmt_num(v[k], sig)}, {fmt_num(v[k + 1], sig)})"
-
-
-def render_plain(rep: dict, sig: int = 6) -> str:
-    from ..report.text import table
-
-    f = lambda x: "-" if x is None else fmt_num(x, sig)  # noqa: E731
-    out = [f"== {rep['file']}: {rep['title'] or '(untitled problem)'}", ""]
-    how = f"fixed step dt = {f(rep['dt'])} s" if rep["dt"] else f"rtol {fmt_num(rep['rtol'], 2)}"
-    when = "" if rep["stop"].startswith("t = ") else f", t = {f(rep['t_end'])} s"
-    out.append(f"Simulation from state {rep['start']} (line {rep['line']}), {how}; stopped at "
-               f"{rep['stop']}{when}")
-    out += ["", "Effects declared (nothing else acts)"] + ["  " + e for e in rep["effects"]]
-    rows = []
-    for e in rep["events"]:
-        first = True
-        for b in e["bodies"] or [None]:
-            cells = [f(e["t"]) if first else "", e["kind"] if first else "",
-                     e["what"] if first else ""]
-            if b is None:
-                cells += ["", "", "", "", "", ""]
-            else:
-                bf = b["before"]
-                cells += [b["body"], "-" if bf is None else _vec(bf, 0, sig),
-                          "-" if bf is None else f(bf[2]), _vec(b["after"], 0, sig),
-                          f(b["after"][2])]
-                cells.append(f(e["energy_lost"]) if first and e["energy_lost"] is not None
-                             else "")
-            rows.append(cells)
-            first = False
-    out += ["", "Events"]
-    out += table(["t (s)", "event", "what", "body", "v before (m/s)", "omega before",
-                  "v after (m/s)", "omega after", "energy lost (J)"], rows)
-    imp = [(e, k, v) for e in rep["events"] for k, v in e["impulses"].items()]
-    if imp:
-        out += ["", "Impulses (N*s) and friction regimes"]
-        out += table(["t (s)", "impulse", "value", "regime"],
-                     [[f(e["t"]), k, f(v), e["note"]] for e, k, v in imp])
-    out += ["", "Phases (motion between events)"]
-    out += table(["from (s)", "to (s)", "method"],
-                 [[f(p["start"]), f(p["end"]), p["method"]] for p in rep["phases"]])
-    out += ["", f"Final state at t = {f(rep['t_end'])} s"]
-    out += table(["body", "x (m)", "y (m)", "angle (deg)", "vx (m/s)", "vy (m/s)",
-                  "omega (rad/s)"],
-                 [[s["body"], f(s["x"]), f(s["y"]),
-                   "-" if s["angle"] is None else f(math.degrees(s["angle"])),
-                   f(s["vx"]), f(s["vy"]), f(s["omega"])] for s in rep["final"]])
-    if rep["forces"]:
-        out += ["", "Constraint forces at the end (N; N*m for moments)"]
-        out += table(["force", "value"], [[k, f(v)] for k, v in rep["forces"].items()])
-    out += ["", "Checks"] + [f"  {c['name']}: {c['status']}: {c['detail']}"
-                             for c in rep["checks"]]
-    return "\n".join(out) + "\n"
-
-
-def render_rich(rep: dict, console, sig: int = 6) -> None:
-    from rich.markup import escape as esc
-    from rich.table import Table
-
-    f = lambda x: "-" if x is None else fmt_num(x, sig)  # noqa: E731
-    how = f"fixed step dt = {f(rep['dt'])} s" if rep["dt"] else f"rtol {fmt_num(rep['rtol'], 2)}"
-    console.rule(f"[bold]{esc(rep['file'])}[/]: {esc(rep['title'] or '(untitled problem)')}")
-    when = "" if rep["stop"].startswith("t = ") else f", t = {f(rep['t_end'])} s"
-    console.print(f"Simulated from state {rep['start']} with {how}; stopped at "
-                  f"[bold]{esc(rep['stop'])}[/]{when}, in {rep['seconds'] * 1e3:.3g} ms")
-    console.print("[bold]Effects declared[/] (nothing else acts): " +
-                  esc("; ".join(rep["effects"])))
-    t = Table(title="Events", show_lines=False)
-    for h in ("t (s)", "event", "what", "body", "v before (m/s)", "ω before", "v after (m/s)",
-              "ω after", "energy lost (J)"):
-        t.add_column(h, justify="right" if h[0] in "tvωe" and h != "event" else "left",
-                     overflow="fold")  # a narrow terminal wraps numbers, never cuts them
-    for e in rep["events"]:
-        for k, b in enumerate(e["bodies"] or [None]):
-            head = [f(e["t"]), e["kind"], esc(e["what"])] if k == 0 else ["", "", ""]
-            if b is None:
-                t.add_row(*head, "", "", "", "", "", "")
-                continue
-            bf = b["before"]
-            t.add_row(*head, esc(b["body"]), "-" if bf is None else _vec(bf, 0, sig),
-                      "-" if bf is None else f(bf[2]), _vec(b["after"], 0, sig),
-                      f(b["after"][2]),
-                      f(e["energy_lost"]) if k == 0 and e["energy_lost"] is not None else "")
-    console.print(t)
-    p = Table(title="Phases")
-    for h in ("from (s)", "to (s)", "method", "steps", "evaluations", "energy drift"):
-        p.add_column(h)
-    for ph in rep["phases"]:
-        p.add_row(f(ph["start"]), f(ph["end"]), ph["method"], str(ph["steps"]),
-                  str(ph["evaluations"]), fmt_num(ph["drift"], 2))
-    console.print(p)
-    s = Table(title=f"Final state at t = {f(rep['t_end'])} s")
-    for h in ("body", "x (m)", "y (m)", "angle (deg)", "vx (m/s)", "vy (m/s)", "ω (rad/s)"):
-        s.add_column(h, justify="left" if h == "body" else "right")
-    for r in rep["final"]:
-        s.add_row(esc(r["body"]), f(r["x"]), f(r["y"]),
-                  "-" if r["angle"] is None else f(math.degrees(r["angle"])), f(r["vx"]),
-                  f(r["vy"]), f(r["omega"]))
-    console.print(s)
-    if rep["forces"]:
-        c = Table(title="Constraint forces at the end (N; N·m for moments)")
-        c.add_column("force")
-        c.add_column("value", justify="right")
-        for k, v in rep["forces"].items():
-            c.add_row(esc(k), f(v))
-        console.print(c)
-    for c in rep["checks"]:
-        colour = {"ok": "green", "warning": "yellow"}.get(c["status"], "cyan")
-        console.print(f"[{colour}]{c['status']}[/] {esc(c['name'])}: {esc(c['detail'])}")
-
-
-def json_result(rep: dict | None, name: str, status: str, diagnostics) -> dict:
-    d = {"file": name, "status": status, "diagnostics": [x.to_json() for x in diagnostics]}
-    if rep is not None:
-        d.update({k: rep[k] for k in ("title", "start", "stop", "t_end", "rtol", "dt",
-                                      "seconds", "effects", "events", "phases", "final",
-                                      "forces", "checks", "impacts")})
-    return d
 
 
 def csv_text(res: SimResult) -> str:

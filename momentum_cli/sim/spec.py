@@ -1,7 +1,9 @@
 """The `simulate from S:` block, resolved against the scene (names, units, SI values).
 
-Built with the scene builder's own helpers, so a misspelt point or a force in the
-wrong unit is reported exactly as it is everywhere else in the language.
+Built through the scene builder's public resolving interface (`value`, `vector`,
+`point`, `body_named`, `contact`, `state_qty_dim`, `damper`), so a misspelt point or a
+force in the wrong unit is reported exactly as it is everywhere else in the language.
+This module does not import `scene` (scene calls it; no import cycle).
 """
 from __future__ import annotations
 
@@ -39,9 +41,7 @@ class SimSpec:
 
 
 def build_simulation(b, s: S.SimulateDecl, states) -> SimSpec:
-    """Resolve one `simulate` block with the scene builder `b`."""
-    from ..scene import Joint
-
+    """Resolve one `simulate` block with the scene builder `b` (its public interface)."""
     if s.start not in states:
         raise ProblemError(f"state {s.start} is not declared" + did_you_mean(s.start, states),
                            s.start_span, code="name", notes=[f"add a line `state {s.start}`"])
@@ -51,7 +51,7 @@ def build_simulation(b, s: S.SimulateDecl, states) -> SimSpec:
         if isinstance(c, S.Until):
             spec.untils.append(_until(b, c))
         elif isinstance(c, S.Contact):
-            spec.contacts.append(b._contact(c, "simulate"))
+            spec.contacts.append(b.contact(c, "simulate"))
         elif isinstance(c, S.Joint):
             a, p = b.point(c.a), b.point(c.b)
             if a.body is None and p.body is not None:
@@ -64,12 +64,11 @@ def build_simulation(b, s: S.SimulateDecl, states) -> SimSpec:
                 raise ProblemError("a damping coefficient cannot be negative", c.stiffness.span,
                                    code="number")
             label = c.label or (a.name if p.body is None else f"{a.name}-{p.name}")
-            spec.dampers.append(Joint(kind=JointKind.DAMPER, label=label, a=a, b=p, span=c.span,
-                                      stiffness=damping))
+            spec.dampers.append(b.damper(label, a, p, c.span, damping))
         elif c.kind == Clause.FORCE:
             spec.forces.append((b.vector(c.value, FORCE, "a force"), b.point(c.point), c.span))
         elif c.kind == Clause.MOMENT:
-            body = b._body_named(c.names[0], c.span)
+            body = b.body_named(c.names[0], c.span)
             spec.moments.append((b.value(c.value, MOMENT, "a moment"), body.name, c.span))
         elif c.kind == Clause.BEARING_TORQUE:
             if c.names[0] not in pins:
@@ -107,14 +106,9 @@ def _until(b, c: S.Until) -> Until:
                 raise ProblemError("a stop time must be positive", c.right.span, code="number")
             return Until("time", c.span, t)
         if left.member is not None:
-            from ..scene import STATE_QTYS
-
-            body = b._body_named(left.name, left.span)
-            if left.member not in STATE_QTYS:
-                raise ProblemError(f"'{left.member}' is not a state quantity" +
-                                   did_you_mean(left.member, STATE_QTYS), left.span, code="name")
-            b._qty(body, left.member, left.span)
-            v = b.value(c.right, STATE_QTYS[left.member][0], f"{left.name}.{left.member}")
+            body = b.body_named(left.name, left.span)
+            dim = b.state_qty_dim(body, left.member, left.span)
+            v = b.value(c.right, dim, f"{left.name}.{left.member}")
             return Until("qty", c.span, v, body.name, left.member)
     raise ProblemError("`until` takes `t = 5 s`, `BODY.QTY = value` (x, y, angle, vx, vy, "
                        "omega), `apex` or `N impacts`", c.span, code="name")
