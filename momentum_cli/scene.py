@@ -188,6 +188,7 @@ class Scene:
     burns: list = field(default_factory=list)  # syntax.BurnDecl: compiled by flows.py
     gains: list = field(default_factory=list)  # syntax.GainDecl: compiled by accretion.py
     simulations: list = field(default_factory=list)  # sim.spec.SimSpec: `momentum simulate`
+    expects: list = field(default_factory=list)  # expectations.ExpectSpec: `expect` lines
 
 
 SHAPES = {
@@ -351,6 +352,13 @@ class _Builder:
                                                 s.before, s.after))
         equations = [s for s in st if isinstance(s, S.UserEquation)]
         finds = [i for s in st if isinstance(s, S.Find) for i in s.items]
+        expects = []
+        if any(isinstance(s, S.Expect) for s in st):
+            from .expectations import build_expects
+
+            expects, extra = build_expects([s for s in st if isinstance(s, S.Expect)], self.ev,
+                                           self.doc.source.text, finds)
+            finds += extra
         if not self.bodies and not any(isinstance(s, S.SteadyDecl) for s in st):
             raise ProblemError("no bodies: declare one with `body NAME: rod(mass = ..., length = "
                                "...)`", Span(1, 1), code="empty", caret=False)
@@ -386,7 +394,7 @@ class _Builder:
         return Scene(title, self.gravity, self.g, self.constants, self.user_unknowns,
                      self.bodies, self.points, self.surfaces, joints, states, transitions, stated,
                      equations, finds, self.notes, self.gravity_span, steady, burns, gains,
-                     simulations)
+                     simulations, expects)
 
     def _gain(self, s: S.GainDecl, states, transitions, taken: dict) -> None:
         """A gain or loss of mass: a particle between two declared states, with a rate,

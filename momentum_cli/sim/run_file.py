@@ -8,8 +8,9 @@ from ..source import Source
 
 
 def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
-                    progress=None, closed_forms: bool = True):
-    """(FileResult with `report` = the simulation's report dict, SimResult or None)."""
+                    progress=None, closed_forms: bool = True, overrides=()):
+    """(FileResult with `report` = the simulation's report dict, SimResult or None);
+    `overrides`: `--set` (name, value text) pairs for the file's `let`s."""
     from ..scene import build
     from ..syntax import parse
     from .integrate import simulate
@@ -17,7 +18,12 @@ def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
 
     try:
         with _NoCyclicGC():
-            scene = build(parse(source))
+            doc = parse(source)
+            if overrides:
+                from ..overrides import apply
+
+                doc = apply(doc, overrides)
+            scene = build(doc)
             res = simulate(scene, rtol=rtol, dt=dt, progress=progress, closed_forms=closed_forms)
             rep = build_report(source.name, res)
         return FileResult(source.name, "solved", source, rep, []), res
