@@ -182,6 +182,13 @@ def solve(
                                              "exact residuals, or exact rationals."),
     traceback_flag: bool = typer.Option(False, "--traceback", help="Show Python tracebacks of "
                                                                    "internal errors."),
+    sets: Optional[List[str]] = typer.Option(None, "--set", metavar="NAME=VALUE",
+                                             help="Override a `let` constant: NAME=VALUE with "
+                                                  "its unit, e.g. --set v0='5 m/s' "
+                                                  "(repeatable)."),
+    jsonl: bool = typer.Option(False, "--jsonl", help="Print one JSON object per file (a "
+                                                      "result of --json) as soon as it is "
+                                                      "solved."),
 ) -> None:
     """Solve problem files and print the solution step by step.
 
@@ -191,9 +198,10 @@ def solve(
       momentum solve --json examples/*.mom
       cat problem.mom | momentum solve -q -
     """
+    from .cli_problems import overrides_for
     from .run import solve_many, solve_source
 
-    mode = _pick_format(fmt, json_flag, plain)
+    mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
     _safe_streams()
     out, err = sys.stdout, sys.stderr
     results = []
@@ -201,16 +209,17 @@ def solve(
     worst = ExitCode.OK
     many = len(files) > 1
     items = list(_read_all(files))
+    overrides = overrides_for(sets, [s for _, s, _ in items])
     solved = iter(())
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
-                            precision.value)
+                            precision.value, overrides)
     for i, (name, source, res) in enumerate(items):
         if res is None and not traceback_flag:
             res = next(solved)
         elif res is None:
             try:
-                res = solve_source(source, solve_all, digits, precision.value)
+                res = solve_source(source, solve_all, digits, precision.value, overrides)
             except (KeyboardInterrupt, typer.Exit):
                 raise
             except Exception as exc:  # --traceback: show the bug
@@ -220,10 +229,27 @@ def solve(
         if mode == "json":
             from .report.json_out import result_dict
 
-            results.append(result_dict(name, res.status if res.status != "internal" else "error",
-                                       res.report, res.diagnostics))
+            d = result_dict(name, res.status if res.status != "internal" else "error",
+                            res.report, res.diagnostics)
+            if res.expects and res.report is None:
+                from .report.model import expectation_dict
+
+                d["expectations"] = [expectation_dict(c) for c in res.expects]
+            if jsonl:
+                import json
+
+                from .report.json_out import clean
+
+                out.write(json.dumps(clean(d), allow_nan=False,
+                                     ensure_ascii=not _is_utf8(out)) + "\n")
+                out.flush()
+            else:
+                results.append(d)
             continue
         _print_diagnostics(res, err)
+        for c in res.expects if res.report is None else ():
+            err.write(f"{name}:{c.spec.span.line}: note: expect {c.spec.quantity}: "
+                      f"{c.message}\n")
         if res.report is None:
             continue
         if quiet:
@@ -234,7 +260,7 @@ def solve(
             out.write(render_quiet(res.report, digits))
         else:
             console = _render(res.report, mode, console, i, digits, simulation=False)
-    if mode == "json":
+    if mode == "json" and not jsonl:
         from . import __version__
         from .report.json_out import document
 
@@ -321,6 +347,9 @@ def simulate(
                                help="Significant figures in printed numbers."),
     traceback_flag: bool = typer.Option(False, "--traceback", help="Show Python tracebacks of "
                                                                    "internal errors."),
+    sets: Optional[List[str]] = typer.Option(None, "--set", metavar="NAME=VALUE",
+                                             help="Override a `let` constant: NAME=VALUE with "
+                                                  "its unit (repeatable)."),
 ) -> None:
     """Simulate the motion of a scene over time, with only the effects it declares.
 
@@ -351,12 +380,16 @@ def simulate(
     worst = ExitCode.OK
     results = []
     console = None
-    for i, (name, source, res) in enumerate(_read_all(files)):
+    from .cli_problems import overrides_for
+
+    items = list(_read_all(files))
+    overrides = overrides_for(sets, [s for _, s, _ in items])
+    for i, (name, source, res) in enumerate(items):
         sim = None
         if res is None:
             progress = _ProgressBar(err) if err.isatty() and mode != "json" else None
             try:
-                res, sim = simulate_source(source, rtol, dt, progress, not integrate)
+                res, sim = simulate_source(source, rtol, dt, progress, not integrate, overrides)
             except (KeyboardInterrupt, typer.Exit):
                 raise
             except Exception as exc:
@@ -535,6 +568,10 @@ def bench_simulate(
     from .report.text import table as text_table
 
     sys.stdout.write("\n".join(text_table(HEADERS, table(rows))) + "\n")
+
+
+# the problem-set commands (test, expect, variants, grade) register themselves on `app`
+from . import cli_problems  # noqa: E402,F401
 
 
 def main() -> None:

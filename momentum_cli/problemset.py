@@ -43,8 +43,8 @@ def collect(paths, pattern: str | None = None) -> list[str]:
     out = [f for f in out if not (os.path.normpath(f) in seen or seen.add(os.path.normpath(f)))]
     if pattern:
         glob = any(c in pattern for c in "*?[")
-        out = [f for f in out if (fnmatch.fnmatch(f, pattern) or fnmatch.fnmatch(
-            os.path.basename(f), pattern)) if glob else pattern in f]
+        out = [f for f in out if ((fnmatch.fnmatch(f, pattern) or fnmatch.fnmatch(
+            os.path.basename(f), pattern)) if glob else pattern in f)]
     return out
 
 
@@ -91,7 +91,7 @@ def judge(res, seconds: float = 0.0) -> Outcome:
         failures = [_where(name, c) + c.message.removeprefix("not met: ")
                     for c in res.expects if not c.met]
     n = len(res.expects)
-    note = f"{n} expectation{'s' * (n != 1)}" if n else "solves (no expect lines)"
+    note = f"{n} expectation{'s' * (n != 1)}" if n else "no expect lines"
     return Outcome(name, "failed" if failures else "passed", res.status, failures, exp,
                    res.diagnostics, note, seconds)
 
