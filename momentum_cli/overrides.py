@@ -6,10 +6,11 @@ those `let` values replaced. An option that names no `let` of a file is a usage 
 """
 from __future__ import annotations
 
+import difflib
 import re
 
 from . import syntax as S
-from .diagnostics import ProblemError, did_you_mean
+from .diagnostics import ProblemError
 from .source import Source
 
 _LET = re.compile(r"^[ \t]*let[ \t]+([A-Za-z_][A-Za-z_0-9]*)[ \t]*=", re.M)
@@ -52,8 +53,9 @@ def check_names(overrides, text: str, file: str) -> None:
     for name, _ in overrides:
         if name not in names:
             have = f" (it has: {', '.join(names)})" if names and len(names) <= 8 else ""
+            close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
             raise OverrideError(f"--set {name}: {file} has no `let {name}`" +
-                                (did_you_mean(name, names) or have))
+                                (f"; did you mean '{close[0]}'?" if close else have))
 
 
 def apply(doc: S.Document, overrides) -> S.Document:

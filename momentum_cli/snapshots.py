@@ -111,6 +111,9 @@ def refreshed(text: str, res, digits: int = DEFAULT_DIGITS) -> str:
     if at is None:
         finds = [i for i, ln in enumerate(lines) if _FIND.match(ln)]
         at = _statement_end(lines, finds[-1]) if finds else len(lines) - 1
+    anchor = lines[at] if 0 <= at < len(lines) else ""
+    if anchor.endswith(("\n", "\r")):
+        nl = anchor[len(anchor.rstrip("\r\n")):]  # the line ending of the line above
     out = [ln for i, ln in enumerate(lines[:at + 1]) if i not in drop]
     if new:
         if out and not out[-1].endswith(("\n", "\r")):
