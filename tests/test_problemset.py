@@ -427,3 +427,27 @@ def test_grade_classes_from_first_principles(tmp_path):
     assert classify(k, "2", "m/s") == "rounding"      # 1 digit of 3, right when rounded
     assert classify(k, "2.1", "m/s") == "wrong"
     assert classify(k, "", "m/s") == "missing"
+
+
+def test_the_readme_expect_lines_hold_for_the_carts(tmp_path):
+    readme = (EXAMPLES.parent / "README.md").read_text(encoding="utf-8")
+    block = next(b for b in re.findall(r"```text\n(.*?)```", readme, flags=re.S)
+                 if "expect a.vx@2 = 2.00 m/s" in b)
+    src = (PSET / "p01_carts_couple.mom").read_text()
+    body = "".join(ln for ln in src.splitlines(keepends=True)
+                   if not ln.startswith(("find", "expect")))
+    checks = checks_of(body + block)
+    assert len(checks) == 3 and all(c.met for c in checks)
+    sample = next(b for b in re.findall(r"```text\n(.*?)```", readme, flags=re.S)
+                  if b.startswith("FAIL  hw/"))
+    hw = tmp_path / "hw"
+    hw.mkdir()
+    (hw / "p01_carts_couple.mom").write_text(src.replace("expect a.vx@2 = 2.00 m/s",
+                                                         "expect a.vx@2 = 2.50 m/s"))
+    old = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        out = cli(["test", "hw"]).stdout
+    finally:
+        os.chdir(old)
+    assert out.startswith(sample)
