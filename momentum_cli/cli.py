@@ -246,9 +246,10 @@ def solve(
                 results.append(d)
             continue
         _print_diagnostics(res, err)
-        for c in res.expects if res.report is None else ():
-            err.write(f"{name}:{c.spec.span.line}: note: expect {c.spec.quantity}: "
-                      f"{c.message}\n")
+        for c in res.expects if res.report is None else ():  # `expect` lines of a failed file
+            err.write(f"{name}:{c.spec.span.line}: note: " + (
+                f"this error was expected (expect {c.spec.quantity})" if c.met and c.spec.error
+                else c.message) + "\n")
         if res.report is None:
             continue
         if quiet:

@@ -451,3 +451,11 @@ def test_the_readme_expect_lines_hold_for_the_carts(tmp_path):
     finally:
         os.chdir(old)
     assert out.startswith(sample)
+
+
+def test_simulate_scenes_are_solved_and_with_simulate_simulated():
+    scene = EXAMPLES / "simulate" / "ball_bounces.mom"
+    r = cli(["test", scene])
+    assert r.exit_code == 0 and "(no expect lines)" in r.stdout
+    r = cli(["test", "--simulate", scene])
+    assert r.exit_code == 0 and "(simulated)" in r.stdout
