@@ -576,10 +576,10 @@ SET_HELP = "Override a `let` constant: NAME=VALUE with its unit, e.g. --set v0='
 def _overrides_for(sets: Optional[List[str]], sources) -> tuple:
     """The `--set` pairs, checked: each parses as a value and names a `let` of every
     file given (else a usage error, exit 2, with "did you mean")."""
-    from .overrides import OverrideError, check_names, split
-
     if not sets:
         return ()
+    from .overrides import OverrideError, check_names, split
+
     try:
         pairs = tuple(split(s) for s in sets)
         for src in sources:
