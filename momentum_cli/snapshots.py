@@ -74,6 +74,8 @@ def refreshed(text: str, res, digits: int = DEFAULT_DIGITS) -> str:
     want = answer_lines(res, digits)
     answers = {a["name"]: a for a in res.report.answers} if res.report else {}
     existing = scan_expects(text)
+    checked = {c.spec.span.line: c for c in res.expects if c.spec.error is None} \
+        if res.report is not None else {}
     drop, done = set(), set()
     for spec in existing:
         i = spec.span.line - 1
@@ -90,14 +92,14 @@ def refreshed(text: str, res, digits: int = DEFAULT_DIGITS) -> str:
             names = component_names(spec.quantity, answers)
             tol = _TOL.search(spec.written)
             suffix = " " + tol.group(0).strip() if tol else ""
-            if names and len(names) == 1 and names[0] in want:
-                new_body = want[names[0]] + suffix
-            elif names and len(names) == 2:
-                a, b = (answers[n] for n in names)
-                if a["value"] is not None and b["value"] is not None:
-                    u = f" {a['unit']}" if a["unit"] else ""
-                    new_body = (f"{spec.quantity} = ({number(a['value'], digits)}{u}, "
-                                f"{number(b['value'], digits)}{u})") + suffix
+            check = checked.get(spec.span.line)
+            if check is not None and check.got and None not in check.got:
+                s = check.spec  # refreshed in the unit the line is written in
+                u = f" {s.unit}" if s.unit else ""
+                vals = [number(g / (s.factor or 1.0), digits) for g in check.got]
+                value = vals[0] + u if len(vals) == 1 else \
+                    "(" + ", ".join(v + u for v in vals) + ")"
+                new_body = f"{spec.quantity} = {value}{suffix}"
             if names:
                 done.update(names)
         if new_body is None:

@@ -459,3 +459,14 @@ def test_simulate_scenes_are_solved_and_with_simulate_simulated():
     assert r.exit_code == 0 and "(no expect lines)" in r.stdout
     r = cli(["test", "--simulate", scene])
     assert r.exit_code == 0 and "(simulated)" in r.stdout
+
+
+def test_expect_write_keeps_each_line_in_its_own_unit(tmp_path):
+    # flywheel: w = M t / (m r^2 / 2) = 5 * 4 / 0.3125 = 64 rad/s = 611.15 rpm
+    f = tmp_path / "p07.mom"
+    f.write_text((PSET / "p07_flywheel.mom").read_text().replace("= 64.0 rad/s", "= 60 rad/s"))
+    assert cli(["expect", "--write", "-p", "3", f]).exit_code == 0
+    lines = f.read_text().splitlines()
+    assert "expect wheel.omega@2 = 64.0 rad/s" in lines
+    assert "expect wheel.omega@2 = 611 rpm" in lines
+    assert sum(ln.startswith("expect ") for ln in lines) == 3
