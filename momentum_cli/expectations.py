@@ -14,7 +14,7 @@ from .diagnostics import ProblemError, did_you_mean
 from .quantity import constant, constant_vector, unit_readings
 from .records import record
 from .source import Span
-from .units import NONE, Dim, describe
+from .units import NONE, Dim, describe, reading_for
 
 # A value given by an expression (not a number as written): this relative tolerance.
 EXPRESSION_RTOL = 1e-6
@@ -121,14 +121,20 @@ def build_expects(items, ev, text: str, finds) -> tuple[list[ExpectSpec], list[S
             match = [f for f, d in unit_readings(unit, unit_span) if d == q.dim]
             factor = match[0] if match else unit_readings(unit, unit_span)[0][0]
         comps = _components(e.value)
+        dim = q.dim
         if e.tolerance is not None:
             t = ev(e.tolerance)
             if t.is_vector:
                 raise ProblemError("a tolerance is a scalar", e.tolerance.span, code="type")
             tol = abs(constant(t, e.tolerance))
-            if t.dim == NONE and q.dim != NONE:
+            dim = q.dim
+            if not unit and t.dim != NONE and not any(expected):  # `0 ± 1e-9 m/s`
+                unit, unit_span = _first_unit(e.tolerance)
+                dim = t.dim
+                factor = reading_for(unit_readings(unit, unit_span), dim)[0] if unit else 1.0
+            if t.dim == NONE and dim != NONE:
                 tol *= factor  # `± 0.01` in the value's unit
-            elif t.dim != q.dim:
+            elif t.dim != dim:
                 raise ProblemError(f"the tolerance needs {describe(q.dim)}; got "
                                    f"{describe(t.dim)}", e.tolerance.span, code="units")
             tols, how = tuple(tol for _ in expected), "abs"
@@ -160,7 +166,7 @@ def build_expects(items, ev, text: str, finds) -> tuple[list[ExpectSpec], list[S
         written = source_text(text, Span(e.value.span.line, e.value.span.column,
                                          e.span.line, None))
         specs.append(ExpectSpec(e.span, qty, qty, tuple(expected), tols, how, unit or "",
-                                factor, q.dim, written))
+                                factor, dim, written))
         if qty not in known:
             known.add(qty)
             name = None if isinstance(e.quantity, S.Ref) else qty

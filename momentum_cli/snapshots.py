@@ -25,12 +25,15 @@ class WriteError(OSError):
     """A file that cannot be rewritten (read-only, or its folder is)."""
 
 
-def number(v: float, digits: int = DEFAULT_DIGITS) -> str:
+ZERO = 1e-12  # an answer this small against the largest in its unit is round-off: zero
+
+
+def number(v: float, digits: int = DEFAULT_DIGITS, zero: float = 0.0) -> str:
     """`v` to `digits` significant figures, trailing zeros kept (they set the tolerance):
-    2.5 -> 2.500; a value below 1e-9 is 0 to digits-1 decimals."""
+    2.5 -> 2.500; a value not above `zero` is 0 to digits-1 decimals."""
     if not math.isfinite(v):
         return "nan"
-    if abs(v) < 1e-9:
+    if abs(v) <= zero or v == 0:
         return "0." + "0" * (digits - 1) if digits > 1 else "0"
     s = f"{v:#.{digits}g}"
     if "e" in s:
@@ -56,11 +59,26 @@ def answer_lines(res, digits: int = DEFAULT_DIGITS) -> dict[str, str]:
         code = next((d.code for d in res.diagnostics if d.severity == "error"), "error")
         return {"error": f"error {code}"}
     out = {}
+    zero = zero_limits(res.report.answers)
     for a in res.report.answers:
         if a["value"] is None or not _REF.match(a["name"]) or not _unit_ok(a["unit"]):
             continue
         unit = f" {a['unit']}" if a["unit"] else ""
-        out.setdefault(a["name"], f"{a['name']} = {number(a['value'], digits)}{unit}")
+        v, limit = a["value"], zero.get(a["unit"], 0.0)
+        if v != 0 and abs(v) <= limit:  # round-off around zero: a tolerance that ignores it
+            text = f"0{unit} +- {number(limit * 1e3, 1)}{unit}"
+        else:
+            text = number(v, digits) + unit
+        out.setdefault(a["name"], f"{a['name']} = {text}")
+    return out
+
+
+def zero_limits(answers) -> dict[str, float]:
+    """Per unit, the size below which an answer is round-off (ZERO times the largest)."""
+    out: dict[str, float] = {}
+    for a in answers:
+        if a["value"] is not None and math.isfinite(a["value"]):
+            out[a["unit"]] = max(out.get(a["unit"], 0.0), ZERO * abs(a["value"]))
     return out
 
 
@@ -96,7 +114,13 @@ def refreshed(text: str, res, digits: int = DEFAULT_DIGITS) -> str:
             if check is not None and check.got and None not in check.got:
                 s = check.spec  # refreshed in the unit the line is written in
                 u = f" {s.unit}" if s.unit else ""
-                vals = [number(g / (s.factor or 1.0), digits) for g in check.got]
+                f = s.factor or 1.0
+                unit_of = answers[names[0]]["unit"] if names else None
+                limit = max([ZERO * abs(a["si_value"]) for a in answers.values()
+                             if a["unit"] == unit_of and a["si_value"] is not None] +
+                            [0.0]) / f
+                vals = ["0" if suffix and g != 0 and abs(g / f) <= limit else
+                        number(g / f, digits, limit) for g in check.got]
                 value = vals[0] + u if len(vals) == 1 else \
                     "(" + ", ".join(v + u for v in vals) + ")"
                 new_body = f"{spec.quantity} = {value}{suffix}"

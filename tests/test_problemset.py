@@ -470,3 +470,18 @@ def test_expect_write_keeps_each_line_in_its_own_unit(tmp_path):
     assert "expect wheel.omega@2 = 64.0 rad/s" in lines
     assert "expect wheel.omega@2 = 611 rpm" in lines
     assert sum(ln.startswith("expect ") for ln in lines) == 3
+
+
+def test_expect_write_on_examples_passes_its_own_tests_and_is_idempotent(tmp_path):
+    """Written for the seeds, a US-units file (a zero reaction: round-off) and the files
+    meant to fail, the lines pass `momentum test`; a second --write changes nothing."""
+    picked = sorted(EXAMPLES.glob("seed_*.mom")) + sorted((EXAMPLES / "hard").glob("bad_*"))
+    picked.append(EXAMPLES / "us_rod_center_of_percussion.mom")
+    for p in picked:
+        shutil.copy(p, tmp_path / p.name)
+    assert cli(["expect", "--write", *sorted(tmp_path.iterdir())]).exit_code == 0
+    assert "Jy[O]@1->2 = 0 lb*s +- " in (tmp_path / "us_rod_center_of_percussion.mom").read_text()
+    r = cli(["test", tmp_path])
+    assert r.exit_code == 0, r.stdout
+    again = cli(["expect", "--write", *sorted(tmp_path.iterdir())]).stdout.splitlines()
+    assert again and all(ln.endswith("expect lines up to date") for ln in again)
