@@ -887,7 +887,7 @@ def grade(
         result = grade_all(files, answers, rel)
     except GradeError as exc:
         raise typer.BadParameter(str(exc)) from None
-    for line in result.key_errors:
+    for line in result.key_errors + result.warnings:
         sys.stderr.write(line + "\n")
     if csv_out:
         with open(csv_out, "w", encoding="utf-8", newline="") as fh:

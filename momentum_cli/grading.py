@@ -62,6 +62,7 @@ class GradeResult:
     keys: list[KeyItem]
     students: list[str]
     key_errors: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)  # answers the key does not ask for
 
 
 def sig_digits(text: str) -> tuple[int, int]:
@@ -223,7 +224,27 @@ def grade_all(files: list[str], answers_csv: str, rel_percent: float | None = No
             verdict = classify(k, r.get("value", ""), r.get("unit", "")) if r else "missing"
             answer = f"{r.get('value', '')} {r.get('unit', '')}".strip() if r else ""
             grades.append(Grade(s, k.problem, k.quantity, _key_text(k), answer, verdict))
-    return GradeResult(grades, keys, students, errors)
+    return GradeResult(grades, keys, students, errors, _unmatched(rows, keys, answers_csv))
+
+
+def _unmatched(rows, keys, path: str) -> list[str]:
+    """One warning per answered (problem, quantity) that the key does not ask for."""
+    from .diagnostics import did_you_mean
+
+    asked = {(k.problem, k.quantity) for k in keys}
+    problems = sorted({k.problem for k in keys})
+    out = []
+    for p, q in dict.fromkeys((r["problem"], r["quantity"]) for r in rows):
+        if (p, q) in asked:
+            continue
+        if p not in problems:
+            out.append(f"{path}: warning: problem '{p}' is not in the key" +
+                       did_you_mean(p, problems) + " (its answers are not graded)")
+        else:
+            qs = [k.quantity for k in keys if k.problem == p]
+            out.append(f"{path}: warning: the key of {p} does not ask for '{q}'" +
+                       did_you_mean(q, qs) + " (not graded)")
+    return out
 
 
 def _key_text(k: KeyItem) -> str:
@@ -271,7 +292,8 @@ def to_json(result: GradeResult) -> dict:
                             key=g.key, answer=g.answer, verdict=g.verdict)
                        for g in result.grades],
             "students": per_student(result), "problems": per_problem(result),
-            "statistics": statistics(result), "key_errors": list(result.key_errors)}
+            "statistics": statistics(result), "key_errors": list(result.key_errors),
+            "warnings": list(result.warnings)}
 
 
 def to_csv(result: GradeResult) -> str:
