@@ -485,3 +485,15 @@ def test_expect_write_on_examples_passes_its_own_tests_and_is_idempotent(tmp_pat
     assert r.exit_code == 0, r.stdout
     again = cli(["expect", "--write", *sorted(tmp_path.iterdir())]).stdout.splitlines()
     assert again and all(ln.endswith("expect lines up to date") for ln in again)
+
+
+def test_set_reaches_simulate_and_agrees_with_solve():
+    """The disk against the wall with mu doubled: simulate's stop time is solve's t@1->2
+    (each from its own method), and no longer the seed's 3.04808 s."""
+    f = EXAMPLES / "seed_disk_wall.mom"
+    solved = cli(["solve", "-q", "--set", "mu=0.6", f]).stdout
+    t = float(re.search(r"t@1->2 = (\S+) s", solved).group(1))
+    sim = cli(["simulate", "--plain", "--set", "mu=0.6", f]).stdout
+    t_sim = float(re.search(r"stopped at disk.omega = 0, t = (\S+) s", sim).group(1))
+    assert t == pytest.approx(t_sim, rel=1e-5)
+    assert abs(t - 3.04808) > 0.5
