@@ -26,6 +26,7 @@ class FileResult:
     report: object = None
     diagnostics: list[Diagnostic] = field(default_factory=list)
     counts: dict | None = None
+    expects: list = field(default_factory=list)  # expectations.ExpectCheck: its `expect` lines
 
     @property
     def exit_code(self) -> ExitCode:
@@ -103,7 +104,9 @@ class _NoCyclicGC:
 
 
 def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
-                 precision: str = "float") -> FileResult:
+                 precision: str = "float", overrides=()) -> FileResult:
+    """Solve one file; `overrides` are `--set` (name, value text) pairs for its `let`s.
+    Its `expect` lines are checked (`FileResult.expects`), also when it does not solve."""
     from .report.model import build_report
     from .scene import build
     from .solve import solve_scene
@@ -111,26 +114,48 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
 
     try:
         with _NoCyclicGC():
-            scene = build(parse(source))
+            doc = parse(source)
+            if overrides:
+                from .overrides import apply
+
+                doc = apply(doc, overrides)
+            scene = build(doc)
             sol = solve_scene(scene, solve_all, precision=precision)
             rep = build_report(source.name, sol, sig)
-        return FileResult(source.name, "solved", source, rep, list(sol.diagnostics))
+            checks = []
+            if scene.expects:
+                from .expectations import check_solution
+                from .report.model import add_expectations
+
+                checks = check_solution(scene.expects, sol)
+                add_expectations(rep, checks, sig)
+        return FileResult(source.name, "solved", source, rep, list(sol.diagnostics),
+                          expects=checks)
     except ProblemError as exc:
-        return FileResult(source.name, "error", source, None, list(exc.diagnostics))
+        return _failed(source, list(exc.diagnostics))
     except RecursionError:  # `parse` bounds the depth; this is the last line of defence
         return _too_deep(source)
 
 
+def _failed(source: Source, diagnostics) -> FileResult:
+    """A file that did not solve, with its `expect` lines checked against its errors."""
+    from .expectations import check_error, scan_expects
+
+    specs = scan_expects(source.text)
+    return FileResult(source.name, "error", source, None, diagnostics,
+                      expects=check_error(specs, diagnostics) if specs else [])
+
+
 def _too_deep(source: Source) -> FileResult:
-    return FileResult(source.name, "error", source, None,
-                      [Diagnostic("error", "too-deep", "expression too long or nested too deeply",
-                                  None, ("split it into parts with `let`",))])
+    return _failed(source, [Diagnostic("error", "too-deep", "expression too long or nested "
+                                       "too deeply", None, ("split it into parts with `let`",))])
 
 
 def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
-                    progress=None, closed_forms: bool = True):
+                    progress=None, closed_forms: bool = True, overrides=()):
     """One file through `simulate`: (FileResult with `report` = the simulation's report
-    dict, SimResult or None); never raises for a bad file."""
+    dict, SimResult or None); never raises for a bad file. `overrides`: `--set`
+    (name, value text) pairs for the file's `let`s."""
     from .scene import build
     from .sim.integrate import simulate
     from .sim.output import build as build_report
@@ -138,7 +163,12 @@ def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
 
     try:
         with _NoCyclicGC():
-            scene = build(parse(source))
+            doc = parse(source)
+            if overrides:
+                from .overrides import apply
+
+                doc = apply(doc, overrides)
+            scene = build(doc)
             res = simulate(scene, rtol=rtol, dt=dt, progress=progress, closed_forms=closed_forms)
             rep = build_report(source.name, res)
         return FileResult(source.name, "solved", source, rep, []), res
@@ -189,16 +219,16 @@ PARALLEL_MIN = 48  # files in one call from which a second process pays for itse
 
 def _solve_job(job):
     """Worker: solve one (source, options) job; a bug becomes an internal FileResult."""
-    source, solve_all, sig, precision = job
+    source, solve_all, sig, precision, overrides = job
     try:
-        return solve_source(source, solve_all, sig, precision)
+        return solve_source(source, solve_all, sig, precision, overrides)
     except Exception as exc:  # a bug in momentum: keep going, report it in order
         return FileResult(source.name, "internal", None, None, [Diagnostic(
             "error", "internal", f"internal error: {type(exc).__name__}: {exc} (this is a bug "
             "in momentum; rerun with --traceback and report it)")])
 
 
-def solve_many(sources, solve_all: bool, sig: int, precision: str):
+def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=()):
     """Solve sources in order, in parallel worker processes when there are many.
 
     Yields FileResults in the input order. Each file is independent, so with many
@@ -212,7 +242,7 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str):
         (os.cpu_count() or 1)
     if len(sources) < PARALLEL_MIN or cores < 2:
         for s in sources:
-            yield _solve_job((s, solve_all, sig, precision))
+            yield _solve_job((s, solve_all, sig, precision, overrides))
         return
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
@@ -225,7 +255,7 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str):
         ctx = mp.get_context("fork")
     except ValueError:
         ctx = None
-    jobs = [(s, solve_all, sig, precision) for s in sources]
+    jobs = [(s, solve_all, sig, precision, overrides) for s in sources]
     done = 0
     if ctx is not None:
         try:

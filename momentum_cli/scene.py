@@ -191,6 +191,7 @@ class Scene:
     burns: list = field(default_factory=list)  # syntax.BurnDecl: compiled by flows.py
     gains: list = field(default_factory=list)  # syntax.GainDecl: compiled by accretion.py
     simulations: list = field(default_factory=list)  # sim.spec.SimSpec: `momentum simulate`
+    expects: list = field(default_factory=list)  # expectations.ExpectSpec: `expect` lines
 
 
 SHAPES = {
@@ -354,6 +355,13 @@ class _Builder:
                                                 s.before, s.after))
         equations = [s for s in st if isinstance(s, S.UserEquation)]
         finds = [i for s in st if isinstance(s, S.Find) for i in s.items]
+        expects = []
+        if any(isinstance(s, S.Expect) for s in st):
+            from .expectations import build_expects
+
+            expects, extra = build_expects([s for s in st if isinstance(s, S.Expect)], self.ev,
+                                           self.doc.source.text, finds)
+            finds += extra
         if not self.bodies and not any(isinstance(s, S.SteadyDecl) for s in st):
             raise ProblemError("no bodies: declare one with `body NAME: rod(mass = ..., length = "
                                "...)`", Span(1, 1), code="empty", caret=False)
@@ -391,7 +399,8 @@ class _Builder:
                      surfaces=self.surfaces, joints=joints, states=states,
                      transitions=transitions, stated=stated, equations=equations, finds=finds,
                      notes=self.notes, gravity_span=self.gravity_span, steady=steady,
-                     burns=burns, gains=gains, simulations=simulations)
+                     burns=burns, gains=gains, simulations=simulations,
+                     expects=expects)
 
     def _gain(self, s: S.GainDecl, states, transitions, taken: dict) -> None:
         """A gain or loss of mass: a particle between two declared states, with a rate,

@@ -387,6 +387,17 @@ class GainDecl:
 
 
 @record(frozen=True)
+class Expect:
+    """`expect QUANTITY = VALUE [± TOL | within P %]` or `expect error CODE`."""
+    span: Span
+    quantity: object = None  # the expression expected (None for `expect error`)
+    value: object = None  # the expected value's expression
+    tolerance: object = None  # `± TOL`: an expression; None: from the digits written
+    percent: object = None  # `within P %`: an expression (dimensionless)
+    error: str | None = None  # `expect error CODE`: the diagnostic code
+
+
+@record(frozen=True)
 class Document:
     source: Source
     statements: tuple
@@ -496,7 +507,38 @@ def parse(source: Source) -> Document:
         if isinstance(exc.orig_exc, ProblemError):
             raise exc.orig_exc from None
         raise
-    return Document(source, tuple(statements.children))
+    return Document(source, tuple(_plus_minus(s, text) for s in statements.children))
+
+
+def _plus_minus(stmt, text: str):
+    """`expect Q = V +- T` parses as the sum `V + (-T)`: split it into value and tolerance
+    when the `+` and `-` touch."""
+    if not (isinstance(stmt, Expect) and stmt.value is not None and stmt.tolerance is None
+            and stmt.percent is None and isinstance(stmt.value, BinOp)
+            and stmt.value.op == "+"):
+        return stmt
+    right = stmt.value.right
+    lead, path = right, []
+    while isinstance(lead, BinOp):
+        path.append(lead)
+        lead = lead.left
+    if not isinstance(lead, Neg):
+        return stmt
+    start = _offset(text, lead.span.line, lead.span.column)
+    if start < 1 or text[start - 1] != "+" or text[start] != "-":
+        return stmt
+    tol = lead.arg
+    for node in reversed(path):
+        tol = BinOp(node.span, node.op, tol, node.right)
+    return Expect(stmt.span, stmt.quantity, stmt.value.left, tol, None, None)
+
+
+def _offset(text: str, line: int, column: int) -> int:
+    """The character offset of a 1-based line:column."""
+    pos = 0
+    for _ in range(line - 1):
+        pos = text.index("\n", pos) + 1
+    return pos + column - 1
 
 
 def _span_at(text: str, index: int) -> Span:
@@ -1140,6 +1182,25 @@ def _make_transformer():
 
         def find_stmt(self, meta, ch):
             return Find(_span(meta), tuple(ch))
+
+        # -- expectations
+        def error_code(self, meta, ch):
+            return "-".join(str(c) for c in ch)
+
+        def expect_error(self, meta, ch):
+            return Expect(_span(meta), error=ch[0])
+
+        def expect_value(self, meta, ch):
+            tol = ch[2] if len(ch) > 2 else (None, None)
+            return Expect(_span(meta), ch[0], ch[1],
+                          tol[1] if tol[0] == "abs" else None,
+                          tol[1] if tol[0] == "rel" else None)
+
+        def tol_abs(self, meta, ch):
+            return ("abs", ch[-1])
+
+        def tol_rel(self, meta, ch):
+            return ("rel", ch[-1])
 
     return ToNodes
 

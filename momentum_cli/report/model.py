@@ -44,6 +44,7 @@ class Report:
     diagnostics: list = field(default_factory=list)
     counts: dict = field(default_factory=dict)
     flows: list = field(default_factory=list)  # control-volume flux rows (evaluated)
+    expectations: list = field(default_factory=list)  # the `expect` lines, checked (dicts)
 
 
 def _finite(x: float | None) -> float | None:
@@ -146,6 +147,33 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                   undetermined=len(st.under))
     return Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
                   checks, answers, regimes, list(sol.diagnostics), counts, flows)
+
+
+def expectation_dict(c) -> dict:
+    """One checked `expect` line as plain data, values in the expectation's unit."""
+    s = c.spec
+    f = s.factor or 1.0
+    d = dict(line=s.span.line, quantity=s.quantity, met=c.met, message=c.message,
+             error=s.error, unit=s.unit or None, expected=None, tolerance=None, got=None,
+             difference=None)
+    if s.error is None and s.expected:
+        d["expected"] = [_finite(v / f) for v in s.expected]
+        d["tolerance"] = _finite(max(s.tolerance) / f) if s.tolerance else None
+    if c.got:
+        d["got"] = [_finite(g / f) if g is not None else None for g in c.got]
+        diffs = [abs(g - v) / f for g, v in zip(c.got, s.expected) if g is not None]
+        d["difference"] = _finite(max(diffs)) if diffs else None
+    return d
+
+
+def add_expectations(rep: Report, checks, sig: int = 6) -> None:
+    """Each `expect` line becomes a check (ok: met; error: not met) and an entry of
+    `rep.expectations`."""
+    for c in checks:
+        d = expectation_dict(c)
+        rep.expectations.append(d)
+        rep.checks.append(CheckReport(f"expect, line {d['line']}: {d['quantity']}",
+                                      "ok" if c.met else "error", c.message, d["difference"]))
 
 
 def _flux_checks(flows: list[dict]) -> list[CheckReport]:
