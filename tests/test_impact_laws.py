@@ -1,0 +1,262 @@
+"""Impact laws at one planar contact (momentum_cli.laws): closed forms derived by hand.
+
+Notation: W = [[a, b], [b, c]] in (t, n), v(P) = v0 + W P, v0 = (u, -V) with V > 0.
+References: W. J. Stronge, "Rigid body collisions with friction", Proc. R. Soc. Lond.
+A 431 (1990) 169-181, and "Impact Mechanics" (CUP), ch. 5 (the inclined slender rod
+striking a rough half-space); T. R. Kane and D. A. Levinson, "Dynamics: Theory and
+Applications" (McGraw-Hill, 1985), whose double pendulum striking a rough surface
+gains kinetic energy under Newton's law with friction.
+"""
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from momentum_cli.laws import delassus, resolve
+
+LAWS = ("newton", "poisson", "energetic")
+
+
+def rod_w(m: float, l: float, theta: float):
+    """The slender rod's W at its lower end A, floor normal n = (0, 1), t = (-1, 0).
+
+    A - G = -(l/2)(cos th, sin th), so r_n = -(l/2) sin th and r_t = (l/2) cos th.
+    With I = m l^2 / 12, (l/2)^2 / I = 3/m, and W = (1/m) 1 + (1/I)(r_n, -r_t)(r_n, -r_t)^T:
+        a = W_tt = (1 + 3 sin^2 th)/m,  b = W_tn = 3 sin th cos th / m,
+        c = W_nn = (1 + 3 cos^2 th)/m,  det W = 4/m^2 (independent of th).
+    """
+    s, c = math.sin(theta), math.cos(theta)
+    return ((1 + 3 * s * s) / m, 3 * s * c / m), ((3 * s * c) / m, (1 + 3 * c * c) / m)
+
+
+def close(x, y, rel=1e-12):
+    return abs(x - y) <= rel * max(1.0, abs(x), abs(y))
+
+
+def kinetic_change(W, v0, P):
+    """T_after - T_before = P . v0 + P . W P / 2 (exact; independent of the path)."""
+    (a, b), (_, c) = W
+    pt, pn = P
+    return pt * v0[0] + pn * v0[1] + 0.5 * (a * pt * pt + 2 * b * pt * pn + c * pn * pn)
+
+
+# ---- W for free bodies -----------------------------------------------------------------------
+def test_delassus_rod_matches_closed_form():
+    m, l = 2.0, 1.5
+    for deg in (10, 30, 45, 60, 80):
+        th = math.radians(deg)
+        W = delassus([(m, m * l * l / 12, (-l / 2 * math.cos(th), -l / 2 * math.sin(th)))],
+                     (0.0, 1.0))
+        Wc = rod_w(m, l, th)
+        for i in range(2):
+            for j in range(2):
+                assert close(W[i][j], Wc[i][j])
+        assert close(W[0][0] * W[1][1] - W[0][1] ** 2, 4 / m**2)
+
+
+def test_delassus_two_particles_is_reduced_mass():
+    """Two particles: v_rel changes by P (1/m1 + 1/m2) in every direction."""
+    W = delassus([(2.0, None, None), (3.0, None, None)], (0.6, 0.8))
+    assert close(W[0][0], 1 / 2 + 1 / 3) and close(W[1][1], 1 / 2 + 1 / 3)
+    assert W[0][1] == 0.0
+
+
+# ---- where the three laws coincide -------------------------------------------------------------
+@pytest.mark.parametrize("e", [0.0, 0.4, 1.0])
+def test_frictionless_all_laws_coincide(e):
+    """Smooth: P_t = 0, v_n = v_n0 + c P_n; compression ends at P_c = V/c and every law
+    ends at (1 + e) P_c (on one linear piece the energetic ratio e^2 of the works
+    W_r/W_c = (x/P_c)^2 gives x = e P_c too), so v_n = e V."""
+    W = ((1.3, 0.4), (0.4, 0.9))
+    v0 = (0.7, -2.0)
+    pc = 2.0 / 0.9
+    for law in LAWS:
+        r = resolve(W, v0, e, None, law)
+        assert r.impulse[0] == 0.0
+        assert close(r.impulse[1], (1 + e) * pc)
+        assert close(r.velocity[1], 2.0 * e)
+        assert close(r.velocity[0], 0.7 + 0.4 * (1 + e) * pc)
+
+
+def test_single_regime_stick_all_laws_coincide():
+    """No initial slip (u = 0) and |b/a| <= mu: the contact sticks from the start with
+    dP_t/dP_n = -b/a and dv_n/dP_n = det/a, so P_c = V a/det, P_n = (1+e) P_c,
+    P_t = -(b/a) P_n for every law."""
+    W = ((2.0, 0.5), (0.5, 1.0))
+    a, b, c = 2.0, 0.5, 1.0
+    det = a * c - b * b
+    for e in (0.0, 0.5, 1.0):
+        pn = (1 + e) * 3.0 * a / det
+        for law in LAWS:
+            r = resolve(W, (0.0, -3.0), e, 0.3, law)
+            assert close(r.impulse[1], pn), law
+            assert close(r.impulse[0], -b / a * pn), law
+            assert close(r.velocity[0], 0.0, 1e-12) and close(r.velocity[1], 3.0 * e)
+            assert r.regimes() == ["stick"]
+
+
+def test_single_regime_persistent_slide_all_laws_coincide():
+    """Slip in +t (s = +1) that friction cannot stop: dv_t/dP_n = b - mu a >= 0. Then
+    P_t = -mu P_n throughout, dv_n/dP_n = c - mu b, P_n = (1+e) V/(c - mu b)."""
+    W = ((1.0, 0.8), (0.8, 1.0))
+    mu, e, V = 0.3, 0.6, 2.0
+    pn = (1 + e) * V / (1.0 - mu * 0.8)
+    for law in LAWS:
+        r = resolve(W, (1.0, -V), e, mu, law)
+        assert close(r.impulse[1], pn) and close(r.impulse[0], -mu * pn), law
+        assert r.regimes() == ["slide"]
+
+
+# ---- Stronge's inclined rod: slip halts, then reverses or sticks -----------------------------------
+def rod_path(theta, m, u, V, mu):
+    """By hand, for the rod of `rod_w` with u < 0 (slip in -t, friction dP_t = +mu dP_n):
+    phase 1 (slide):  dv_t/dP_n = b + mu a > 0, so the slip halts at p1 = -u/(b + mu a);
+                      dv_n/dP_n = g1 = c + mu b, v_n(p1) = -V + g1 p1.
+    phase 2:          stick if b/a <= mu with g2 = det/a, k2 = -b/a; else the slip
+                      reverses to +t with dP_t = -mu dP_n, g2 = c - mu b, k2 = -mu.
+    Compression ends in phase 2 when v_n(p1) < 0: P_c = p1 - v_n(p1)/g2.
+    The normal work in compression is the area under the piecewise-linear v_n:
+        W_c = p1 (-V + v1)/2 + (P_c - p1) v1/2,  v1 = v_n(p1).
+    """
+    (a, b), (_, c) = rod_w(m, 1.0, theta)
+    p1 = -u / (b + mu * a)
+    g1 = c + mu * b
+    v1 = -V + g1 * p1
+    if b / a <= mu:
+        g2, k2, second = (a * c - b * b) / a, -b / a, "stick"
+    else:
+        g2, k2, second = c - mu * b, -mu, "reverse"
+    assert v1 < 0
+    pc = p1 - v1 / g2
+    wc = p1 * (-V + v1) / 2 + (pc - p1) * v1 / 2
+    return dict(a=a, b=b, c=c, p1=p1, v1=v1, g2=g2, k2=k2, pc=pc, wc=wc, second=second,
+                mu=mu)
+
+
+def pt_at(path, pn):
+    """P_t after P_n in phase 2: mu p1 from phase 1, then k2 per unit P_n."""
+    return path["mu"] * path["p1"] + path["k2"] * (pn - path["p1"])
+
+
+@pytest.mark.parametrize("mu,second", [(0.5, "reverse"), (0.8, "stick")])
+def test_stronge_rod_poisson_and_energetic(mu, second):
+    """45 deg rod, m = 1 kg: a = c = 5/2, b = 3/2 (stick ratio 3/5); u = -0.6, V = 1.
+    Poisson: P_f = (1 + e) P_c. Energetic: restitution lies in phase 2 where v_n rises
+    from 0 with slope g2, so W_r = g2 x^2 / 2 = e^2 |W_c| gives x = e sqrt(2|W_c|/g2)."""
+    th, e, u, V = math.radians(45), 0.9, -0.6, 1.0
+    W = rod_w(1.0, 1.0, th)
+    path = rod_path(th, 1.0, u, V, mu)
+    assert path["second"] == second
+    # the rational numbers at 45 deg: p1 = 0.6/(1.5 + 2.5 mu)
+    assert close(path["p1"], 0.6 / (1.5 + 2.5 * mu))
+    r = resolve(W, (u, -V), e, mu, "poisson")
+    pf = (1 + e) * path["pc"]
+    assert close(r.compression_end, path["pc"])
+    assert close(r.impulse[1], pf) and close(r.impulse[0], pt_at(path, pf))
+    assert r.regimes() == ["slide", second]
+    assert close(r.work_compression, path["wc"])
+    r = resolve(W, (u, -V), e, mu, "energetic")
+    pf = path["pc"] + e * math.sqrt(2 * abs(path["wc"]) / path["g2"])
+    assert close(r.impulse[1], pf) and close(r.impulse[0], pt_at(path, pf))
+    assert close(r.work_restitution, e * e * abs(path["wc"]))
+    # the final velocity, from (1)
+    a, b, c = path["a"], path["b"], path["c"]
+    pt = pt_at(path, pf)
+    assert close(r.velocity[0], u + a * pt + b * pf) and close(r.velocity[1], -V + b * pt + c * pf)
+    if second == "stick":
+        assert abs(r.velocity[0]) < 1e-12
+    # the three laws differ here
+    n = resolve(W, (u, -V), e, mu, "newton").impulse[1]
+    p = resolve(W, (u, -V), e, mu, "poisson").impulse[1]
+    assert len({round(n, 9), round(p, 9), round(pf, 9)}) == 3
+
+
+def test_stronge_rod_numbers_at_45_degrees_mu_0_8():
+    """mu = 0.8, e = 0.9 in fractions: p1 = 0.6/(1.5 + 2) = 6/35; g1 = 2.5 + 1.2 = 3.7;
+    v1 = -1 + 3.7*6/35 = -64/175; stick (3/5 <= 0.8), g2 = det/a = 4/2.5 = 8/5;
+    P_c = 6/35 + (64/175)/(8/5) = 6/35 + 8/35 = 2/5. Poisson: P_n = 1.9*2/5 = 0.76,
+    P_t = 0.8*6/35 - (3/5)(0.76 - 6/35) = 24/175 - 0.456 + 18/175 = -0.216."""
+    W = rod_w(1.0, 1.0, math.radians(45))
+    r = resolve(W, (-0.6, -1.0), 0.9, 0.8, "poisson")
+    assert close(r.compression_end, 0.4)
+    assert close(r.impulse[1], 0.76) and close(r.impulse[0], -0.216)
+    assert abs(r.velocity[0]) < 1e-12 and close(r.velocity[1], -1 + 1.5 * -0.216 + 2.5 * 0.76)
+
+
+# ---- Kane and Levinson: Newton's law with friction can create energy ---------------------------
+def test_newton_with_friction_gains_energy_where_the_path_laws_do_not():
+    """45 deg rod, m = 1 kg, u = -0.6, V = 1, e = 0.9, mu = 0.5. Newton with stick:
+    W P = (0, eV) - v0 = (0.6, 1.9), det = 4, so P_t = (2.5*0.6 - 1.5*1.9)/4 = -0.3375,
+    P_n = (2.5*1.9 - 1.5*0.6)/4 = 0.9625; |P_t|/P_n = 0.35 <= mu, so stick "holds".
+    dT = P . (v0 + v_final)/2 = (-0.3375*(-0.6) + 0.9625*(-1 + 0.9))/2 = +0.053125:
+    the friction impulse points along the initial slip (both -t), so it does positive
+    work: the energy gain Kane and Levinson found for their double pendulum."""
+    W = rod_w(1.0, 1.0, math.radians(45))
+    r = resolve(W, (-0.6, -1.0), 0.9, 0.5, "newton")
+    assert close(r.impulse[0], -0.3375) and close(r.impulse[1], 0.9625)
+    assert r.regimes() == ["stick"]
+    assert close(r.energy_change, 0.053125)
+    assert r.gains_energy
+    for law in ("poisson", "energetic"):
+        q = resolve(W, (-0.6, -1.0), 0.9, 0.5, law)
+        assert q.energy_change < 0 and not q.gains_energy
+
+
+def test_rough_stops_the_slip_at_once():
+    """mu = inf: P_t jumps by -u/a at P_n = 0 (v_n changes by -b u/a), then sticks with
+    slope det/a: P_c = (V + b u/a) a/det for V > -b u/a."""
+    W = ((2.0, 0.5), (0.5, 1.0))
+    u, V = 1.0, 2.0
+    a, b, c = 2.0, 0.5, 1.0
+    det = a * c - b * b
+    pc = (V + b * u / a) * a / det
+    r = resolve(W, (u, -V), 0.5, math.inf, "poisson")
+    assert r.regimes() == ["stop", "stick"]
+    assert close(r.compression_end, pc)
+    assert close(r.impulse[1], 1.5 * pc)
+    assert close(r.impulse[0], -u / a - b / a * 1.5 * pc)
+    assert abs(r.velocity[0]) < 1e-12
+
+
+# ---- properties -------------------------------------------------------------------------------------
+@st.composite
+def impacts(draw):
+    a = draw(st.floats(0.05, 20))
+    c = draw(st.floats(0.05, 20))
+    rho = draw(st.floats(-0.99, 0.99))
+    b = rho * math.sqrt(a * c)
+    u = draw(st.floats(-5, 5))
+    V = draw(st.floats(0.01, 5))
+    e = draw(st.floats(0, 1))
+    mu = draw(st.one_of(st.none(), st.floats(0, 3), st.just(math.inf)))
+    return ((a, b), (b, c)), (u, -V), e, mu
+
+
+@settings(max_examples=300, deadline=None)
+@given(impacts())
+def test_path_laws_properties(case):
+    """Energetic never gains energy; compression ends at v_n = 0; |P_t| <= mu P_n on every
+    piece (Coulomb); the energy summed over the pieces equals P.v0 + P.W.P/2."""
+    W, v0, e, mu = case
+    for law in ("poisson", "energetic"):
+        r = resolve(W, v0, e, mu, law)
+        scale = abs(v0[0]) + abs(v0[1])
+        pc = r.compression_end
+        comp = [p for p in r.phases if p.stage == "compression"]
+        assert abs(comp[-1].v_end[1]) <= 1e-9 * scale or pc == 0.0
+        for p in r.phases:
+            dpt, dpn = p.pt[1] - p.pt[0], p.pn[1] - p.pn[0]
+            assert dpn >= 0
+            if mu is None:
+                assert dpt == 0
+            elif math.isfinite(mu):
+                assert abs(dpt) <= mu * dpn * (1 + 1e-9) + 1e-12
+        dT = kinetic_change(W, v0, r.impulse)
+        T_scale = abs(r.impulse[0] * v0[0]) + abs(r.impulse[1] * v0[1]) + 1e-300
+        assert abs(r.energy_change - dT) <= 1e-9 * T_scale
+        if law == "energetic":
+            assert r.energy_change <= 1e-9 * T_scale and not r.gains_energy
+            assert r.velocity[1] >= -1e-9 * scale
