@@ -149,11 +149,16 @@ class System:
     notes: Collector
     invalid_stated: list[tuple[Span, str]]
     flow_rows: list = field(default_factory=list)  # flows.FlowRow, for the report
+    path_laws: list = field(default_factory=list)  # contact_laws.PathLawSite
 
 
-def compile_scene(scene: Scene, regimes: dict[str, str] | None = None) -> System:
-    """Build the equation system for `scene` with the given friction regimes."""
-    return _Compiler(scene, regimes or {}).run()
+def compile_scene(scene: Scene, regimes: dict[str, str] | None = None,
+                  impulses: dict | None = None) -> System:
+    """Build the equation system for `scene` with the given friction regimes (and the
+    contact impulses that Poisson's or Stronge's law found, by site; see contact_laws)."""
+    c = _Compiler(scene, regimes or {})
+    c.impulses = impulses or {}
+    return c.run()
 
 
 def _mass_order(phases: list) -> list:
@@ -190,6 +195,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._reach: dict[str, set] | None = None
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
         self.tspecs = {t.key: t for t in scene.transitions}
+        self.impulses: dict = {}  # site -> (P_t, P_n) from the impulse path
+        self.path_laws: list = []  # contact_laws.PathLawSite
 
     # ---- unknowns and state variables ------------------------------------------------------
     def unknown(self, name: str, dim: Dim, kind: str, unit: str | None = None, **kw) -> Var:
@@ -376,7 +383,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._user_equation(ue)
         finds = self._finds()
         return System(sc, self.unknowns, self.equations, finds, self.transitions, self.friction,
-                      self.notes, self.invalid, self.flows.rows if self.flows else [])
+                      self.notes, self.invalid, self.flows.rows if self.flows else [],
+                      self.path_laws)
 
     def _positions(self) -> None:
         """Which quantities each transition leaves unchanged, and checks of the givens.
@@ -574,6 +582,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             contacts_info.append((c.label, vn1, vn2))
             if c.mode == "rough":
                 self.eq(vt2, ZERO, f"no slip at {c.label} (rough)", group, c.span)
+        elif t.kind == "impact" and c.law != "newton":
+            from .contact_laws import stamp_path_law
+
+            stamp_path_law(self, t, c, Jn, Jt, (vt1, vn1), (vt2, vn2), group)
+            contacts_info.append((c.label, vn1, vn2))
         elif t.kind == "impact":
             if c.restitution_unknown:
                 ename = c.restitution_name or f"e[{c.label}]"

@@ -95,6 +95,7 @@ class Contact:
     surface: str | None = None
     restitution_name: str | None = None  # a declared `unknown` used as this contact's e
     separation: float | None = None  # the relative normal speed after an impact, if given
+    law: str = "newton"  # how restitution ends the impact: newton | poisson | energetic
 
 
 @record
@@ -824,7 +825,10 @@ class _Builder:
         mu = None
         slip = None
         modes = []
+        law, law_span = "newton", None
         for p in c.props:
+            if p.kind == "restitution" and p.law not in (None, "newton"):
+                law, law_span = p.law, p.span
             if p.kind == "restitution" and isinstance(p.value, S.Ref) and \
                     p.value.name in self.user_unknowns and not p.value.member:
                 e_name = p.value.name
@@ -868,12 +872,20 @@ class _Builder:
             raise ProblemError("in an interval a rough contact needs a friction coefficient "
                                "(`friction 0.3`); rolling is `BODY rolls on SURFACE`",
                                modes[0].span, code="name")
+        if law != "newton":
+            if kind != "impact":
+                raise ProblemError(f"the {law} restitution law resolves an impact; here write "
+                                   "`restitution E` (Newton's law)", law_span, code="name")
+            if e_unknown:
+                raise ProblemError(f"the {law} law needs a known coefficient of restitution "
+                                   "(to find e, use Newton's law: `restitution ?`)", law_span,
+                                   code="name")
         if b is None:
             label = c.label or a.name
         else:
             label = c.label or f"{a.name}-{b.name}"
         return Contact(label, c.span, a, b, normal, e, e_unknown, mode, mu, slip, surface, e_name,
-                       separation)
+                       separation, law)
 
     def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
         self._states_exist(states, s.before, s.after, s.span)

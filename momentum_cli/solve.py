@@ -61,10 +61,27 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
                 precision: str = "float") -> Solution:
     """Compile, analyse and solve, iterating the friction regimes until they hold."""
     regimes: dict[str, str] = {}
+    sol = _regime_rounds(scene, regimes, None, solve_all, max_rounds, precision)
+    results: dict = {}
+    if sol.system.path_laws:
+        # Poisson's and Stronge's laws: the impulse path from the state before the impact
+        # (solved in the first pass), then the contact's impulse as given rows
+        from .contact_laws import resolve_path_laws
+
+        impulses, results = resolve_path_laws(sol.system, sol.values, precision)
+        sol = _regime_rounds(scene, regimes, impulses, solve_all, max_rounds, precision)
+    sol.regimes = dict(regimes)
+    _hint_checks(sol)
+    _law_checks(sol, results)
+    return sol
+
+
+def _regime_rounds(scene, regimes, impulses, solve_all, max_rounds, precision) -> Solution:
+    """Compile, analyse and solve until the friction regimes hold (or repeat)."""
     tried: set[tuple] = set()
     sol = None
     for _ in range(max_rounds):
-        system = compile_scene(scene, regimes)
+        system = compile_scene(scene, regimes, impulses)
         structure = analyse(system)
         sol = _solve(system, structure, solve_all, precision)
         changed = _update_regimes(sol, regimes)
@@ -73,9 +90,16 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
             break
         tried.add(key)
     assert sol is not None
-    sol.regimes = dict(regimes)
-    _hint_checks(sol)
     return sol
+
+
+def _law_checks(sol: Solution, results: dict) -> None:
+    """The path-law contacts' phases, and energy gained under Newton's law with friction."""
+    from .contact_laws import energy_gain_checks, path_law_checks
+
+    for name, status, detail in path_law_checks(sol.system, results) + \
+            energy_gain_checks(sol.system, sol.values):
+        sol.checks.append(CheckReport(name, status, detail))
 
 
 def _update_regimes(sol: Solution, regimes: dict[str, str]) -> bool:

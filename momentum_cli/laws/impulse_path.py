@@ -123,14 +123,17 @@ def delassus(bodies, normal: tuple[float, float]) -> tuple[tuple[float, float],
 def resolve(W, v0, e: float, mu: float | None, law: str = "newton") -> ImpactResult:
     """The impact at one contact by `law` (newton | poisson | energetic).
 
-    Raises ValueError if W is not symmetric positive definite, the contact is not
-    approaching (v_n0 >= 0), or e is outside [0, 1].
+    Raises ValueError if W is not symmetric positive definite (smooth: W_nn > 0 is
+    enough), the contact is not approaching (v_n0 >= 0), or e is outside [0, 1].
     """
     a, b, c = float(W[0][0]), float(W[0][1]), float(W[1][1])
     if abs(float(W[1][0]) - b) > 1e-9 * max(abs(a), abs(c)):
         raise ValueError("W must be symmetric")
-    if not (a > 0 and c > 0 and a * c - b * b > 0):
-        raise ValueError("W must be positive definite")
+    if not c > 0:
+        raise ValueError("W_nn must be positive (a normal impulse must change v_n)")
+    if mu is not None and not (a > 0 and a * c - b * b > 1e-12 * a * c):
+        raise ValueError("W is singular: the contact point has one degree of freedom, so it "
+                         "locks when the slip stops (use Newton's law or a smooth contact)")
     vt0, vn0 = float(v0[0]), float(v0[1])
     if not vn0 < 0:
         raise ValueError("the contact is not approaching (v_n >= 0)")
