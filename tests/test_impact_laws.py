@@ -260,3 +260,152 @@ def test_path_laws_properties(case):
         if law == "energetic":
             assert r.energy_change <= 1e-9 * T_scale and not r.gains_energy
             assert r.velocity[1] >= -1e-9 * scale
+
+
+# ---- the language: the three example files against the closed forms -------------------------------
+EXAMPLES = __import__("pathlib").Path(__file__).resolve().parent.parent / "examples"
+
+
+def solved(path_or_text: str):
+    from helpers import solve_text
+
+    text = (EXAMPLES / path_or_text).read_text() if path_or_text.endswith(".mom") \
+        else path_or_text
+    sol = solve_text(text)
+    return sol, {name: si for name, _v, _u, si in sol.answers}
+
+
+def test_examples_rod_rough_floor_three_laws_match_closed_forms():
+    """examples/rod_rough_floor_*.mom: m = 2 kg, 45 deg, v_G = (1.2, -2) m/s, omega = 0,
+    e = 0.9, mu = 0.5. With t = (-1, 0): u = -1.2, V = 2; W = rod_w(2, 1, 45 deg).
+    Newton: P = W^-1 (-u, (1 + e) V) (stick holds: |P_t| <= mu P_n), a gain of
+    dT = (P_t u + P_n (e - 1) V)/2 = 0.425 J. Poisson and energetic: `rod_path`.
+    After: v_G = v_G0 + (-P_t, P_n)/m; omega = (r x P)/I with r = A - G."""
+    m, th, u, V, e, mu = 2.0, math.radians(45), -1.2, 2.0, 0.9, 0.5
+    (a, b), (_, c) = rod_w(m, 1.0, th)
+    det = a * c - b * b
+    rt, rn = -u, (1 + e) * V
+    newton = ((c * rt - b * rn) / det, (a * rn - b * rt) / det)
+    assert abs(newton[0]) <= mu * newton[1]
+    path = rod_path(th, m, u, V, mu)
+    assert path["second"] == "reverse"
+    pf_p = (1 + e) * path["pc"]
+    pf_e = path["pc"] + e * math.sqrt(2 * abs(path["wc"]) / path["g2"])
+    expected = {"newton": newton, "poisson": (pt_at(path, pf_p), pf_p),
+                "energetic": (pt_at(path, pf_e), pf_e)}
+    I = m / 12
+    r = (-0.5 * math.cos(th), -0.5 * math.sin(th))
+    for law, (pt, pn) in expected.items():
+        sol, ans = solved(f"rod_rough_floor_{law}.mom")
+        assert close(ans["J_n[A]@1->2"], pn, 1e-9) and close(ans["J_t[A]@1->2"], pt, 1e-9), law
+        Px, Py = -pt, pn
+        assert close(ans["rod.vx@2"], 1.2 + Px / m, 1e-9)
+        assert close(ans["rod.vy@2"], -2.0 + Py / m, 1e-9)
+        assert close(ans["rod.omega@2"], (r[0] * Py - r[1] * Px) / I, 1e-9)
+        dT = pt * u + pn * -V + 0.5 * (a * pt * pt + 2 * b * pt * pn + c * pn * pn)
+        assert close(ans["T_lost@1->2"], -dT, 1e-9)
+        gain = [ch for ch in sol.checks if ch.name.startswith("impact law")]
+        assert len(gain) == 1
+        if law == "newton":
+            assert close(dT, 0.425, 1e-9)
+            assert gain[0].status == "warning" and "energetic" in gain[0].detail
+        else:
+            assert dT < 0 and gain[0].status == "ok"
+            assert "slide" in gain[0].detail and "reverse" in gain[0].detail
+
+
+DOUBLE = """problem "double pendulum strikes a rough floor"
+body r1: rod(mass = 1 kg, length = 1 m)
+body r2: rod(mass = 1 kg, length = 1 m)
+point O = r1.end(-)
+point A = r1.end(+)
+point B = r2.end(-)
+point C = r2.end(+)
+pin O to ground at (0, 0)
+pin A to B
+state 1: r1.angle = {t1} deg, r2.angle = {t2} deg, r1.x = {x1} m, r1.y = {y1} m, r2.x = {x2} m, \\
+    r2.y = {y2} m, r1.omega = {w1} rad/s, r2.omega = {w2} rad/s
+state 2
+impact 1 -> 2:
+    contact C with ground normal (0, 1): restitution {e} {law}, friction {mu}
+find J_n[C]@1->2, J_t[C]@1->2, r1.omega@2, r2.omega@2
+"""
+
+
+def double_pendulum(t1, t2, w1, w2, e, mu, law):
+    """Two uniform rods (m, l = 1) pinned at O and to each other, the lower end C striking
+    a rough floor. Independently, in generalized speeds (w1, w2) (absolute angles):
+    T = q'^T M q'/2 with M11 = m l^2/4 + I + m l^2 = 4/3, M22 = m l^2/4 + I = 1/3,
+    M12 = (m l^2/2) cos(t1 - t2); v_C = w1 l e1' + w2 l e2' with e' = (-sin, cos), so in
+    (t, n) = ((-1, 0), (0, 1)) the Jacobian's columns are (sin t_k, cos t_k). An impulse
+    P at C changes q' by M^-1 J^T P, so W = J M^-1 J^T and v0 = J q'0 (Stronge, ch. 5;
+    Kane and Levinson's double pendulum is this system)."""
+    a1, a2 = math.radians(t1), math.radians(t2)
+    M = [[4 / 3, 0.5 * math.cos(a1 - a2)], [0.5 * math.cos(a1 - a2), 1 / 3]]
+    dm = M[0][0] * M[1][1] - M[0][1] ** 2
+    Mi = [[M[1][1] / dm, -M[0][1] / dm], [-M[1][0] / dm, M[0][0] / dm]]
+    J = [[math.sin(a1), math.sin(a2)], [math.cos(a1), math.cos(a2)]]
+    W = [[sum(J[i][k] * Mi[k][l] * J[j][l] for k in range(2) for l in range(2))
+          for j in range(2)] for i in range(2)]
+    v0 = (J[0][0] * w1 + J[0][1] * w2, J[1][0] * w1 + J[1][1] * w2)
+    r = resolve(W, v0, e, mu, law)
+    Jt = [[J[0][0], J[1][0]], [J[0][1], J[1][1]]]
+    dq = [sum(Mi[i][k] * (Jt[k][0] * r.impulse[0] + Jt[k][1] * r.impulse[1])
+              for k in range(2)) for i in range(2)]
+    return r, (w1 + dq[0], w2 + dq[1])
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_double_pendulum_w_from_the_joints(law):
+    """The solver's W at C comes from momentum and pin rows; it must equal J M^-1 J^T."""
+    t1, t2, w1, w2, e, mu = -60.0, -20.0, 1.0, -2.0, 0.7, 0.3
+    a1, a2 = math.radians(t1), math.radians(t2)
+    g1 = (0.5 * math.cos(a1), 0.5 * math.sin(a1))
+    A = (math.cos(a1), math.sin(a1))
+    g2 = (A[0] + 0.5 * math.cos(a2), A[1] + 0.5 * math.sin(a2))
+    text = DOUBLE.format(t1=t1, t2=t2, x1=g1[0], y1=g1[1], x2=g2[0], y2=g2[1], w1=w1, w2=w2,
+                         e=e, mu=mu, law=law)
+    r, (w1f, w2f) = double_pendulum(t1, t2, w1, w2, e, mu, law)
+    _, ans = solved(text)
+    assert close(ans["J_n[C]@1->2"], r.impulse[1], 1e-8)
+    assert close(ans["J_t[C]@1->2"], r.impulse[0], 1e-8)
+    assert close(ans["r1.omega@2"], w1f, 1e-8) and close(ans["r2.omega@2"], w2f, 1e-8)
+
+
+# ---- errors ------------------------------------------------------------------------------------
+ROD = """problem "p"
+body rod: rod(mass = 1 kg, length = 1 m)
+body ball: particle(mass = 1 kg)
+point A = rod.end(-)
+point B = rod.end(+)
+state 1: rod.angle = 45 deg, rod.v = (0.6 m/s, -1 m/s), rod.omega = 0, ball.v = (0, 0)
+state 2
+{stmt}
+find rod.omega@2
+"""
+
+
+@pytest.mark.parametrize("stmt,words", [
+    ("impact 1 -> 2:\n    contact A with ground normal (0, 1): restitution 0.5 poisson, "
+     "friction 0.3\n    contact B with ball normal (0, 1): restitution 0.5 energetic, smooth",
+     "two contacts"),
+    ("unknown e0\nimpact 1 -> 2:\n    contact A with ground normal (0, 1): restitution e0 "
+     "energetic, smooth", "known coefficient"),
+    ("impact 1 -> 2:\n    contact A with ground normal (0, -1): restitution 0.5 poisson, "
+     "smooth", "not approaching"),
+])
+def test_path_law_errors_are_located(stmt, words):
+    from helpers import error_of
+
+    d = error_of(ROD.format(stmt=stmt))
+    assert words in d.message and d.span is not None
+
+
+def test_law_word_after_a_name_and_default_is_newton():
+    """`restitution e0 poisson` (a `let` value) parses; no word means Newton's law."""
+    base = ROD.format(stmt="let e0 = 0.5\nimpact 1 -> 2:\n    contact A with ground normal "
+                      "(0, 1): restitution e0 {law}, friction 0.3")
+    _, a = solved(base.format(law="poisson"))
+    _, b = solved(base.format(law=""))
+    _, c = solved(base.format(law="newton"))
+    assert b == c and a != b
