@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from momentum_cli.laws import delassus, resolve
@@ -237,6 +237,7 @@ def impacts(draw):
 
 @settings(max_examples=300, deadline=None)
 @given(impacts())
+@example((((1.0, 0.0), (0.0, 5.0)), (0.0, -3.472941895780789), 1e-30, None))  # v_n(P_c) ~ -0
 def test_path_laws_properties(case):
     """Energetic never gains energy; compression ends at v_n = 0; |P_t| <= mu P_n on every
     piece (Coulomb); the energy summed over the pieces equals P.v0 + P.W.P/2."""

@@ -277,8 +277,11 @@ def _energetic_end(segs, pc: float, target: float) -> float:
         if full >= left:
             # g x^2 / 2 + vn x - left = 0, the root where the work first reaches `left`,
             # written without cancellation
-            disc = vn * vn + 2 * g * left
-            x = 2 * left / (vn + math.sqrt(max(disc, 0.0))) if g != 0 else left / vn
+            root = math.sqrt(max(vn * vn + 2 * g * left, 0.0))
+            if vn > 0 or (vn == 0 and g <= 0):
+                x = 2 * left / (vn + root) if vn + root > 0 else 0.0
+            else:  # v_n ~ 0 (round-off below it) and rising: g > 0
+                x = (root - vn) / g
             return start + x
         left -= full
     raise AssertionError("the last segment's work is unbounded")
