@@ -88,6 +88,49 @@ def stamp_path_law(cmp, t, c, Jn: Var, Jt, v_before: tuple, v_after: tuple, grou
         post, group, c.span))
 
 
+def _impact_rows(system, site: PathLawSite):
+    """The impact's unknowns U (velocities after, its impulses) and its rows that hold
+    for any contact impulse (all but the contact's own law rows)."""
+    from .expr import variables
+
+    U = list(site.post)
+    U += [n for n, u in system.unknowns.items()
+          if u.kind in ("impulse", "angular-impulse") and n.endswith("@" + site.transition)]
+    Uset = set(U)
+    own = set(site.rows)
+    eqs = [e for e in system.equations if e.group == site.group and e.kind == "auto" and
+           e.index not in own]
+    eqs += [e for e in system.equations if e.group == f"state {site.after}" and
+            e.kind == "auto" and variables(e.residual) & Uset]
+    return U, eqs
+
+
+def before_impact(system) -> tuple[set[str], set[str]]:
+    """The unknowns the impulse path needs from before the impacts (velocities before,
+    angles), and those the impacts determine (which they must not need)."""
+    from .expr import variables
+
+    need: set[str] = set()
+    after: set[str] = set()
+    for site in system.path_laws:
+        U, eqs = _impact_rows(system, site)
+        after.update(U)
+        for e in eqs:
+            need |= variables(e.residual)
+        need |= variables(site.v_after[0]) | variables(site.v_after[1])
+    return {n for n in need - after if n in system.unknowns}, after
+
+
+def not_before(system, names: list[str], what: str) -> ProblemError:
+    """The state before a Poisson or energetic impact must be known without it."""
+    site = system.path_laws[0]
+    shown = ", ".join(names[:6]) + ("..." if len(names) > 6 else "")
+    verb = what if len(names) == 1 else what.replace("is ", "are ", 1)
+    return ProblemError(f"{site.law} restitution at {site.label}: {shown} (before the impact) "
+                        f"{verb}; the impulse path starts from a known state before the "
+                        "impact (or use Newton's law)", site.span, code="under-determined")
+
+
 def resolve_path_laws(system, values, precision: str = "float") -> tuple[dict, dict]:
     """Each site's impulse by its law: ({site: (P_t, P_n)}, {site: laws.ImpactResult})."""
     from .laws import resolve
@@ -108,20 +151,12 @@ def resolve_path_laws(system, values, precision: str = "float") -> tuple[dict, d
 
 def contact_map(system, values, site: PathLawSite, precision: str = "float"):
     """W (2x2, in (t, n)) and v0 of v(P) = v0 + W P, from the impact's linear rows."""
-    from .expr import NonLinear, variables
+    from .expr import NonLinear
     from .linalg import SingularError, solve
 
-    key = site.transition
-    U = list(site.post)
-    U += [n for n, u in system.unknowns.items()
-          if u.kind in ("impulse", "angular-impulse") and n.endswith("@" + key)]
+    U, eqs = _impact_rows(system, site)
     col = {n: k for k, n in enumerate(U)}
     Uset = set(U)
-    own = set(site.rows)
-    eqs = [e for e in system.equations if e.group == site.group and e.kind == "auto" and
-           e.index not in own]
-    eqs += [e for e in system.equations if e.group == f"state {site.after}" and
-            e.kind == "auto" and variables(e.residual) & Uset]
     rows, const = [], []
     try:
         for e in eqs:

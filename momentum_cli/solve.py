@@ -61,36 +61,53 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
                 precision: str = "float") -> Solution:
     """Compile, analyse and solve, iterating the friction regimes until they hold."""
     regimes: dict[str, str] = {}
-    sol = _regime_rounds(scene, regimes, None, solve_all, max_rounds, precision)
-    results: dict = {}
-    if sol.system.path_laws:
-        # Poisson's and Stronge's laws: the impulse path from the state before the impact
-        # (solved in the first pass), then the contact's impulse as given rows
-        from .contact_laws import resolve_path_laws
-
-        impulses, results = resolve_path_laws(sol.system, sol.values, precision)
-        sol = _regime_rounds(scene, regimes, impulses, solve_all, max_rounds, precision)
-    sol.regimes = dict(regimes)
-    _hint_checks(sol)
-    _law_checks(sol, results)
-    return sol
-
-
-def _regime_rounds(scene, regimes, impulses, solve_all, max_rounds, precision) -> Solution:
-    """Compile, analyse and solve until the friction regimes hold (or repeat)."""
     tried: set[tuple] = set()
     sol = None
+    impulses: dict | None = None  # Poisson's and Stronge's contacts: from the impulse path
+    results: dict = {}
     for _ in range(max_rounds):
         system = compile_scene(scene, regimes, impulses)
         structure = analyse(system)
+        if system.path_laws and impulses is None:
+            # the impulse path starts from the state before the impact: solve only that
+            # (the first pass's Newton rows for the contact decide nothing that is used)
+            from .contact_laws import before_impact, resolve_path_laws
+
+            values = _solve_only(system, structure, *before_impact(system), precision)
+            impulses, results = resolve_path_laws(system, values, precision)
+            continue
         sol = _solve(system, structure, solve_all, precision)
         changed = _update_regimes(sol, regimes)
         key = tuple(sorted(regimes.items()))
         if not changed or key in tried:
             break
         tried.add(key)
+        impulses = None  # another contact's regime may change the state before the impact
     assert sol is not None
+    sol.regimes = dict(regimes)
+    _hint_checks(sol)
+    _law_checks(sol, results)
     return sol
+
+
+def _solve_only(system: System, structure: Structure, names: set[str], after: set[str],
+                precision: str) -> dict[str, float]:
+    """Values of `names` alone (the blocks they need), none of which may need `after`."""
+    from .contact_laws import not_before
+
+    values: dict[str, float] = {}
+    missing = structure.undetermined_for(sorted(names))
+    if missing:
+        raise not_before(system, missing, "is not determined")
+    blocks = structure.needed_blocks(sorted(names))
+    if any(set(structure.blocks[b].unknowns) & after for b in blocks):
+        bad = [n for n in sorted(names)
+               if any(set(structure.blocks[b].unknowns) & after
+                      for b in structure.needed_blocks([n]))]
+        raise not_before(system, bad, "is found only through the impact")
+    for b in blocks:
+        _solve_block(system, structure, structure.blocks[b], values, precision)
+    return values
 
 
 def _law_checks(sol: Solution, results: dict) -> None:

@@ -418,3 +418,32 @@ def test_law_word_after_a_name_and_default_is_newton():
     _, b = solved(base.format(law=""))
     _, c = solved(base.format(law="newton"))
     assert b == c and a != b
+
+
+def test_a_stated_answer_is_checked_in_the_second_pass():
+    """Appending `equation rod.vx@2 = <closed form>` changes nothing; 1e-3 off is an error
+    naming the appended line (the first pass solves only the state before the impact)."""
+    from helpers import error_of
+
+    text = (EXAMPLES / "rod_rough_floor_poisson.mom").read_text()
+    want = rod_floor_expected("poisson")
+    ok = text + f"equation rod.vx@2 = {want['rod.vx@2']!r} m/s\n"
+    _, ans = solved(ok)
+    assert close(ans["J_n[A]@1->2"], want["J_n[A]@1->2"], 1e-9)
+    bad = text + f"equation rod.vx@2 = {want['rod.vx@2'] * 1.001!r} m/s\n"
+    d = error_of(bad)
+    assert "inconsistent" in d.message and d.span.line == len(text.splitlines()) + 1
+
+
+def test_the_state_before_must_not_come_through_the_impact():
+    """The impulse path needs v0: a state before that only the impact's far side fixes
+    (here rod.vx@1 from a given rod.vx@2) is refused at the contact."""
+    from helpers import error_of
+
+    text = ROD.format(stmt="impact 1 -> 2:\n    contact A with ground normal (0, 1): "
+                      "restitution 0.5 poisson, friction 0.3").replace(
+        "rod.v = (0.6 m/s, -1 m/s)", "rod.vy = -1 m/s").replace(
+        "state 2\n", "state 2: rod.vx = 0.2 m/s\n")
+    d = error_of(text)
+    assert "rod.vx@1 (before the impact) is found only through" in d.message
+    assert d.span.line == 9
