@@ -447,3 +447,29 @@ def test_the_state_before_must_not_come_through_the_impact():
     d = error_of(text)
     assert "rod.vx@1 (before the impact) is found only through" in d.message
     assert d.span.line == 9
+
+
+def test_kane_levinson_double_pendulum_newton_gains_the_solver_warns():
+    """The double pendulum (rods at -50 and -60 deg, both turning at -2 rad/s, e = 0.5,
+    mu = 0.5): Newton's stick solution "holds" (|P_t| <= mu P_n) yet the impact more than
+    doubles T; T before = q'^T M q'/2 from `double_pendulum`'s M. The solver's T_lost
+    is minus that gain and a warning names C and the energetic law; Stronge's law loses."""
+    t1, t2, w1, w2, e, mu = -50.0, -60.0, -2.0, -2.0, 0.5, 0.5
+    a1, a2 = math.radians(t1), math.radians(t2)
+    T0 = 0.5 * (4 / 3 * w1 * w1 + 1 / 3 * w2 * w2 + math.cos(a1 - a2) * w1 * w2)
+    g1 = (0.5 * math.cos(a1), 0.5 * math.sin(a1))
+    A = (math.cos(a1), math.sin(a1))
+    g2 = (A[0] + 0.5 * math.cos(a2), A[1] + 0.5 * math.sin(a2))
+    for law in ("newton", "energetic"):
+        r, _ = double_pendulum(t1, t2, w1, w2, e, mu, law)
+        text = DOUBLE.format(t1=t1, t2=t2, x1=g1[0], y1=g1[1], x2=g2[0], y2=g2[1], w1=w1,
+                             w2=w2, e=e, mu=mu, law=law).replace(
+            "find J_n[C]@1->2", "find T_lost@1->2, J_n[C]@1->2")
+        sol, ans = solved(text)
+        assert close(ans["T_lost@1->2"], -r.energy_change, 1e-8)
+        warn = [c for c in sol.checks if c.name.startswith("impact law at C")]
+        if law == "newton":
+            assert r.energy_change > T0  # more than doubled
+            assert warn and warn[0].status == "warning" and "energetic" in warn[0].detail
+        else:
+            assert r.energy_change < 0 and warn[0].status == "ok"
