@@ -34,6 +34,11 @@ The kinetic energy change is the work of the contact impulse on the relative
 velocity, dT = v . dP (the bodies' other impulses are workless), which for (1) with W
 symmetric is exact on every linear piece as dP . (v_start + v_end)/2, and in total
 T_after - T_before = P . v0 + P . W P / 2 whatever the path (a check used in tests).
+It splits into the normal work int v_n dP_n and the tangential work int v_t dP_t; the
+latter is <= 0 on a Coulomb path (v_t dP_t = -mu |v_t| dP_n sliding, 0 sticking), and
+under the energetic law the former is (1 - e^2) W_c <= 0: Stronge's law never gains
+energy. Newton's algebraic friction impulse has no path: it can point along the initial
+slip and do positive work (Kane and Levinson, "Dynamics: Theory and Applications", 1985).
 """
 from __future__ import annotations
 
