@@ -402,6 +402,8 @@ find rod.omega@2
      "energetic, smooth", "known coefficient"),
     ("impact 1 -> 2:\n    contact A with ground normal (0, -1): restitution 0.5 poisson, "
      "smooth", "not approaching"),
+    ("interval 1 -> 2:\n    contact A with ground normal (0, 1): restitution 0.5 poisson, "
+     "friction 0.3\n    duration 1 s", "resolves an impact"),
 ])
 def test_path_law_errors_are_located(stmt, words):
     from helpers import error_of
@@ -473,3 +475,15 @@ def test_kane_levinson_double_pendulum_newton_gains_the_solver_warns():
             assert warn and warn[0].status == "warning" and "energetic" in warn[0].detail
         else:
             assert r.energy_change < 0 and warn[0].status == "ok"
+
+
+def test_a_given_velocity_after_a_path_law_impact_is_refused():
+    """The path law decides the velocities after the impact; one given there would
+    over-determine them (a located error, not a silent choice)."""
+    from helpers import error_of
+
+    text = ROD.format(stmt="impact 1 -> 2:\n    contact A with ground normal (0, 1): "
+                      "restitution 0.5 energetic, friction 0.3").replace(
+        "state 2\n", "state 2: rod.omega = -1 rad/s\n")
+    d = error_of(text)
+    assert "must follow from momentum" in d.message and d.span.line == 9
