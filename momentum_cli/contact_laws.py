@@ -237,6 +237,9 @@ def path_law_checks(system, results: dict) -> list[tuple[str, str, str]]:
                   f"{fmt_num(r.work_compression, 4)} J), restitution to "
                   f"{fmt_num(r.impulse[1], 4)} N*s (normal work {fmt_num(r.work_restitution, 4)} "
                   "J)")
+        if r.locked:
+            detail += ("; the contact locks: it sticks and, with one degree of freedom at the "
+                       "contact, restitution cannot separate it")
         status = "warning" if r.gains_energy else "ok"
         out.append((f"impact law at {site.label} ({site.before} -> {site.after})", status,
                     detail))

@@ -226,10 +226,13 @@ def test_rough_stops_the_slip_at_once():
 def impacts(draw):
     a = draw(st.floats(0.05, 20))
     c = draw(st.floats(0.05, 20))
-    rho = draw(st.floats(-0.99, 0.99))
+    rho = draw(st.one_of(st.floats(-0.99, 0.99), st.sampled_from([-1.0, 1.0])))  # 1: rank 1
     b = rho * math.sqrt(a * c)
     u = draw(st.floats(-5, 5))
     V = draw(st.floats(0.01, 5))
+    if abs(rho) == 1.0:  # one degree of freedom: every velocity is along q, W = q q^T
+        q = (math.sqrt(a), rho * math.sqrt(c))
+        u = -V * q[0] / q[1]
     e = draw(st.floats(0, 1))
     mu = draw(st.one_of(st.none(), st.floats(0, 3), st.just(math.inf)))
     return ((a, b), (b, c)), (u, -V), e, mu
@@ -487,3 +490,52 @@ def test_a_given_velocity_after_a_path_law_impact_is_refused():
         "state 2\n", "state 2: rod.omega = -1 rad/s\n")
     d = error_of(text)
     assert "must follow from momentum" in d.message and d.span.line == 9
+
+
+PINNED = """problem "pinned rod strikes a rough floor"
+body rod: rod(mass = 1 kg, length = 1 m)
+point O = rod.end(+)
+point A = rod.end(-)
+pin O to ground at (0, 0)
+state 1: rod.angle = 60 deg, rod.x = -0.25 m, rod.y = {y} m, rod.omega = 2 rad/s
+state 2
+impact 1 -> 2:
+    contact A with ground normal (0, 1): restitution 0.5 {law}, friction {mu}
+find rod.omega@2, J_n[A]@1->2
+"""
+
+
+@pytest.mark.parametrize("mu", [0.3, 0.8])
+def test_pendulum_one_degree_of_freedom(mu):
+    """A rod (m = 1, l = 1) pinned at its upper end O strikes a rough floor with its lower
+    end A (Stronge's compound pendulum). With rho = A - O = -(cos 60, sin 60) and
+    q = k x rho in (t, n): q_t = -sin 60, q_n = -cos 60; I_O = m l^2/3. The contact's
+    velocity is omega q, so W = q q^T / I_O (singular) and, sliding, omega changes at
+    (q_n - mu s q_t)/I_O per unit P_n: it reaches 0 (v = 0, slip halted and compression
+    over together) at P_c = |omega0| I_O/(|q_n| + mu |q_t|). Then, if |q_n/q_t| > mu, the
+    slip reverses and omega grows at (|q_n| - mu |q_t|)/I_O the other way:
+        Poisson:   omega_f = -e omega0 (|q_n| - mu|q_t|)/(|q_n| + mu|q_t|),
+        energetic: omega_f = -e omega0 sqrt((|q_n| - mu|q_t|)/(|q_n| + mu|q_t|))
+    (the normal work is v_n^2/(2 slope) on each side). If |q_n/q_t| <= mu it sticks with
+    no velocity change at all: the contact locks, omega_f = 0; the energetic law ends at
+    P_c, Poisson's at (1 + e) P_c (the pin takes the rest)."""
+    qt, qn, I, w0, e = -math.sin(math.radians(60)), -0.5, 1 / 3, 2.0, 0.5
+    pc = w0 * I / (abs(qn) + mu * abs(qt))
+    ratio = (abs(qn) - mu * abs(qt)) / (abs(qn) + mu * abs(qt))
+    W = ((qt * qt / I, qt * qn / I), (qt * qn / I, qn * qn / I))
+    for law in ("poisson", "energetic"):
+        if ratio > 0:
+            wf = -e * w0 * (ratio if law == "poisson" else math.sqrt(ratio))
+            pn = None
+        else:
+            wf = 0.0
+            pn = (1 + e) * pc if law == "poisson" else pc
+        r = resolve(W, (w0 * qt, w0 * qn), e, mu, law)
+        assert close(r.compression_end, pc, 1e-12)
+        assert r.locked == (ratio <= 0)
+        text = PINNED.format(y=-math.sin(math.radians(60)) / 2, law=law, mu=mu)
+        sol, ans = solved(text)
+        assert abs(ans["rod.omega@2"] - wf) <= 1e-12 * w0, law
+        if pn is not None:
+            assert close(ans["J_n[A]@1->2"], pn, 1e-9)
+            assert any("locks" in c.detail for c in sol.checks)

@@ -88,6 +88,7 @@ class ImpactResult:
     gains_energy: bool
     work_compression: float | None  # int_0^Pc v_n dP_n (<= 0)
     work_restitution: float | None  # int_Pc^Pf v_n dP_n
+    locked: bool = False  # stuck with det W = 0: restitution cannot separate the contact
 
     def regimes(self) -> list[str]:
         """The phases in order, merged where one regime spans compression's end."""
@@ -128,17 +129,19 @@ def delassus(bodies, normal: tuple[float, float]) -> tuple[tuple[float, float],
 def resolve(W, v0, e: float, mu: float | None, law: str = "newton") -> ImpactResult:
     """The impact at one contact by `law` (newton | poisson | energetic).
 
-    Raises ValueError if W is not symmetric positive definite (smooth: W_nn > 0 is
-    enough), the contact is not approaching (v_n0 >= 0), or e is outside [0, 1].
+    W may be singular (rank 1: the contact point has one degree of freedom, a pendulum
+    or a pinned rod): its velocity is then parallel to a fixed q, the slip stops when
+    v = 0, and if the stick ratio is inside the cone the contact locks (no restitution;
+    `locked`). Raises ValueError if W is not symmetric positive semi-definite with
+    W_nn > 0, the contact is not approaching (v_n0 >= 0), or e is outside [0, 1].
     """
     a, b, c = float(W[0][0]), float(W[0][1]), float(W[1][1])
     if abs(float(W[1][0]) - b) > 1e-9 * max(abs(a), abs(c)):
         raise ValueError("W must be symmetric")
     if not c > 0:
         raise ValueError("W_nn must be positive (a normal impulse must change v_n)")
-    if mu is not None and not (a > 0 and a * c - b * b > 1e-12 * a * c):
-        raise ValueError("W is singular: the contact point has one degree of freedom, so it "
-                         "locks when the slip stops (use Newton's law or a smooth contact)")
+    if mu is not None and not (a >= 0 and a * c - b * b >= -1e-12 * max(a * c, b * b)):
+        raise ValueError("W must be positive semi-definite")
     vt0, vn0 = float(v0[0]), float(v0[1])
     if not vn0 < 0:
         raise ValueError("the contact is not approaching (v_n >= 0)")
@@ -162,6 +165,9 @@ def _newton(a, b, c, vt0, vn0, e, mu) -> ImpactResult:
         regime = "smooth"
     else:
         det = a * c - b * b
+        if det <= 1e-12 * a * c:
+            raise ValueError("Newton's law with friction needs det W > 0 (here the contact "
+                             "point has one degree of freedom)")
         rt, rn = -vt0, -e * vn0 - vn0  # W P = v_final - v0 with v_final = (0, -e vn0)
         pt, pn = (c * rt - b * rn) / det, (a * rn - b * rt) / det
         if not math.isinf(mu) and abs(pt) > mu * pn * (1 + 1e-12):
@@ -199,8 +205,9 @@ def _segments(a, b, c, vt0, vn0, mu) -> list[_Segment]:
     segs: list[_Segment] = []
     p, pt, vt, vn = 0.0, 0.0, vt0, vn0
 
-    def piece(regime, slip, k, length):
-        segs.append(_Segment(regime, slip, p, length, pt, (vt, vn), k, (a * k + b, b * k + c)))
+    def piece(regime, slip, k, length, dv=None):
+        dv = dv or (a * k + b, b * k + c)
+        segs.append(_Segment(regime, slip, p, length, pt, (vt, vn), k, dv))
 
     if mu is None:
         piece("smooth", 0, 0.0, INF)
@@ -228,7 +235,11 @@ def _segments(a, b, c, vt0, vn0, mu) -> list[_Segment]:
             piece("slide", s, k, INF)
             return segs
     if math.isinf(mu) or abs(b) <= mu * a:
-        piece("stick", 0, -b / a, INF)
+        # sticking: dv_t = 0 and dv_n/dP_n = det W / W_tt (0 for a singular W: it locks)
+        det = a * c - b * b
+        det = 0.0 if det <= 1e-12 * a * c else det
+        piece("stick", 0, -b / a if a > 0 else 0.0, INF,
+              (0.0, det / a if a > 0 else c))
     else:
         s = 1 if b > 0 else -1
         piece("reverse" if slid else "slide", s, -mu * s, INF)
@@ -239,34 +250,39 @@ def _path_law(a, b, c, vt0, vn0, e, mu, law) -> ImpactResult:
     segs = _segments(a, b, c, vt0, vn0, mu)
     # compression ends where v_n first reaches 0 (rising)
     pc = None
+    zero = 1e-12 * (abs(vt0) + abs(vn0))  # v_n this small is 0 (a singular W stops at v = 0)
     for sg in segs:
         vn, g = sg.v[1], sg.dv[1]
         if sg.jump:
-            if sg.v[1] + b * sg.jump >= 0:
+            if sg.v[1] + b * sg.jump >= -zero:
                 pc = sg.p0
                 break
             continue
-        if vn >= 0:
+        if vn >= -zero:
             pc = sg.p0
             break
         if g > 0 and vn + g * sg.length >= 0:
             pc = sg.p0 - vn / g
             break
-    assert pc is not None  # the last segment has dv_n/dP_n > 0 (see the module docstring)
+    if pc is None:
+        raise ValueError("compression does not end: with a singular W, v0 must be along "
+                         "the one direction the contact point can move")
     wc = sum(ph.normal_work for ph in _clip(segs, 0.0, pc, "compression", a, b))
     if law == "poisson":
         pf = (1 + e) * pc
     else:
-        pf = _energetic_end(segs, pc, e * e * abs(wc))
+        pf = _energetic_end(segs, pc, e * e * abs(wc), zero)
     phases = _clip(segs, 0.0, pc, "compression", a, b) + _clip(segs, pc, pf, "restitution", a, b)
     last = phases[-1]
     pt = last.pt[1]
     vt, vn = vt0 + a * pt + b * pf, vn0 + b * pt + c * pf
+    end = segs[-1]
+    locked = pf >= end.p0 and end.dv == (0.0, 0.0) and e > 0
     return _result(law, e, mu, (pt, pf), (vt, vn), phases, pc, (vt0, vn0), a, b, c,
-                   wc, sum(ph.normal_work for ph in phases if ph.stage == "restitution"))
+                   wc, sum(ph.normal_work for ph in phases if ph.stage == "restitution"), locked)
 
 
-def _energetic_end(segs, pc: float, target: float) -> float:
+def _energetic_end(segs, pc: float, target: float, zero: float) -> float:
     """The P_n where int_Pc^P v_n dP_n reaches `target` (Stronge's energetic law)."""
     left = target
     for sg in segs:
@@ -274,11 +290,17 @@ def _energetic_end(segs, pc: float, target: float) -> float:
             continue
         start = max(sg.p0, pc)
         vn = sg.v[1] + sg.dv[1] * (start - sg.p0)
+        vn = 0.0 if abs(vn) <= zero else vn
         g = sg.dv[1]
         length = sg.p0 + sg.length - start
         if left <= 0:
             return start
-        full = vn * length + 0.5 * g * length * length if math.isfinite(length) else INF
+        if math.isfinite(length):
+            full = vn * length + 0.5 * g * length * length
+        elif g > 0 or vn > 0:
+            full = INF
+        else:
+            return start  # locked (a singular W sticking at v = 0): no restitution work
         if full >= left:
             # g x^2 / 2 + vn x - left = 0, the root where the work first reaches `left`,
             # written without cancellation
@@ -316,9 +338,11 @@ def _clip(segs, lo: float, hi: float, stage: str, a: float, b: float) -> list[Ph
     return out
 
 
-def _result(law, e, mu, P, v, phases, pc, v0, a, b, c, wc=None, wr=None) -> ImpactResult:
+def _result(law, e, mu, P, v, phases, pc, v0, a, b, c, wc=None, wr=None,
+            locked=False) -> ImpactResult:
     dT = sum(ph.energy for ph in phases)
     pt, pn = P
     scale = (abs(pt * v0[0]) + abs(pn * v0[1]) +
              0.5 * (a * pt * pt + 2 * abs(b * pt * pn) + c * pn * pn))
-    return ImpactResult(law, e, mu, P, v, tuple(phases), pc, dT, dT > 1e-12 * scale, wc, wr)
+    return ImpactResult(law, e, mu, P, v, tuple(phases), pc, dT, dT > 1e-12 * scale, wc, wr,
+                        locked)
