@@ -105,25 +105,34 @@ def _impact_rows(system, site: PathLawSite):
     return U, eqs
 
 
-def before_impact(system) -> tuple[set[str], set[str]]:
-    """The unknowns the impulse path needs from before the impacts (velocities before,
-    angles), and those the impacts determine (which they must not need)."""
+def _site_needs(system, site: PathLawSite) -> tuple[set[str], set[str]]:
+    """What one site's impulse path reads from before its impact, and what it decides."""
     from .expr import variables
 
+    U, eqs = _impact_rows(system, site)
+    need: set[str] = set()
+    for e in eqs:
+        need |= variables(e.residual)
+    need |= variables(site.v_after[0]) | variables(site.v_after[1])
+    return {n for n in need if n in system.unknowns} - set(U), set(U)
+
+
+def before_impact(system) -> tuple[set[str], set[str]]:
+    """The unknowns the impulse paths need from before their impacts (velocities before,
+    angles), and those the impacts determine (which they must not need)."""
     need: set[str] = set()
     after: set[str] = set()
     for site in system.path_laws:
-        U, eqs = _impact_rows(system, site)
-        after.update(U)
-        for e in eqs:
-            need |= variables(e.residual)
-        need |= variables(site.v_after[0]) | variables(site.v_after[1])
-    return {n for n in need - after if n in system.unknowns}, after
+        n, U = _site_needs(system, site)
+        need |= n
+        after |= U
+    return need - after, after
 
 
 def not_before(system, names: list[str], what: str) -> ProblemError:
     """The state before a Poisson or energetic impact must be known without it."""
-    site = system.path_laws[0]
+    site = next((s for s in system.path_laws if set(names) & _site_needs(system, s)[0]),
+                system.path_laws[0])
     shown = ", ".join(names[:6]) + ("..." if len(names) > 6 else "")
     verb = what if len(names) == 1 else what.replace("is ", "are ", 1)
     return ProblemError(f"{site.law} restitution at {site.label}: {shown} (before the impact) "
