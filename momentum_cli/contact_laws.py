@@ -117,16 +117,16 @@ def _site_needs(system, site: PathLawSite) -> tuple[set[str], set[str]]:
     return {n for n in need if n in system.unknowns} - set(U), set(U)
 
 
-def before_impact(system) -> tuple[set[str], set[str]]:
-    """The unknowns the impulse paths need from before their impacts (velocities before,
-    angles), and those the impacts determine (which they must not need)."""
-    need: set[str] = set()
-    after: set[str] = set()
-    for site in system.path_laws:
-        n, U = _site_needs(system, site)
-        need |= n
-        after |= U
-    return need - after, after
+def next_site(system, pending: list) -> tuple[PathLawSite, set[str], set[str]]:
+    """The next contact to resolve, with what it needs and what the pending ones decide:
+    the first whose state before does not wait for another pending impact (impacts in
+    sequence resolve in order; a contact that needs its own far side is refused later)."""
+    needs = [_site_needs(system, s) for s in pending]
+    after = set().union(*(U for _, U in needs))
+    for site, (need, U) in zip(pending, needs):
+        if not need & (after - U):
+            return site, need, after
+    return pending[0], needs[0][0], after
 
 
 def not_before(system, names: list[str], what: str) -> ProblemError:
@@ -140,22 +140,17 @@ def not_before(system, names: list[str], what: str) -> ProblemError:
                         "impact (or use Newton's law)", site.span, code="under-determined")
 
 
-def resolve_path_laws(system, values, precision: str = "float") -> tuple[dict, dict]:
-    """Each site's impulse by its law: ({site: (P_t, P_n)}, {site: laws.ImpactResult})."""
+def resolve_site(system, values, site: PathLawSite, precision: str = "float"):
+    """The contact's impulse by its law (a laws.ImpactResult), from the state before."""
     from .laws import resolve
 
-    impulses, results = {}, {}
-    for site in system.path_laws:
-        W, v0 = contact_map(system, values, site, precision)
-        try:
-            r = resolve(W, v0, site.e, site.mu, site.law)
-        except ValueError as exc:
-            raise ProblemError(f"{site.law} restitution at {site.label}: {exc} (v_n = "
-                               f"{fmt_num(v0[1], 4)} m/s before the impact)", site.span,
-                               code="no-solution") from None
-        impulses[site.key] = r.impulse
-        results[site.key] = r
-    return impulses, results
+    W, v0 = contact_map(system, values, site, precision)
+    try:
+        return resolve(W, v0, site.e, site.mu, site.law)
+    except ValueError as exc:
+        raise ProblemError(f"{site.law} restitution at {site.label}: {exc} (v_n = "
+                           f"{fmt_num(v0[1], 4)} m/s before the impact)", site.span,
+                           code="no-solution") from None
 
 
 def contact_map(system, values, site: PathLawSite, precision: str = "float"):

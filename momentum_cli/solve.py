@@ -63,26 +63,33 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
     regimes: dict[str, str] = {}
     tried: set[tuple] = set()
     sol = None
-    impulses: dict | None = None  # Poisson's and Stronge's contacts: from the impulse path
+    impulses: dict = {}  # Poisson's and Stronge's contacts: (P_t, P_n) by site
     results: dict = {}
-    for _ in range(max_rounds):
+    rounds = 0
+    while True:
         system = compile_scene(scene, regimes, impulses)
         structure = analyse(system)
-        if system.path_laws and impulses is None:
-            # the impulse path starts from the state before the impact: solve only that
-            # (the first pass's Newton rows for the contact decide nothing that is used)
-            from .contact_laws import before_impact, resolve_path_laws
+        pending = [s for s in system.path_laws if s.key not in impulses]
+        if pending:
+            # an impulse path starts from the state before its impact: solve only that
+            # (the first pass's Newton rows for the contact decide nothing that is used),
+            # one contact at a time, in the order the impacts happen
+            from .contact_laws import next_site, resolve_site
 
-            values = _solve_only(system, structure, *before_impact(system), precision)
-            impulses, results = resolve_path_laws(system, values, precision)
+            site, need, after = next_site(system, pending)
+            values = _solve_only(system, structure, need, after, precision)
+            results[site.key] = resolve_site(system, values, site, precision)
+            impulses[site.key] = results[site.key].impulse
             continue
         sol = _solve(system, structure, solve_all, precision)
+        rounds += 1
         changed = _update_regimes(sol, regimes)
         key = tuple(sorted(regimes.items()))
-        if not changed or key in tried:
+        if not changed or key in tried or rounds >= max_rounds:
             break
         tried.add(key)
-        impulses = None  # another contact's regime may change the state before the impact
+        if impulses:  # another contact's regime may change the state before an impact
+            impulses, results = {}, {}
     assert sol is not None
     sol.regimes = dict(regimes)
     _hint_checks(sol)

@@ -539,3 +539,32 @@ def test_pendulum_one_degree_of_freedom(mu):
         if pn is not None:
             assert close(ans["J_n[A]@1->2"], pn, 1e-9)
             assert any("locks" in c.detail for c in sol.checks)
+
+
+def test_two_path_law_impacts_in_sequence():
+    """The rod of the examples strikes the floor at A (Poisson), then its upper end B a
+    wall on the right (normal (-1, 0), energetic). Independently: each impact from the
+    rigid-body kinematics, v_P = v_G + omega k x r, W from `delassus`, and the impulse
+    applied as dv_G = P/m, d omega = (r x P)/I with P = P_t t + P_n n."""
+    text = (EXAMPLES / "rod_rough_floor_poisson.mom").read_text().replace(
+        "point A = rod.end(-)", "point A = rod.end(-)\npoint B = rod.end(+)").replace(
+        'state 2 "just after impact"', 'state 2 "just after impact"\nstate 3').replace(
+        "find rod.v@2", "impact 2 -> 3:\n    contact B with ground normal (-1, 0): "
+        "restitution 0.7 energetic, friction 0.2\n\nfind rod.v@3, rod.omega@3, rod.v@2")
+    m, I, th = 2.0, 2.0 / 12, math.radians(45)
+    v, w = [1.2, -2.0], 0.0
+    for end, n, e, mu, law in ((-1, (0.0, 1.0), 0.9, 0.5, "poisson"),
+                               (1, (-1.0, 0.0), 0.7, 0.2, "energetic")):
+        r = (end * 0.5 * math.cos(th), end * 0.5 * math.sin(th))
+        t = (-n[1], n[0])
+        vp = (v[0] - w * r[1], v[1] + w * r[0])
+        W = delassus([(m, I, r)], n)
+        res = resolve(W, (vp[0] * t[0] + vp[1] * t[1], vp[0] * n[0] + vp[1] * n[1]), e, mu, law)
+        P = (res.impulse[0] * t[0] + res.impulse[1] * n[0],
+             res.impulse[0] * t[1] + res.impulse[1] * n[1])
+        v = [v[0] + P[0] / m, v[1] + P[1] / m]
+        w += (r[0] * P[1] - r[1] * P[0]) / I
+    sol, ans = solved(text)
+    assert close(ans["rod.vx@3"], v[0], 1e-9) and close(ans["rod.vy@3"], v[1], 1e-9)
+    assert close(ans["rod.omega@3"], w, 1e-9)
+    assert len([c for c in sol.checks if c.name.startswith("impact law")]) == 2
