@@ -275,6 +275,7 @@ def energy_gain_checks(system, values) -> list[tuple[str, str, str]]:
         out.append((
             f"impact law at {', '.join(newton)} ({info.before} -> {info.after})", "warning",
             f"Newton's law with friction gains {fmt_num(b - a, 4)} J of kinetic energy: the "
-            "friction impulse it finds acts along the slip; `restitution E energetic` "
+            "friction impulse it finds does positive work (it acts along the slip); "
+            "`restitution E energetic` "
             "(Stronge's law, friction along the impulse path) never gains energy"))
     return out
