@@ -120,11 +120,16 @@ class System:
     invalid_stated: list[tuple[Span, str]]
     flow_rows: list = field(default_factory=list)  # flows.FlowRow, for the report
     integrations: list = field(default_factory=list)  # integration.Integration: solve runs them
+    path_laws: list = field(default_factory=list)  # contact_laws.PathLawSite
 
 
-def compile_scene(scene: Scene, regimes: dict[str, str] | None = None) -> System:
-    """Build the equation system for `scene` with the given friction regimes."""
-    return _Compiler(scene, regimes or {}).run()
+def compile_scene(scene: Scene, regimes: dict[str, str] | None = None,
+                  impulses: dict | None = None) -> System:
+    """Build the equation system for `scene` with the given friction regimes (and the
+    contact impulses that Poisson's or Stronge's law found, by site; see contact_laws)."""
+    c = _Compiler(scene, regimes or {})
+    c.impulses = impulses or {}
+    return c.run()
 
 
 def _mass_order(phases: list) -> list:
@@ -163,6 +168,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self.tspecs = {t.key: t for t in scene.transitions}
         self.joints = [joint_element(jt, scene) for jt in scene.joints]
         self._by_label = {j.label: j for j in self.joints}
+        self.impulses: dict = {}  # site -> (P_t, P_n) from the impulse path
+        self.path_laws: list = []  # contact_laws.PathLawSite
 
     # ---- unknowns and state variables ------------------------------------------------------
     def unknown(self, name: str, dim: Dim, kind: KeyKind, unit: str | None = None, **kw) -> Var:
@@ -353,7 +360,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         finds = self._finds()
         return System(sc, self.unknowns, self.equations, finds, self.transitions, self.friction,
                       self.notes, self.invalid, self.flows.rows if self.flows else [],
-                      self.flows.integrations if self.flows else [])
+                      self.flows.integrations if self.flows else [], self.path_laws)
 
     def _positions(self) -> None:
         """Which quantities each transition leaves unchanged, and checks of the givens.

@@ -839,10 +839,12 @@ class _Builder:
         mu = None
         slip = None
         modes = []
-        law_span = None
+        law, law_span = Restitution.NEWTON, None
         for p in c.props:
             if p.kind in (Prop.RESTITUTION, Prop.RESTITUTION_UNKNOWN, Prop.SEPARATION):
                 law_span = p.span
+            if p.kind == Prop.RESTITUTION and p.law not in (None, "newton"):
+                law = Restitution(p.law)
             if p.kind == Prop.RESTITUTION and isinstance(p.value, S.Ref) and \
                     p.value.name in self.user_unknowns and not p.value.member:
                 e_name = p.value.name
@@ -886,6 +888,14 @@ class _Builder:
             raise ProblemError("in an interval a rough contact needs a friction coefficient "
                                "(`friction 0.3`); rolling is `BODY rolls on SURFACE`",
                                modes[0].span, code="name")
+        if law is not Restitution.NEWTON:
+            if kind != "impact":
+                raise ProblemError(f"the {law} restitution law resolves an impact; here write "
+                                   "`restitution E` (Newton's law)", law_span, code="name")
+            if e_unknown:
+                raise ProblemError(f"the {law} law needs a known coefficient of restitution "
+                                   "(to find e, use Newton's law: `restitution ?`)", law_span,
+                                   code="name")
         if b is None:
             label = c.label or a.name
         else:
@@ -893,8 +903,8 @@ class _Builder:
         return Contact(label=label, span=c.span, a=a, b=b, normal=normal, restitution=e,
                        restitution_unknown=e_unknown, mode=Tangential(mode), mu=mu, slip=slip,
                        surface=surface, restitution_name=e_name, separation=separation,
-                       law=Restitution.SEPARATION if separation is not None
-                       else Restitution.NEWTON, law_span=law_span)
+                       law=Restitution.SEPARATION if separation is not None else law,
+                       law_span=law_span)
 
     def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
         self._states_exist(states, s.before, s.after, s.span)

@@ -64,19 +64,67 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
     regimes: dict[str, str] = {}
     tried: set[tuple] = set()
     sol = None
-    for _ in range(max_rounds):
-        system = compile_scene(scene, regimes)
+    impulses: dict = {}  # Poisson's and Stronge's contacts: (P_t, P_n) by site
+    results: dict = {}
+    rounds = 0
+    while True:
+        system = compile_scene(scene, regimes, impulses)
         structure = analyse(system)
+        pending = [s for s in system.path_laws if s.key not in impulses]
+        if pending:
+            # an impulse path starts from the state before its impact: solve only that
+            # (the first pass's Newton rows for the contact decide nothing that is used),
+            # one contact at a time, in the order the impacts happen
+            from .contact_laws import next_site, resolve_site
+
+            site, need, after = next_site(system, pending)
+            values = _solve_only(system, structure, need, after, precision)
+            results[site.key] = resolve_site(system, values, site, precision)
+            impulses[site.key] = results[site.key].impulse
+            continue
         sol = _solve(system, structure, solve_all, precision)
+        rounds += 1
         changed = _update_regimes(sol, regimes)
         key = tuple(sorted(regimes.items()))
-        if not changed or key in tried:
+        if not changed or key in tried or rounds >= max_rounds:
             break
         tried.add(key)
+        if impulses:  # another contact's regime may change the state before an impact
+            impulses, results = {}, {}
     assert sol is not None
     sol.regimes = dict(regimes)
     _hint_checks(sol)
+    _law_checks(sol, results)
     return sol
+
+
+def _solve_only(system: System, structure: Structure, names: set[str], after: set[str],
+                precision: str) -> dict[str, float]:
+    """Values of `names` alone (the blocks they need), none of which may need `after`."""
+    from .contact_laws import not_before
+
+    values: dict[str, float] = {}
+    missing = structure.undetermined_for(sorted(names))
+    if missing:
+        raise not_before(system, missing, "is not determined")
+    blocks = structure.needed_blocks(sorted(names))
+    if any(set(structure.blocks[b].unknowns) & after for b in blocks):
+        bad = [n for n in sorted(names)
+               if any(set(structure.blocks[b].unknowns) & after
+                      for b in structure.needed_blocks([n]))]
+        raise not_before(system, bad, "is found only through the impact")
+    for b in blocks:
+        _solve_block(system, structure, structure.blocks[b], values, precision)
+    return values
+
+
+def _law_checks(sol: Solution, results: dict) -> None:
+    """The path-law contacts' phases, and energy gained under Newton's law with friction."""
+    from .contact_laws import energy_gain_checks, path_law_checks
+
+    for name, status, detail in path_law_checks(sol.system, results) + \
+            energy_gain_checks(sol.system, sol.values):
+        sol.checks.append(CheckReport(name, status, detail))
 
 
 def _update_regimes(sol: Solution, regimes: dict[str, str]) -> bool:

@@ -228,11 +228,15 @@ class Contact:
     props: tuple  # of Prop
 
 
+IMPACT_LAWS = ("newton", "poisson", "energetic")  # how a contact's restitution ends an impact
+
+
 @record(frozen=True)
 class Prop:
     span: Span
     kind: str  # restitution | restitution? | smooth | rough | friction | slip
     value: object = None
+    law: str | None = None  # restitution: one of IMPACT_LAWS
 
 
 @record(frozen=True)
@@ -1098,7 +1102,12 @@ def _make_transformer():
             return list(ch)
 
         def prop_restitution(self, meta, ch):
-            return Prop(_span(meta), "restitution", ch[0])
+            value, law = ch[0], str(ch[1]) if len(ch) > 1 else None
+            # `0.6 poisson` lexes as a number with a unit (the unit lexer comes first)
+            if law is None and isinstance(value, Num) and value.unit in IMPACT_LAWS:
+                law = value.unit
+                value = Num(value.span, value.value)
+            return Prop(_span(meta), "restitution", value, law or "newton")
 
         def prop_restitution_unknown(self, meta, ch):
             return Prop(_span(meta), "restitution?")

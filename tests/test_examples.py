@@ -424,6 +424,26 @@ def weld_forms_in_impact():
               "T_lost@1->2": 0.5 * m * v0 * v0 - T2})
 
 
+def _rod_rough_floor(law: str) -> None:
+    """The slender rod striking a rough floor under each impact law: the closed forms
+    are derived in test_impact_laws.py (Stronge's impulse path, by hand)."""
+    from test_impact_laws import rod_floor_expected
+
+    check(got(f"rod_rough_floor_{law}"), rod_floor_expected(law))
+
+
+def rod_rough_floor_newton():
+    _rod_rough_floor("newton")
+
+
+def rod_rough_floor_poisson():
+    _rod_rough_floor("poisson")
+
+
+def rod_rough_floor_energetic():
+    _rod_rough_floor("energetic")
+
+
 CHECKS = {f.__name__: f for f in [
     seed_billiards_elastic, seed_billiards_find_e, seed_disk_wall, seed_oblique_particles,
     seed_pendulum_wall, seed_plastic_collision, seed_rod_disk_bearing, seed_rod_drop_rough,
@@ -433,6 +453,7 @@ CHECKS = {f.__name__: f for f in [
     newtons_cradle_simultaneous, ball_bounce_rebound, bounce_find_e, sphere_backspin_returns,
     sphere_rough_bounce, crate_pushed_force, flywheel_torque, spring_launch_collision,
     disk_rolls_down_ramp, disk_climbs_curb, joint_forms_in_impact, weld_forms_in_impact,
+    rod_rough_floor_newton, rod_rough_floor_poisson, rod_rough_floor_energetic,
 ]}
 
 # the open-system examples (flow_*) are checked against their closed forms in test_flows.py

@@ -628,10 +628,11 @@ def _solve_cradle(kind: str) -> dict:
     real = solve_mod.compile_scene
     cache: dict = {}
 
-    def compile_once(sc, regimes=None):
-        key = (id(sc), tuple(sorted((regimes or {}).items())))
+    def compile_once(sc, regimes=None, impulses=None):
+        key = (id(sc), tuple(sorted((regimes or {}).items())),
+               tuple(sorted((impulses or {}).items())))
         if key not in cache:
-            cache[key] = real(sc, regimes)
+            cache[key] = real(sc, regimes, impulses)
         return cache[key]
 
     solve_mod.compile_scene = compile_once

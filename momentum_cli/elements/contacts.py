@@ -112,6 +112,40 @@ class GivenSeparation(RestitutionLaw):
         return f"separation {self.c.separation:g} m/s"
 
 
+class PathRestitution(RestitutionLaw):
+    """Poisson's or Stronge's law: the normal impulse ends where the impulse path (Coulomb
+    friction integrated along P_n, `laws.impulse_path`) says; the solve resolves it between
+    two passes (`contact_laws`), so the law also writes the tangential rows."""
+
+    owns_tangential = True
+
+    def stamp_impact(self, rows: ContactRows, compiler) -> None:
+        from ..contact_laws import stamp_path_law
+
+        ph = rows.phase
+        stamp_path_law(compiler, ph, self.c, rows.jn, rows.jt, (rows.vt1, rows.vn1),
+                       (rows.vt2, rows.vn2), ph.group)
+
+    def describe(self) -> str:
+        return f"restitution {self.c.restitution:g} {self.kind}"
+
+    def sim_restitution(self) -> float:
+        c = self.c
+        raise ProblemError(f"simulate applies Newton's law at impacts; contact {c.label} has "
+                           f"{self.describe()}", c.law_span or c.span, code="simulate",
+                           notes=["write `restitution E` (Newton's law) in the simulation"])
+
+
+@restitution_law(Restitution.POISSON)
+class PoissonRestitution(PathRestitution):
+    """Poisson: the normal impulse of restitution is e times that of compression."""
+
+
+@restitution_law(Restitution.ENERGETIC)
+class EnergeticRestitution(PathRestitution):
+    """Stronge: the normal work of restitution is -e^2 times that of compression."""
+
+
 # ---- tangential laws -------------------------------------------------------------------------
 TANGENTIAL_LAWS: dict[Tangential, type["TangentialLaw"]] = {}
 tangential_law = registrar(TANGENTIAL_LAWS)

@@ -37,6 +37,8 @@ class Restitution(_Word):
 
     NEWTON = "newton"  # v_n+ = -e v_n-
     SEPARATION = "separation"  # v_n+ given
+    POISSON = "poisson"  # P_n = (1 + e) P_c along the impulse path
+    ENERGETIC = "energetic"  # restitution work = e^2 x compression work (Stronge)
 
 
 class Regime(_Word):
