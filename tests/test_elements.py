@@ -234,3 +234,35 @@ simulate from 1:
     line = text.splitlines()[d.span.line - 1]
     assert d.span.line == 9 and line[d.span.column - 1:].startswith(law.split()[0])
     assert "restitution" in d.message
+
+
+def test_coulomb_chooses_its_next_regime_from_the_solved_impulses():
+    from momentum_cli.elements.base import FrictionSite
+
+    law = _contact("restitution 0, friction 0.5").tangential
+    site = FrictionSite("1->2:a", "a", "1->2", 0.5, "jn", "jt", Regime.STICK, None, None)
+    assert law.next_regime(site, {"jn": 2.0, "jt": 0.9}) is None  # inside the cone
+    assert law.next_regime(site, {"jn": 2.0, "jt": -1.5}) is Regime.SLIDE_POS  # J_t < 0
+    assert law.next_regime(site, {"jn": 2.0, "jt": 1.5}) is Regime.SLIDE_NEG
+
+
+def test_a_joint_formed_in_one_impact_acts_in_the_next():
+    """The latched pair (1 kg at 4 m/s onto 3 kg) then strikes a wall with e = 1/2 at b:
+    the pin carries b's rebound to a, so the pair leaves at -e times its common speed."""
+    m1, m2, v1, e = 1.0, 3.0, 4.0, 0.5
+    got = answers(f"""
+body a: particle(mass = {m1} kg)
+body b: particle(mass = {m2} kg)
+pin latch: a to b from 2
+state 1: a.pos = (0, 0), a.v = ({v1} m/s, 0), b.pos = (0, 0), b at rest
+state 2
+state 3
+impact 1 -> 2
+impact 2 -> 3:
+    contact b with ground normal (-1, 0): restitution {e}, smooth
+find a.vx@3, b.vx@3, Jx[latch]@2->3
+""")
+    v = m1 * v1 / (m1 + m2)
+    assert math.isclose(got["a.vx@3"], -e * v, rel_tol=1e-12)
+    assert math.isclose(got["b.vx@3"], -e * v, rel_tol=1e-12)
+    assert math.isclose(got["Jx[latch]@2->3"], m1 * (-e * v - v), rel_tol=1e-12)
