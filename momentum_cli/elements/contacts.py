@@ -10,10 +10,9 @@ with `@restitution_law`; it may take over the tangential rows (`owns_tangential`
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from ..diagnostics import ProblemError
 from ..expr import ZERO, Const, E, Known, V2, evaluate, mul, neg, variables
+from ..records import record
 from ..units import IMPULSE, NONE
 from .base import Check, Element, FrictionSite, ImpulseSource, Phase, SimRow, registrar
 from .keys import Key, impulse_key, named_key, parameter_key
@@ -22,7 +21,7 @@ from .kinds import Component, KeyKind, PhaseKind, Regime, Restitution, Tangentia
 STICK_SLACK = 1e-12  # relative: |J_t| above mu J_n by more than this is a slide
 
 
-@dataclass
+@record
 class ContactRows:
     """What a contact's laws write rows over in one transition."""
 
