@@ -168,15 +168,20 @@ state 1: a.pos = (1 m, 0), a at rest
 
 
 # ---- reproduction 3: a joint that forms in an impact ---------------------------------------------
-def test_a_pin_that_forms_in_an_impact_joins_the_bodies_plastically():
-    m1, m2, v1 = 1.0, 3.0, 4.0
-    got = answers(f"""
+def latched(m1: float, m2: float, v1: float) -> str:
+    """Particle a (m1 at v1) and b (m2 at rest) at one place, pinned together from state 2."""
+    return f"""
 body a: particle(mass = {m1} kg)
 body b: particle(mass = {m2} kg)
 pin latch: a to b from 2
 state 1: a.pos = (0, 0), a.v = ({v1} m/s, 0), b.pos = (0, 0), b at rest
 state 2
-impact 1 -> 2
+"""
+
+
+def test_a_pin_that_forms_in_an_impact_joins_the_bodies_plastically():
+    m1, m2, v1 = 1.0, 3.0, 4.0
+    got = answers(latched(m1, m2, v1) + """impact 1 -> 2
 find a.vx@2, b.vx@2, Jx[latch]@1->2
 """)
     v = m1 * v1 / (m1 + m2)  # momentum of the pair is conserved
@@ -234,3 +239,29 @@ simulate from 1:
     line = text.splitlines()[d.span.line - 1]
     assert d.span.line == 9 and line[d.span.column - 1:].startswith(law.split()[0])
     assert "restitution" in d.message
+
+
+def test_coulomb_chooses_its_next_regime_from_the_solved_impulses():
+    from momentum_cli.elements.base import FrictionSite
+
+    law = _contact("restitution 0, friction 0.5").tangential
+    site = FrictionSite("1->2:a", "a", "1->2", 0.5, "jn", "jt", Regime.STICK, None, None)
+    assert law.next_regime(site, {"jn": 2.0, "jt": 0.9}) is None  # inside the cone
+    assert law.next_regime(site, {"jn": 2.0, "jt": -1.5}) is Regime.SLIDE_POS  # J_t < 0
+    assert law.next_regime(site, {"jn": 2.0, "jt": 1.5}) is Regime.SLIDE_NEG
+
+
+def test_a_joint_formed_in_one_impact_acts_in_the_next():
+    """The latched pair (1 kg at 4 m/s onto 3 kg) then strikes a wall with e = 1/2 at b:
+    the pin carries b's rebound to a, so the pair leaves at -e times its common speed."""
+    m1, m2, v1, e = 1.0, 3.0, 4.0, 0.5
+    got = answers(latched(m1, m2, v1) + f"""state 3
+impact 1 -> 2
+impact 2 -> 3:
+    contact b with ground normal (-1, 0): restitution {e}, smooth
+find a.vx@3, b.vx@3, Jx[latch]@2->3
+""")
+    v = m1 * v1 / (m1 + m2)
+    assert math.isclose(got["a.vx@3"], -e * v, rel_tol=1e-12)
+    assert math.isclose(got["b.vx@3"], -e * v, rel_tol=1e-12)
+    assert math.isclose(got["Jx[latch]@2->3"], m1 * (-e * v - v), rel_tol=1e-12)

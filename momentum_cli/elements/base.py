@@ -9,8 +9,7 @@ simulate iterate over elements; nothing else switches on their kind.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import NamedTuple
+from dataclasses import field
 
 from ..expr import ZERO, E
 from ..records import record
@@ -47,7 +46,7 @@ class FrictionSite:
     law: object = None  # its tangential law (contacts.Coulomb): `law.stick_holds(jt, jn)`
 
 
-@dataclass
+@record
 class Phase:
     """What an element stamps rows for: an impact or interval (before -> after, with the
     impulse bookkeeping of that transition) or one state (before == after)."""
@@ -71,7 +70,8 @@ class Phase:
         return Phase(PhaseKind.STATE, sid, sid, f"state {sid}")
 
 
-class SimRow(NamedTuple):
+@record(frozen=True)
+class SimRow:
     """One velocity constraint row for simulate: A u' = -beta, its force along `col` of B
     (None: along the row itself)."""
 
@@ -82,7 +82,7 @@ class SimRow(NamedTuple):
     col: object = None
 
 
-@dataclass
+@record
 class Check:
     """One of an element's inequalities, judged on solved values."""
 

@@ -10,10 +10,9 @@ with `@restitution_law`; it may take over the tangential rows (`owns_tangential`
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from ..diagnostics import ProblemError
 from ..expr import ZERO, Const, E, Known, V2, evaluate, mul, neg, variables
+from ..records import record
 from ..units import IMPULSE, NONE
 from .base import Check, Element, FrictionSite, ImpulseSource, Phase, SimRow, registrar
 from .keys import Key, impulse_key, named_key, parameter_key
@@ -22,7 +21,7 @@ from .kinds import Component, KeyKind, PhaseKind, Regime, Restitution, Tangentia
 STICK_SLACK = 1e-12  # relative: |J_t| above mu J_n by more than this is a slide
 
 
-@dataclass
+@record
 class ContactRows:
     """What a contact's laws write rows over in one transition."""
 
@@ -250,6 +249,25 @@ class Coulomb(TangentialLaw):
         compiler.friction.append(FrictionSite(rows.site, c.label, rows.phase.key, c.mu,
                                               rows.jn.name, rows.jt.name, regime, rows.vt1,
                                               c.span, decided, self))
+
+    def next_regime(self, site: FrictionSite, values: dict) -> Regime | None:
+        """The regime to try next after solving with `site.regime`, or None if it held:
+        a stick whose |J_t| exceeds mu J_n slides against J_t; an interval's slide whose
+        slip direction was not known beforehand follows the solved slip."""
+        if site.jn not in values:
+            return None
+        jn = values[site.jn]
+        jt = values.get(site.jt, 0.0) if site.jt else 0.0
+        if site.regime == Regime.STICK:
+            return None if self.stick_holds(jt, jn) else Regime.sliding(-jt)
+        if site.slip_expr is None or site.decided:
+            return None
+        try:
+            slip = evaluate(site.slip_expr, values)
+        except KeyError:
+            return None
+        want = Regime.sliding(slip)
+        return want if slip != 0 and want != site.regime else None
 
     def slip_sign(self, vt1: E, phase: Phase) -> float | None:
         """The slip direction over an interval: given, or known from the start state."""
