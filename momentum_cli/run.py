@@ -103,23 +103,29 @@ class _NoCyclicGC:
         return False
 
 
+def _build_scene(source: Source, overrides=()):
+    """Parse and build one file, with `--set` (name, value text) overrides of its `let`s."""
+    from .scene import build
+    from .syntax import parse
+
+    doc = parse(source)
+    if overrides:
+        from .overrides import apply
+
+        doc = apply(doc, overrides)
+    return build(doc)
+
+
 def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
                  precision: str = "float", overrides=()) -> FileResult:
     """Solve one file; `overrides` are `--set` (name, value text) pairs for its `let`s.
     Its `expect` lines are checked (`FileResult.expects`), also when it does not solve."""
     from .report.model import build_report
-    from .scene import build
     from .solve import solve_scene
-    from .syntax import parse
 
     try:
         with _NoCyclicGC():
-            doc = parse(source)
-            if overrides:
-                from .overrides import apply
-
-                doc = apply(doc, overrides)
-            scene = build(doc)
+            scene = _build_scene(source, overrides)
             sol = solve_scene(scene, solve_all, precision=precision)
             rep = build_report(source.name, sol, sig)
             checks = []
@@ -156,19 +162,12 @@ def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
     """One file through `simulate`: (FileResult with `report` = the simulation's report
     dict, SimResult or None); never raises for a bad file. `overrides`: `--set`
     (name, value text) pairs for the file's `let`s."""
-    from .scene import build
     from .sim.integrate import simulate
     from .sim.output import build as build_report
-    from .syntax import parse
 
     try:
         with _NoCyclicGC():
-            doc = parse(source)
-            if overrides:
-                from .overrides import apply
-
-                doc = apply(doc, overrides)
-            scene = build(doc)
+            scene = _build_scene(source, overrides)
             res = simulate(scene, rtol=rtol, dt=dt, progress=progress, closed_forms=closed_forms)
             rep = build_report(source.name, res)
         return FileResult(source.name, "solved", source, rep, []), res
