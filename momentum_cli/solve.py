@@ -55,6 +55,9 @@ class Solution:
     answers: list[tuple[str, float, str, float]]  # name, display value, unit, SI value
     solved_all: bool = False
     precision: str = "float"
+    # an inconsistency found while friction regimes are still being chosen: raised only
+    # if it survives the regime that finally holds (a wrong stick guess is no conflict)
+    pending: ProblemError | None = None
 
 
 def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
@@ -66,13 +69,15 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
     for _ in range(max_rounds):
         system = compile_scene(scene, regimes)
         structure = analyse(system)
-        sol = _solve(system, structure, solve_all, precision)
+        sol = _solve(system, structure, solve_all, precision, defer=bool(system.friction))
         changed = _update_regimes(sol, regimes)
         key = tuple(sorted(regimes.items()))
         if not changed or key in tried:
             break
         tried.add(key)
     assert sol is not None
+    if sol.pending is not None:
+        raise sol.pending
     sol.regimes = dict(regimes)
     _hint_checks(sol)
     return sol
@@ -129,7 +134,7 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
 
 
 def _solve(system: System, structure: Structure, solve_all: bool,
-           precision: str = "float") -> Solution:
+           precision: str = "float", defer: bool = False) -> Solution:
     eqs = system.equations
     diags: list[Diagnostic] = list(system.notes.items)
     checks: list[CheckReport] = []
@@ -163,10 +168,16 @@ def _solve(system: System, structure: Structure, solve_all: bool,
         for j, name in enumerate(rep.unknowns):
             # Newton blocks converge to ~1e-14 of their terms; allow for their conditioning
             bounds[name] = comps[j] if comps else max(rep.residual * 100, 1e-12)
+    pending = None
     for k in structure.redundant:
         e = eqs[k]
         if all(v in values for v in structure.incidence[k]):
-            _check_equation(e, values, checks, system, structure, bounds=bounds)
+            try:
+                _check_equation(e, values, checks, system, structure, bounds=bounds)
+            except ProblemError as exc:
+                if not defer or exc.diagnostics[0].code != "inconsistent":
+                    raise
+                pending = pending or exc
     for k, e in enumerate(eqs):
         if e.kind in ("stated", "user") and (k in structure.redundant or k in structure.under_eqs):
             missing = sorted(v for v in structure.incidence[k] if v not in values)
@@ -179,7 +190,9 @@ def _solve(system: System, structure: Structure, solve_all: bool,
                                           "determined"))
     sol = Solution(system, structure, values, reports, checks, diags, {}, [], solve_all)
     sol.precision = precision
-    sol.answers = _answers(system, values)
+    sol.pending = pending
+    if pending is None:
+        sol.answers = _answers(system, values)
     return sol
 
 
