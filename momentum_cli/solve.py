@@ -139,41 +139,43 @@ def _solve(system: System, structure: Structure, solve_all: bool,
     diags: list[Diagnostic] = list(system.notes.items)
     checks: list[CheckReport] = []
     values: dict[str, float] = {}
-    needed = _needed(system, structure, solve_all)
     find_vars: set[str] = set()
     from .expr import variables
 
     for f in system.finds:
         variables(f.expr, find_vars)
-    # pure checks first: equations whose every term is given
-    for k in structure.constant_eqs:
-        _check_equation(eqs[k], values, checks, system, structure, constant=True)
-    missing = structure.undetermined_for(sorted(find_vars) if system.finds and not solve_all
-                                         else [])
+    wanted = sorted(find_vars) if system.finds and not solve_all else []
+    reports: list[BlockReport] = []
+    bounds: dict[str, float] = {}
+    state = _Rounds()
+    # rounds: solve the structure's blocks; where a block is numerically singular, or
+    # the structurally under-determined part determines some unknowns numerically,
+    # re-analyse with what is known and the dependent rows left out, and go on
+    for _ in range(len(eqs) + 2):
+        # pure checks first: equations whose every term is given (or already solved)
+        for k in structure.constant_eqs:
+            if k not in state.checked and k not in state.used:
+                state.checked.add(k)
+                _check_conflict(eqs[k], values, checks, system, structure, state, bounds,
+                                constant=not structure.incidence[k])
+        if not _solve_round(system, structure, solve_all, precision, values, reports, bounds,
+                            state, wanted):
+            break
+        structure = analyse(system, state.excluded, values)
+    missing = structure.undetermined_for(wanted)
+    if missing and state.support and set(missing) <= state.free:
+        # the structure would name more; the numbers leave only these free
+        raise _singular(sorted((eqs[k] for k in state.support),
+                               key=lambda e: (e.span.line if e.span else 0, e.index)),
+                        missing, exact=True)
     if missing:
         raise _under_determined(system, structure, missing)
-    blocks_needed = structure.needed_blocks([n for n in needed if n not in structure.under])
-    reports = []
-    for b in blocks_needed:
-        try:
-            reports.append(_solve_block(system, structure, structure.blocks[b], values,
-                                        precision))
-        except ProblemError as exc:
-            if exc.diagnostics[0].code == "singular":
-                _blame_downstream(system, structure, b, values, exc)
-            raise
-    bounds: dict[str, float] = {}
-    for rep in reports:
-        comps = rep.quality.components if rep.quality is not None else None
-        for j, name in enumerate(rep.unknowns):
-            # Newton blocks converge to ~1e-14 of their terms; allow for their conditioning
-            bounds[name] = comps[j] if comps else max(rep.residual * 100, 1e-12)
     pending = None
     for k in structure.redundant:
         e = eqs[k]
         if all(v in values for v in structure.incidence[k]):
             try:
-                _check_equation(e, values, checks, system, structure, bounds=bounds)
+                _check_conflict(e, values, checks, system, structure, state, bounds)
             except ProblemError as exc:
                 if not defer or exc.diagnostics[0].code != "inconsistent":
                     raise
@@ -194,6 +196,162 @@ def _solve(system: System, structure: Structure, solve_all: bool,
     if pending is None:
         sol.answers = _answers(system, values)
     return sol
+
+
+class _Rounds:
+    """What the solve rounds carry from one analysis to the next."""
+
+    def __init__(self):
+        self.excluded: set[int] = set()  # numerically dependent rows: checks, not solved
+        self.used: set[int] = set()  # rows that determined values (never re-checked)
+        self.checked: set[int] = set()
+        self.split_tried: set[tuple] = set()
+        self.support: set[int] = set()  # rows of the numeric dependencies found
+        self.free: set[str] = set()  # unknowns a numeric rank test left undetermined
+
+
+def _solve_round(system: System, structure: Structure, solve_all: bool, precision: str,
+                 values, reports, bounds, state: _Rounds, wanted) -> bool:
+    """Solve the blocks this structure needs. True if the system must be re-analysed:
+    a block was singular (its dependent rows are now left out) or the under-determined
+    part determined some unknowns numerically."""
+    from .numeric_rank import dependent_rows
+
+    needed = _needed(system, structure, solve_all)
+    names = [n for n in needed if n not in structure.under]
+    if structure.under:  # what the under-determined rows need, to rank them with numbers
+        for k in _under_rows(structure):
+            names.extend(v for v in structure.incidence[k]
+                         if v not in structure.under and v not in values)
+    for b in structure.needed_blocks(names):
+        block = structure.blocks[b]
+        try:
+            rep = _solve_block(system, structure, block, values, precision)
+        except ProblemError as exc:
+            if exc.diagnostics[0].code == "singular":
+                dep, support = dependent_rows(system, block.equations, block.unknowns, values)
+                if dep - state.excluded:
+                    state.excluded |= dep
+                    state.support = state.support or support  # the first: the cause
+                    return True
+                _blame_downstream(system, structure, b, values, exc)
+            raise
+        reports.append(rep)
+        state.used.update(block.equations)
+        _add_bounds(rep, bounds)
+    if structure.under and (not wanted or structure.undetermined_for(wanted)):
+        return _split_under(system, structure, precision, values, reports, bounds, state)
+    return False
+
+
+def _under_rows(structure: Structure) -> list[int]:
+    """The rows of the under-determined part, and the dependent rows that touch it."""
+    return sorted(structure.under_eqs | {k for k in structure.redundant
+                                         if structure.incidence[k] & structure.under})
+
+
+def _add_bounds(rep: BlockReport, bounds) -> None:
+    comps = rep.quality.components if rep.quality is not None else None
+    for j, name in enumerate(rep.unknowns):
+        # Newton blocks converge to ~1e-14 of their terms; allow for their conditioning
+        bounds[name] = comps[j] if comps else max(rep.residual * 100, 1e-12)
+
+
+def _split_under(system: System, structure: Structure, precision: str, values, reports,
+                 bounds, state: _Rounds) -> bool:
+    """Answer the unknowns the structurally under-determined rows determine numerically
+    (the velocities after a contact declared twice; only the split of the impulse is
+    free): solve the independent rows for their pivots, with the free columns at 0,
+    and keep the pivots that every solution agrees on. True if anything was found."""
+    from .numeric_rank import split_under
+
+    ks = _under_rows(structure)
+    key = (tuple(ks), tuple(sorted(structure.under)))
+    if key in state.split_tried:
+        return False
+    state.split_tried.add(key)
+    sp = split_under(system, structure.under, ks, values, precision == "exact")
+    if sp is None:
+        return False
+    state.free.update(sp.free)
+    state.support = state.support or sp.support  # the first dependency found: the cause
+    if not sp.determined:
+        return False
+    piv = [sp.cols[p] for _, p in sp.basis]
+    col = {n: j for j, n in enumerate(piv)}
+    rows = [{col[sp.cols[j]]: v for j, v in sp.rows[k].items() if sp.cols[j] in col}
+            for k, _ in sp.basis]
+    rhs = [sp.rhs[k] for k, _ in sp.basis]
+    beqs = [system.equations[k] for k, _ in sp.basis]
+    x, quality = solve_linear(rows, rhs, beqs, piv, precision)
+    trial = dict(values)
+    trial.update(zip(piv, x))
+    trial.update((n, 0.0) for n in sp.cols if n not in col)
+    keep = [j for j, n in enumerate(piv) if n in set(sp.determined)]
+    names = [piv[j] for j in keep]
+    comps = quality.components
+    quality = type(quality)(**{f: getattr(quality, f) for f in quality._fields})
+    quality.components = [comps[j] for j in keep] if comps else None
+    rep = BlockReport(len(reports), names, [k for k, _ in sp.basis], "linear", quality.cond, 0,
+                      0.0, None, None, quality)
+    for n in names:
+        values[n] = trial[n]
+    reports.append(rep)
+    _add_bounds(rep, bounds)
+    state.used.update(k for k, _ in sp.basis)
+    # the dependent rows hold for every solution if they hold for this one
+    free_bounds = dict(bounds)
+    for j, n in enumerate(piv):
+        free_bounds.setdefault(n, comps[j] if comps else 0.0)
+    for k in sp.dependent:
+        _check_conflict(system.equations[k], trial, [], system, structure, state,
+                        free_bounds)
+    state.excluded.update(sp.dependent)
+    return True
+
+
+def _check_conflict(e: Equation, values, checks, system, structure, state: _Rounds, bounds,
+                    constant: bool = False) -> None:
+    """`_check_equation`, and if the equation does not hold, name every statement of the
+    smallest conflict it is part of (the rows a left null vector involves)."""
+    try:
+        _check_equation(e, values, checks, system, structure, constant=constant,
+                        bounds=bounds)
+    except ProblemError as exc:
+        d = exc.diagnostics[0]
+        if d.code != "inconsistent":
+            raise
+        note = _conflict_note(e, values, system, state)
+        if not note:
+            raise
+        raise ProblemError(d.message, d.span, code=d.code, notes=[*d.notes, note],
+                           caret=d.caret) from None
+
+
+def _conflict_note(e: Equation, values, system: System, state: _Rounds) -> str | None:
+    from .numeric_rank import conflict_set
+
+    used = sorted(state.used)
+    if len(used) > 3000:
+        return None
+    ks = conflict_set(system, e.index, used, values)
+    if len(ks) < 1:
+        return None
+    parts: dict[int, list[str]] = {}
+    for k in ks:
+        q = system.equations[k]
+        if q.span is not None:
+            parts.setdefault(q.span.line, []).append(q.principle)
+        for name, line in _given_lines(q, system):
+            parts.setdefault(line, []).append(f"given {name}")
+    if not parts:
+        return None
+    items = []
+    for line in sorted(parts):
+        whats = list(dict.fromkeys(parts[line]))
+        shown = "; ".join(whats[:3]) + (f"; and {len(whats) - 3} more" if len(whats) > 3 else "")
+        items.append(f"line {line} ({shown})")
+    return "the conflicting statements (the smallest set): " + ", ".join(items)
 
 
 def _scale(e: Equation, values: dict[str, float]) -> float:
