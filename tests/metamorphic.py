@@ -4,6 +4,7 @@ positions), so a rename touches only the names a statement declares or refers to
 """
 from __future__ import annotations
 
+import functools
 import math
 import re
 
@@ -24,6 +25,7 @@ NOT_REFERENCES = {("shape", 0), ("call", 0), ("arg", 0)}
 _TOP = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
 
 
+@functools.lru_cache(maxsize=64)
 def tree_of(text: str):
     return parser().parse(text if text.endswith("\n") else text + "\n")
 
@@ -176,8 +178,9 @@ class Outcome:
                 mag = abs(si)
             from momentum_cli.expr import variables
             err = sum(bounds.get(v, 0.0) for v in variables(f.expr))
-            self.answers[n] = (si, err)
-            self.answers[n] = (si, err + 1e-9 * max(mag, abs(si)) + 1e-300)
+            # the answers' own bounds, plus evaluating the find's expression (round-off of
+            # its terms: a difference of energies cancels)
+            self.answers[n] = (si, err + 1e-13 * max(mag, abs(si)) + 1e-300)
             u = sol.system.unknowns.get(n)
             if u is not None and u.kind == "state" and n in sol.values:
                 self.state_answers.append((n, sol.values[n], u.unit))

@@ -83,14 +83,6 @@ def test_reordered(f):
     _same(original(f), Outcome(reorder(text), f), None, "reordered")
 
 
-@pytest.mark.parametrize("f", _params("rename+reorder"))
-def test_renamed_and_reordered(f):
-    text = (EXAMPLES / f).read_text()
-    mapping = rename_map(text)
-    _same(original(f), Outcome(reorder(rename(text, mapping)), f), mapping,
-          "renamed and reordered")
-
-
 def _appended(text: str, lines: list[str]) -> tuple[str, int]:
     """The text with `lines` appended, and the line number of the first of them."""
     if not text.endswith("\n"):
