@@ -9,7 +9,7 @@ import math
 import re
 
 from momentum_cli.diagnostics import ProblemError
-from momentum_cli.expr import magnitude
+from momentum_cli.expr import magnitude, variables
 from momentum_cli.scene import build
 from momentum_cli.solve import solve_scene
 from momentum_cli.source import Source
@@ -176,7 +176,6 @@ class Outcome:
                 mag = magnitude(f.expr, sol.values)
             except Exception:
                 mag = abs(si)
-            from momentum_cli.expr import variables
             err = sum(bounds.get(v, 0.0) for v in variables(f.expr))
             # the answers' own bounds, plus evaluating the find's expression (round-off of
             # its terms: a difference of energies cancels)
@@ -184,6 +183,13 @@ class Outcome:
             u = sol.system.unknowns.get(n)
             if u is not None and u.kind == "state" and n in sol.values:
                 self.state_answers.append((n, sol.values[n], u.unit))
+
+    def conflict_lines(self) -> set[int]:
+        """The lines of the error's conflict note (every statement of the conflict)."""
+        for text in self.error.notes:
+            if text.startswith("the conflicting statements"):
+                return {int(x) for x in re.findall(r"line (\d+)", text)}
+        return set()
 
     def lines_named(self) -> set[int]:
         """Every line number the error names: its location and its notes."""

@@ -123,3 +123,6 @@ def test_inconsistent_statement_is_named(f):
         named = out.lines_named()
         assert line in named, (n, line, out.error.message, out.error.notes)
         assert named & statement_lines, (n, out.error.message, out.error.notes)
+        # the conflict set itself: the appended line and the statements it contradicts
+        conflict = out.conflict_lines()
+        assert line in conflict and conflict & statement_lines, (n, out.error.notes)
