@@ -219,7 +219,9 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
 
     needed = _needed(system, structure, solve_all)
     names = [n for n in needed if n not in structure.under]
-    if structure.under:  # what the under-determined rows need, to rank them with numbers
+    # the under-determined part matters when an answer needs it (or everything is asked)
+    split = bool(structure.under) and (not wanted or bool(structure.undetermined_for(wanted)))
+    if split:  # what the under-determined rows need, to rank them with numbers
         for k in _under_rows(structure):
             names.extend(v for v in structure.incidence[k]
                          if v not in structure.under and v not in values)
@@ -239,7 +241,7 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
         reports.append(rep)
         state.used.update(block.equations)
         _add_bounds(rep, bounds)
-    if structure.under and (not wanted or structure.undetermined_for(wanted)):
+    if split:
         return _split_under(system, structure, precision, values, reports, bounds, state)
     return False
 
