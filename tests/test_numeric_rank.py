@@ -153,10 +153,11 @@ def test_rank_reveal_finds_a_dependency_and_its_rows():
     a, b = [0.1, 0.7, 0.3], [0.2, -0.3, 0.9]
     c = [3 * x - y for x, y in zip(a, b)]
     rows = [dict(enumerate(r)) for r in (a, b, c)]
-    for exact in (False,):
-        rr = rank_reveal(rows, [1.0, 1.0, 2.0], 3, exact=exact)
-        assert [i for i, _, _ in rr.dependent] == [2]
-        comb = rr.dependent[0][1]
-        assert set(comb) == {0, 1, 2}
-        assert rr.free == [0, 1, 2]
-        assert abs(rr.dependent[0][2]) > 0  # 2 != 3*1 - 1: inconsistent right-hand side
+    rr = rank_reveal(rows, [1.0, 1.0, 2.0], 3)
+    assert [i for i, _, _ in rr.dependent] == [2]
+    assert set(rr.dependent[0][1]) == {0, 1, 2}  # its left null vector: all three rows
+    assert rr.free == [0, 1, 2]
+    assert abs(rr.dependent[0][2]) > 0  # 2 != 3*1 - 1: inconsistent right-hand side
+    # the same rows in rationals: exactly dependent only if the data is
+    exact = rank_reveal([{0: 1.0, 1: 2.0}, {0: 2.0, 1: 4.0}], [1.0, 2.0], 2, exact=True)
+    assert [i for i, _, _ in exact.dependent] == [1] and exact.dependent[0][2] == 0
