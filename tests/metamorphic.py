@@ -10,6 +10,7 @@ import re
 
 from momentum_cli.diagnostics import ProblemError
 from momentum_cli.expr import magnitude, variables
+from momentum_cli.report.model import build_report
 from momentum_cli.scene import build
 from momentum_cli.solve import solve_scene
 from momentum_cli.source import Source
@@ -164,6 +165,7 @@ class Outcome:
         except ProblemError as exc:
             self.error = exc.diagnostics[0]
             return
+        build_report(name, sol)  # the report of every variant builds too (as `solve_source`)
         bounds = {}
         for rep in sol.blocks:
             comps = rep.quality.components if rep.quality is not None else None
