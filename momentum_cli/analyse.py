@@ -63,10 +63,23 @@ class Structure:
         return sorted(out)
 
 
-def analyse(system: System) -> Structure:
+def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
+    """The structure of `system`; `excluded` equations are left unmatched (numerically
+    dependent rows: checked after solving), `known` unknowns are treated as given.
+
+    Every choice (matching, blocks) follows the order in which the unknowns and
+    equations were compiled (the file's statements), never their names: renaming the
+    bodies changes no block.
+    """
     eqs = system.equations
-    incidence = [variables(e.residual) for e in eqs]
-    names = list(system.unknowns)
+    known = known or {}
+    full = [variables(e.residual) for e in eqs]
+    incidence = [{v for v in inc if v not in known} for inc in full] if known else full
+    names = [n for n in system.unknowns if n not in known]
+    rank = {n: i for i, n in enumerate(system.unknowns)}
+    for inc in incidence:
+        for v in inc:
+            rank.setdefault(v, len(rank))
     constant = [k for k, inc in enumerate(incidence) if not inc]
     # auto equations first: stated principles then become the checks when redundant
     order = sorted((k for k, inc in enumerate(incidence) if inc),
@@ -74,22 +87,24 @@ def analyse(system: System) -> Structure:
     # auto equations are matched first, on their own; the principles a user states
     # (and free equations) then only take unknowns the scene left undetermined, so a
     # redundant statement becomes a check instead of displacing a derived equation
-    auto = [k for k in order if eqs[k].kind not in ("stated", "user")]
-    extra = [k for k in order if eqs[k].kind in ("stated", "user")]
-    matchable = incidence
+    auto = [k for k in order if eqs[k].kind not in ("stated", "user") and k not in excluded]
+    extra = [k for k in order if eqs[k].kind in ("stated", "user") and k not in excluded]
+    ordered = [sorted(inc, key=rank.__getitem__) for inc in incidence]
+    matchable = ordered
     if system.integrations:  # an integration sets its outputs from its inputs, not the reverse
         from .integration import matched_outputs
 
-        matchable = list(incidence)
+        matchable = list(ordered)
         for k, out in matched_outputs(system).items():
-            matchable[k] = {out}
+            if out in incidence[k]:
+                matchable[k] = [out]
     match_eq, match_var = _max_matching(auto, matchable)
     _augment(extra, matchable, match_eq, match_var)
     # Dulmage-Mendelsohn: under-determined = reachable from unmatched unknowns by
     # alternating paths (unknown -> equation containing it -> that equation's unknown).
     var_eqs: dict[str, list[int]] = {n: [] for n in names}
-    for k, inc in enumerate(incidence):
-        for v in sorted(inc):  # sorted everywhere: block order must not depend on hashing
+    for k, inc in enumerate(ordered):
+        for v in inc:  # ordered everywhere: block order must not depend on hashing
             var_eqs.setdefault(v, []).append(k)
     under: set[str] = set()
     under_eqs: set[int] = set()
@@ -108,7 +123,7 @@ def analyse(system: System) -> Structure:
     det = [k for k in order if k in match_eq and k not in under_eqs]
     succ: dict[int, list[int]] = {}
     for k in det:
-        succ[k] = [match_var[v] for v in sorted(incidence[k])
+        succ[k] = [match_var[v] for v in ordered[k]
                    if v in match_var and match_var[v] != k and match_var[v] not in under_eqs]
     comps = _tarjan(det, succ)
     blocks: list[Block] = []
@@ -124,17 +139,18 @@ def analyse(system: System) -> Structure:
                 if block_of_eq[d] != b.index:
                     b.depends.add(block_of_eq[d])
     block_of_var = {match_eq[k]: block_of_eq[k] for k in det}
-    return Structure(incidence, match_eq, match_var, under, under_eqs, redundant, blocks,
+    return Structure(full, match_eq, match_var, under, under_eqs, redundant, blocks,
                      block_of_var, constant)
 
 
-def _max_matching(order: list[int], incidence: list[set[str]]):
-    """Maximum bipartite matching by augmenting paths (equations in the given order)."""
+def _max_matching(order: list[int], incidence: list[list[str]]):
+    """Maximum bipartite matching by augmenting paths (equations in the given order,
+    each equation's unknowns in the order given)."""
     match_eq: dict[int, str] = {}
     match_var: dict[str, int] = {}
     # cheap greedy pass first
     for k in order:
-        for v in sorted(incidence[k]):
+        for v in incidence[k]:
             if v not in match_var:
                 match_var[v] = k
                 match_eq[k] = v
@@ -143,13 +159,13 @@ def _max_matching(order: list[int], incidence: list[set[str]]):
     return match_eq, match_var
 
 
-def _augment(order: list[int], incidence: list[set[str]], match_eq: dict, match_var: dict):
+def _augment(order: list[int], incidence: list[list[str]], match_eq: dict, match_var: dict):
     """Extend a matching by augmenting paths from each unmatched equation of `order`."""
     adj: dict[int, list[str]] = {}
 
     def nbrs(k):
         if k not in adj:
-            adj[k] = sorted(incidence[k])
+            adj[k] = incidence[k]
         return adj[k]
 
     for k in order:

@@ -435,3 +435,77 @@ def lstsq_small(J: list[list[float]], r: list[float]) -> list[float]:
     import numpy as np
 
     return [float(v) for v in np.linalg.lstsq(np.array(J), np.array(r), rcond=None)[0]]
+
+
+# ---- rank-revealing elimination: structure and numbers agree ---------------------------------
+@record
+class RankReveal:
+    """What a set of rows determines, found by elimination in a chosen row order.
+
+    `basis`: the rows kept (independent), each with its pivot column; `dependent`: the
+    rows that are combinations of earlier ones, each with its left null vector (row ->
+    coefficient, the row itself included) and its right-hand side's remainder (0 when
+    it is consistent); `free`: the columns some null vector involves (not determined).
+    """
+
+    basis: list[tuple[int, int]]  # (row, pivot column)
+    dependent: list[tuple[int, dict, float]]  # (row, left null vector, rhs remainder)
+    free: list[int]
+
+
+def rank_reveal(rows: Rows, b: list[float], n: int, exact: bool = False) -> RankReveal:
+    """Gaussian elimination row by row, in the given order, with the largest remaining
+    entry as pivot. A row that eliminates to nothing is dependent on the rows before
+    it. In float an entry is nothing when it is round-off of the terms that formed it
+    (each entry carries the size of those terms), never because it is small: masses 12
+    decades apart are not a dependency. With `exact`, in rationals: exactly zero."""
+    A, bs, _, _ = equilibrate(rows, b, n)
+    conv = Fraction if exact else float
+    zero = conv(0)
+    tiny = 0 if exact else 256 * EPS
+    # kept: row, pivot, entries {col: (value, size of its terms)}, rhs, comb
+    kept: list[tuple[int, int, dict, object, dict]] = []
+    dependent = []
+    for i, row in enumerate(A):
+        r = {j: (conv(v), abs(conv(v))) for j, v in row.items() if v != 0.0}
+        rhs = conv(bs[i])
+        comb: dict[int, object] = {i: conv(1)}
+        for _k, p, entries, krhs, kcomb in kept:
+            if p not in r:
+                continue
+            f = r[p][0] / entries[p][0]
+            for j, (v, m) in entries.items():
+                if j == p:
+                    r.pop(j)
+                    continue
+                old, om = r.get(j, (zero, zero))
+                nv, nm = old - f * v, om + abs(f) * m
+                if nv == 0 or abs(nv) <= tiny * nm:
+                    r.pop(j, None)
+                else:
+                    r[j] = (nv, nm)
+            rhs -= f * krhs
+            for q, c in kcomb.items():
+                comb[q] = comb.get(q, zero) - f * c
+        if not r:
+            big = max(abs(c) for c in comb.values())
+            dependent.append((i, {q: float(c) for q, c in comb.items()
+                                  if c != 0 and abs(c) > tiny * big}, float(rhs)))
+            continue
+        p = max(r, key=lambda j: (abs(r[j][0]), -j))
+        kept.append((i, p, r, rhs, comb))
+    # null vectors: one per non-pivot column (set to 1), by back-substitution
+    pivots = {p for _, p, _, _, _ in kept}
+    used = {j for row in A for j in row}
+    free: set[int] = set()
+    for f in sorted(used - pivots):
+        x: dict[int, object] = {f: conv(1)}
+        for _, p, entries, _, _ in reversed(kept):
+            terms = [v * x[j] for j, (v, _m) in entries.items() if j != p and j in x]
+            if not terms:
+                continue
+            s = -sum(terms, zero) if exact else -math.fsum(terms)
+            if s and abs(s) > tiny * sum(abs(t) for t in terms):
+                x[p] = s / entries[p][0]
+        free.update(j for j, v in x.items() if v != 0)
+    return RankReveal([(i, p) for i, p, _, _, _ in kept], dependent, sorted(free))

@@ -56,6 +56,9 @@ class Solution:
     answers: list[tuple[str, float, str, float]]  # name, display value, unit, SI value
     solved_all: bool = False
     precision: str = "float"
+    # an inconsistency found while friction regimes are still being chosen: raised only
+    # if it survives the regime that finally holds (a wrong stick guess is no conflict)
+    pending: ProblemError | None = None
 
 
 def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
@@ -82,7 +85,7 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
             results[site.key] = resolve_site(system, values, site, precision)
             impulses[site.key] = results[site.key].impulse
             continue
-        sol = _solve(system, structure, solve_all, precision)
+        sol = _solve(system, structure, solve_all, precision, defer=bool(system.friction))
         rounds += 1
         changed = _update_regimes(sol, regimes)
         key = tuple(sorted(regimes.items()))
@@ -92,6 +95,8 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
         if impulses:  # another contact's regime may change the state before an impact
             impulses, results = {}, {}
     assert sol is not None
+    if sol.pending is not None:
+        raise sol.pending
     sol.regimes = dict(regimes)
     _hint_checks(sol)
     _law_checks(sol, results)
@@ -172,6 +177,12 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
     # every integration runs (integration.py): an end it never reaches is an error
     for integ in system.integrations:
         names.update(integ.outputs)
+    # every impact's impulses: the report's energy loss per contact, and a block whose
+    # rows depend on each other (a pin and a contact joining the same bodies) is only
+    # found inconsistent by solving it
+    for name, u in system.unknowns.items():
+        if u.kind in ("impulse", "angular-impulse"):
+            names.add(name)
     # the report's energy check for each impact needs the velocities on both sides
     for t in system.transitions:
         if t.kind == "impact" and t.energy is not None:
@@ -181,44 +192,53 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
 
 
 def _solve(system: System, structure: Structure, solve_all: bool,
-           precision: str = "float") -> Solution:
+           precision: str = "float", defer: bool = False) -> Solution:
     eqs = system.equations
     diags: list[Diagnostic] = list(system.notes.items)
     checks: list[CheckReport] = []
     values: dict[str, float] = {}
-    needed = _needed(system, structure, solve_all)
     find_vars: set[str] = set()
     from .expr import variables
 
     for f in system.finds:
         variables(f.expr, find_vars)
-    # pure checks first: equations whose every term is given
-    for k in structure.constant_eqs:
-        _check_equation(eqs[k], values, checks, system, structure, constant=True)
-    missing = structure.undetermined_for(sorted(find_vars) if system.finds and not solve_all
-                                         else [])
+    wanted = sorted(find_vars) if system.finds and not solve_all else []
+    reports: list[BlockReport] = []
+    bounds: dict[str, float] = {}
+    state = _Rounds()
+    # rounds: solve the structure's blocks; where a block is numerically singular, or
+    # the structurally under-determined part determines some unknowns numerically,
+    # re-analyse with what is known and the dependent rows left out, and go on
+    for _ in range(len(eqs) + 2):
+        # pure checks first: equations whose every term is given (or already solved)
+        for k in structure.constant_eqs:
+            if k not in state.checked and k not in state.used:
+                state.checked.add(k)
+                _check_conflict(eqs[k], values, checks, system, structure, state, bounds,
+                                constant=not structure.incidence[k])
+        if not _solve_round(system, structure, solve_all, precision, values, reports, bounds,
+                            state, wanted):
+            break
+        structure = analyse(system, state.excluded, values)
+    _check_under_part(system, structure, values, precision, state.used)
+    missing = structure.undetermined_for(wanted)
+    if missing and state.support and set(missing) <= state.free:
+        # the structure would name more; the numbers leave only these free
+        raise _singular(sorted((eqs[k] for k in state.support),
+                               key=lambda e: (e.span.line if e.span else 0, e.index)),
+                        missing, exact=True)
     if missing:
         raise _under_determined(system, structure, missing)
-    blocks_needed = structure.needed_blocks([n for n in needed if n not in structure.under])
-    reports = []
-    for b in blocks_needed:
-        try:
-            reports.append(_solve_block(system, structure, structure.blocks[b], values,
-                                        precision))
-        except ProblemError as exc:
-            if exc.diagnostics[0].code == "singular":
-                _blame_downstream(system, structure, b, values, exc)
-            raise
-    bounds: dict[str, float] = {}
-    for rep in reports:
-        comps = rep.quality.components if rep.quality is not None else None
-        for j, name in enumerate(rep.unknowns):
-            # Newton blocks converge to ~1e-14 of their terms; allow for their conditioning
-            bounds[name] = comps[j] if comps else max(rep.residual * 100, 1e-12)
+    pending = None
     for k in structure.redundant:
         e = eqs[k]
         if all(v in values for v in structure.incidence[k]):
-            _check_equation(e, values, checks, system, structure, bounds=bounds)
+            try:
+                _check_conflict(e, values, checks, system, structure, state, bounds)
+            except ProblemError as exc:
+                if not defer or exc.diagnostics[0].code != "inconsistent":
+                    raise
+                pending = pending or exc
     for k, e in enumerate(eqs):
         if e.kind in ("stated", "user") and (k in structure.redundant or k in structure.under_eqs):
             missing = sorted(v for v in structure.incidence[k] if v not in values)
@@ -231,8 +251,219 @@ def _solve(system: System, structure: Structure, solve_all: bool,
                                           "determined"))
     sol = Solution(system, structure, values, reports, checks, diags, {}, [], solve_all)
     sol.precision = precision
-    sol.answers = _answers(system, values)
+    sol.pending = pending
+    if pending is None:
+        sol.answers = _answers(system, values)
     return sol
+
+
+class _Rounds:
+    """What the solve rounds carry from one analysis to the next."""
+
+    def __init__(self):
+        self.excluded: set[int] = set()  # numerically dependent rows: checks, not solved
+        self.used: set[int] = set()  # rows that determined values (never re-checked)
+        self.checked: set[int] = set()
+        self.split_tried: set[tuple] = set()
+        self.support: set[int] = set()  # rows of the numeric dependencies found
+        self.free: set[str] = set()  # unknowns a numeric rank test left undetermined
+
+
+def _solve_round(system: System, structure: Structure, solve_all: bool, precision: str,
+                 values, reports, bounds, state: _Rounds, wanted) -> bool:
+    """Solve the blocks this structure needs. True if the system must be re-analysed:
+    a block was singular (its dependent rows are now left out) or the under-determined
+    part determined some unknowns numerically."""
+    from .numeric_rank import dependent_rows, inconsistent_rows
+
+    needed = _needed(system, structure, solve_all)
+    names = [n for n in needed if n not in structure.under]
+    # the under-determined part matters when an answer needs it (or everything is asked)
+    split = bool(structure.under) and (not wanted or bool(structure.undetermined_for(wanted)))
+    if split:  # what the under-determined rows need, to rank them with numbers
+        for k in _under_rows(structure):
+            names.extend(v for v in structure.incidence[k]
+                         if v not in structure.under and v not in values)
+    for b in structure.needed_blocks(names):
+        block = structure.blocks[b]
+        try:
+            rep = _solve_block(system, structure, block, values, precision)
+        except ProblemError as exc:
+            if exc.diagnostics[0].code == "singular":
+                bad = inconsistent_rows(system, block.equations, block.unknowns, values,
+                                        exact=precision == "exact")
+                if bad is not None:
+                    raise _dependent_conflict(system, structure, state.used, values,
+                                              *bad) from None
+                dep, support = dependent_rows(system, block.equations, block.unknowns, values)
+                if dep - state.excluded:
+                    state.excluded |= dep
+                    state.support = state.support or support  # the first: the cause
+                    return True
+                _blame_downstream(system, structure, b, values, exc)
+            raise
+        reports.append(rep)
+        state.used.update(block.equations)
+        _add_bounds(rep, bounds)
+    if split:
+        return _split_under(system, structure, precision, values, reports, bounds, state)
+    return False
+
+
+def _check_under_part(system: System, structure: Structure, values, precision: str,
+                      used: set[int]) -> None:
+    """The under-determined part can still be inconsistent: rows whose left sides depend
+    on each other (two momentum rows that see only the sum of a pin's and a contact's
+    impulse) with numbers that disagree. Checked even when no answer needs that part."""
+    from .numeric_rank import UNDER_LIMIT, inconsistent_rows
+
+    if not structure.under:
+        return
+    ks = _under_rows(structure)
+    rank = {n: i for i, n in enumerate(system.unknowns)}
+    cols = sorted({v for k in ks for v in structure.incidence[k] if v in structure.under},
+                  key=lambda n: rank.get(n, len(rank)))
+    if not cols or len(cols) > UNDER_LIMIT:
+        return
+    bad = inconsistent_rows(system, ks, cols, values, exact=precision == "exact")
+    if bad is not None:
+        raise _dependent_conflict(system, structure, used, values, *bad)
+
+
+def _dependent_conflict(system: System, structure: Structure, used: set[int], values,
+                        row: int, support: set[int]) -> ProblemError:
+    """Rows whose left sides depend on each other but whose numbers disagree: an
+    inconsistency, named by every statement in it: those rows, and the rows that fixed
+    the values they use (a stated velocity, a restitution law)."""
+    eqs = system.equations
+    e = eqs[row]
+    known = {v for k in support for v in structure.incidence[k] if v in values}
+    fixers = {k for k in used if structure.incidence[k] & known}
+    rows = support | fixers
+    parts: dict[int, list[str]] = {}
+    for k in sorted(rows):
+        q = eqs[k]
+        if q.span is not None:
+            parts.setdefault(q.span.line, []).append(q.principle)
+        for name, line in _given_lines(q, system):
+            parts.setdefault(line, []).append(f"given {name}")
+    items = [f"line {line} ({'; '.join(dict.fromkeys(parts[line]))})" for line in sorted(parts)]
+    whats = "; ".join(dict.fromkeys(eqs[k].principle for k in sorted(support)))
+    return ProblemError(f"inconsistent: {e.principle} does not hold", e.span,
+                        code="inconsistent",
+                        notes=[f"together with {whats}, it has no solution",
+                               "the conflicting statements (the smallest set): " +
+                               ", ".join(items)])
+
+
+def _under_rows(structure: Structure) -> list[int]:
+    """The rows of the under-determined part, and the dependent rows that touch it."""
+    return sorted(structure.under_eqs | {k for k in structure.redundant
+                                         if structure.incidence[k] & structure.under})
+
+
+def _add_bounds(rep: BlockReport, bounds) -> None:
+    comps = rep.quality.components if rep.quality is not None else None
+    for j, name in enumerate(rep.unknowns):
+        # Newton blocks converge to ~1e-14 of their terms; allow for their conditioning
+        bounds[name] = comps[j] if comps else max(rep.residual * 100, 1e-12)
+
+
+def _split_under(system: System, structure: Structure, precision: str, values, reports,
+                 bounds, state: _Rounds) -> bool:
+    """Answer the unknowns the structurally under-determined rows determine numerically
+    (the velocities after a contact declared twice; only the split of the impulse is
+    free): solve the independent rows for their pivots, with the free columns at 0,
+    and keep the pivots that every solution agrees on. True if anything was found."""
+    from .numeric_rank import split_under
+
+    ks = _under_rows(structure)
+    key = (tuple(ks), tuple(sorted(structure.under)))
+    if key in state.split_tried:
+        return False
+    state.split_tried.add(key)
+    sp = split_under(system, structure.under, ks, values, precision == "exact")
+    if sp is None:
+        return False
+    state.free.update(sp.free)
+    state.support = state.support or sp.support  # the first dependency found: the cause
+    if not sp.determined:
+        return False
+    piv = [sp.cols[p] for _, p in sp.basis]
+    col = {n: j for j, n in enumerate(piv)}
+    rows = [{col[sp.cols[j]]: v for j, v in sp.rows[k].items() if sp.cols[j] in col}
+            for k, _ in sp.basis]
+    rhs = [sp.rhs[k] for k, _ in sp.basis]
+    beqs = [system.equations[k] for k, _ in sp.basis]
+    x, quality = solve_linear(rows, rhs, beqs, piv, precision)
+    trial = dict(values)
+    trial.update(zip(piv, x))
+    trial.update((n, 0.0) for n in sp.cols if n not in col)
+    keep = [j for j, n in enumerate(piv) if n in set(sp.determined)]
+    names = [piv[j] for j in keep]
+    comps = quality.components
+    quality = type(quality)(**{f: getattr(quality, f) for f in quality._fields})
+    quality.components = [comps[j] for j in keep] if comps else None
+    rep = BlockReport(len(reports), names, [k for k, _ in sp.basis], "linear", quality.cond, 0,
+                      0.0, None, None, quality)
+    for n in names:
+        values[n] = trial[n]
+    reports.append(rep)
+    _add_bounds(rep, bounds)
+    state.used.update(k for k, _ in sp.basis)
+    # the dependent rows hold for every solution if they hold for this one
+    free_bounds = dict(bounds)
+    for j, n in enumerate(piv):
+        free_bounds.setdefault(n, comps[j] if comps else 0.0)
+    for k in sp.dependent:
+        _check_conflict(system.equations[k], trial, [], system, structure, state,
+                        free_bounds)
+    state.excluded.update(sp.dependent)
+    return True
+
+
+def _check_conflict(e: Equation, values, checks, system, structure, state: _Rounds, bounds,
+                    constant: bool = False) -> None:
+    """`_check_equation`, and if the equation does not hold, name every statement of the
+    smallest conflict it is part of (the rows a left null vector involves)."""
+    try:
+        _check_equation(e, values, checks, system, structure, constant=constant,
+                        bounds=bounds)
+    except ProblemError as exc:
+        d = exc.diagnostics[0]
+        if d.code != "inconsistent":
+            raise
+        note = _conflict_note(e, values, system, state)
+        if not note:
+            raise
+        raise ProblemError(d.message, d.span, code=d.code, notes=[*d.notes, note],
+                           caret=d.caret) from None
+
+
+def _conflict_note(e: Equation, values, system: System, state: _Rounds) -> str | None:
+    from .numeric_rank import conflict_set
+
+    used = sorted(state.used)
+    if len(used) > 3000:
+        return None
+    ks = conflict_set(system, e.index, used, values)
+    if len(ks) < 1:
+        return None
+    parts: dict[int, list[str]] = {}
+    for k in ks:
+        q = system.equations[k]
+        if q.span is not None:
+            parts.setdefault(q.span.line, []).append(q.principle)
+        for name, line in _given_lines(q, system):
+            parts.setdefault(line, []).append(f"given {name}")
+    if not parts:
+        return None
+    items = []
+    for line in sorted(parts):
+        whats = list(dict.fromkeys(parts[line]))
+        shown = "; ".join(whats[:3]) + (f"; and {len(whats) - 3} more" if len(whats) > 3 else "")
+        items.append(f"line {line} ({shown})")
+    return "the conflicting statements (the smallest set): " + ", ".join(items)
 
 
 def _scale(e: Equation, values: dict[str, float]) -> float:

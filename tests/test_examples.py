@@ -213,6 +213,22 @@ def ballistic_pendulum():
               "Jx[O]@1->2": p_after - m * v0})
 
 
+def _pendulum_joined_in_impact(name: str):
+    a = got(name)
+    g, m, M, v0 = 9.81, 0.010, 2.0, 400.0
+    v = m * v0 / (m + M)  # momentum in x: the wires give no horizontal impulse
+    check(a, {"block.vx@2": v, "bullet.vx@2": v, "rise": v * v / (2 * g),  # energy
+              "T_lost@1->2": 0.5 * m * v0 * v0 - 0.5 * (m + M) * v * v})
+
+
+def ballistic_pendulum_pin_from_impact():
+    _pendulum_joined_in_impact("ballistic_pendulum_pin_from_impact")
+
+
+def ballistic_pendulum_pin_from_impact_rough():
+    _pendulum_joined_in_impact("ballistic_pendulum_pin_from_impact_rough")
+
+
 def disk_slide_then_roll():
     a = got("disk_slide_then_roll")
     m, r, v0, mu, g = 5.0, 0.25, 6.0, 0.2, 9.81
@@ -448,7 +464,8 @@ CHECKS = {f.__name__: f for f in [
     seed_billiards_elastic, seed_billiards_find_e, seed_disk_wall, seed_oblique_particles,
     seed_pendulum_wall, seed_plastic_collision, seed_rod_disk_bearing, seed_rod_drop_rough,
     seed_rod_drop_smooth,
-    rod_struck_by_particle, ballistic_pendulum, disk_slide_then_roll, wall_oblique_stick,
+    rod_struck_by_particle, ballistic_pendulum, ballistic_pendulum_pin_from_impact,
+    ballistic_pendulum_pin_from_impact_rough, disk_slide_then_roll, wall_oblique_stick,
     wall_oblique_slide, us_rod_center_of_percussion, newtons_cradle_sequence,
     newtons_cradle_simultaneous, ball_bounce_rebound, bounce_find_e, sphere_backspin_returns,
     sphere_rough_bounce, crate_pushed_force, flywheel_torque, spring_launch_collision,

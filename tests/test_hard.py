@@ -860,8 +860,6 @@ def test_duplicate_contact_is_singular_at_the_contact_lines():
     assert any("14, 15" in n for n in d.notes)
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: two pins at the same point blame rod.omega@2 "
-                   "(determined by rotation about the pin) instead of the pin impulses")
 def test_double_pin_names_the_pin_impulses():
     d = error_of("bad_double_pin")
     named = _named(d.message)

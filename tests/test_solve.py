@@ -160,8 +160,9 @@ find b.vx@2
 
 def test_only_the_blocks_the_find_needs_are_solved():
     """Two independent impacts: asking for one solves what it needs plus what the
-    report's checks need (each impact's velocities, for its energy check), not the
-    other impact's impulse; `--all` solves everything."""
+    report's checks need (each impact's velocities and impulses: its energy check, and
+    rows that depend on each other are only found inconsistent by solving them);
+    `--all` solves everything."""
     text = """
 body a: particle(mass = 1 kg)
 body b: particle(mass = 2 kg)
@@ -177,7 +178,7 @@ find a.vy@2
 """
     sol = solve_text(text)
     assert sol.values["a.vy@2"] == 1.5  # -e * (-3 m/s)
-    assert "J_n[b]@3->4" not in sol.values
+    assert sol.values["J_n[b]@3->4"] == 2 * (0.5 + 1)  # m (v' - v), for the checks
     full = solve_text(text, solve_all=True)
     assert full.values["J_n[b]@3->4"] == 2 * (0.5 + 1)  # m (v' - v)
     assert full.values["b.vy@4"] == 0.5 and full.values["a.vy@2"] == 1.5
