@@ -61,7 +61,8 @@ STRUCTURE_RANK_FIXED = False
 GATES = {"forming": FORMING_JOINTS_FIXED, "regime_check": REGIME_CHECK_FIXED,
          "slide_sign": SLIDE_SIGN_FIXED, "check_tolerance": CHECK_TOLERANCE_FIXED,
          "structure_rank": STRUCTURE_RANK_FIXED}
-CATEGORIES = ("free", "ground", "joints", "friction", "unknown_e", "redundant", "forming",
+CATEGORIES = ("free", "ground", "joints", "friction", "unknown_e", "redundant", "pendulum",
+              "forming",
               "friction_stated", "friction_multi")
 # categories that exist only to exercise one gate (drawn only when it is open)
 GATED = {"forming": "forming", "friction_stated": "regime_check",
@@ -528,6 +529,8 @@ def generate(seed: int, category: str | None = None, gated=False) -> Scene:
 
 def _draw(rng: random.Random, seed: int, cat: str, op: frozenset) -> Scene | None:
     nb = rng.randint(1 if cat in ("ground", "joints", "friction") else 2, 4)
+    if cat == "pendulum" and nb == 4:
+        nb = 3
     names = rng.sample(NAMES, nb)
     bodies = [_make_body(rng, nm, rng.choice(KINDS)) for nm in names]
     pts = _Points(rng)
@@ -554,6 +557,13 @@ def _draw(rng: random.Random, seed: int, cat: str, op: frozenset) -> Scene | Non
                 return None
             joints.append(Joint(rng.choice(("pin", "weld")), f"j{len(joints) + 1}",
                                 pts.on(a, False), pts.on(b, False), forming=True))
+    if cat == "pendulum":  # one body on a ground pin, struck by free bodies
+        if bodies[0].particle:
+            bodies[0] = _make_body(rng, bodies[0].name, rng.choice(KINDS[1:]))
+        joints = [Joint("pin", "j1", pts.on(bodies[0], False), None)]
+        if nb > 2 and rng.random() < 0.4:
+            joints.append(Joint(rng.choice(("pin", "weld")), "j2", pts.on(bodies[1], False),
+                                pts.on(bodies[0], False)))
     joined = {frozenset((j.a.body, j.b.body if j.b else None)) for j in joints}
     # contacts
     ncont = rng.randint(1, 3 if cat != "forming" else 2)
@@ -561,7 +571,9 @@ def _draw(rng: random.Random, seed: int, cat: str, op: frozenset) -> Scene | Non
         a = rng.choice(bodies)
         others = [b for b in bodies if b is not a and frozenset((a.name, b.name)) not in joined]
         to_ground = cat in ("ground", "friction") and rng.random() < 0.6 or not others \
-            or rng.random() < 0.2
+            or rng.random() < 0.2 and cat != "pendulum"
+        if cat == "pendulum" and not others:
+            return None
         nint, n = _direction(rng)
         mode = rng.choice(("smooth", "smooth", "rough", "friction"))
         if cat in ("friction",) and k == 0:
@@ -598,7 +610,7 @@ def _draw(rng: random.Random, seed: int, cat: str, op: frozenset) -> Scene | Non
     if d.pull and rng.random() < 0.75:
         return None  # some pulling contacts (warned), mostly physical impacts
     sc.open = op
-    want = cat in ("redundant", "friction_stated") or \
+    want = cat in ("redundant", "friction_stated", "pendulum") or \
         cat == "unknown_e" and "structure_rank" in op and rng.random() < 0.5 or rng.random() < 0.3
     if want and (not friction or "regime_check" in op) and \
             (cat != "unknown_e" or "structure_rank" in op):
@@ -651,7 +663,6 @@ def _place(rng: random.Random, sc: Scene) -> bool:
     """Positions: joint points coincide (ground pins where their body puts them); contact
     points coincide along a spanning tree of the remaining interactions."""
     bm = bodymap(sc)
-    placed: set[str] = set()
     for b in sc.bodies:
         b.pos = (_num(rng, -3, 3, 3), _num(rng, -3, 3, 3))
     # joints first (a forest: each joint's a-side body is placed from its b side)
@@ -691,16 +702,19 @@ def _place(rng: random.Random, sc: Scene) -> bool:
         if c.b is None or c.b.body is None:
             continue
         ra, rb = root(c.a.body), root(c.b.body)
-        if ra == rb or ra in grounded:
+        if ra == rb or (ra in grounded and rb in grounded):
             continue
         pa = point_world(sc, c.a, c.normal, 1.0)
         pb = point_world(sc, c.b, c.normal, -1.0)
         dx, dy = pb[0] - pa[0], pb[1] - pa[1]
+        if ra in grounded:  # move b's group onto a instead
+            ra, rb, dx, dy = rb, ra, -dx, -dy
         for b in sc.bodies:
             if root(b.name) == ra:
                 b.pos = (b.pos[0] + dx, b.pos[1] + dy)
         group[ra] = rb
-        placed.add(ra)
+        if ra in grounded or rb in grounded:
+            grounded.add(rb)
     return True
 
 
@@ -761,6 +775,8 @@ def _statements(rng: random.Random, sc: Scene, d: Dense) -> None:
     names = [b.name for b in sc.bodies]
     for _ in range(rng.randint(1, 3)):
         kind = rng.choice(("momentum", "angular", "equation"))
+        if sc.category == "pendulum" and not any(x[0] == "angular" for x in sc.statements):
+            kind = "angular"
         if kind == "equation":
             keys = sorted(d.v2)
             scale = 1.0 + max(abs(v) for v in d.v2.values())
@@ -769,7 +785,15 @@ def _statements(rng: random.Random, sc: Scene, d: Dense) -> None:
                 keys = zeros  # a true value of 0, as the dense solve's round-off
             sc.statements.append(("equation", rng.choice(keys)))
             continue
-        group = set(rng.sample(names, rng.randint(1, len(names))))
+        comps = components(sc)
+        if rng.random() < 0.6:
+            group = set(rng.choice(comps))
+        else:
+            group = set(rng.sample(names, rng.randint(1, len(names))))
+        if kind == "angular":  # prefer a group held by one ground pin
+            held = [c for c in comps if _one_pin(sc, set(c))]
+            if held:
+                group = set(rng.choice(held))
         dirs, pins = external(sc, group)
         if kind == "momentum":
             f = free_direction(dirs)
@@ -782,6 +806,28 @@ def _statements(rng: random.Random, sc: Scene, d: Dense) -> None:
         elif len(pins) == 1 and pins[0] is not None and len(dirs) == 1 and \
                 _colocated(sc, group):
             sc.statements.append(("angular", group, pins[0]))
+
+
+def components(sc: Scene) -> list[list[str]]:
+    """Bodies connected by contacts and joints between bodies."""
+    parent = {b.name: b.name for b in sc.bodies}
+
+    def root(x):
+        while parent[x] != x:
+            x = parent[x]
+        return x
+    for el in list(sc.contacts) + list(sc.joints):
+        if el.b is not None and el.b.body is not None:
+            parent[root(el.a.body)] = root(el.b.body)
+    out: dict[str, list[str]] = {}
+    for b in sc.bodies:
+        out.setdefault(root(b.name), []).append(b.name)
+    return list(out.values())
+
+
+def _one_pin(sc: Scene, group: set) -> bool:
+    dirs, pins = external(sc, group)
+    return len(pins) == 1 and pins[0] is not None and len(dirs) == 1
 
 
 def _colocated(sc: Scene, group: set) -> bool:
@@ -1052,6 +1098,36 @@ def compare(sc: Scene, d: Dense, ans: dict, sol) -> list[tuple[str, str]]:
         for q in ("vx", "vy", "omega")[:b.ndof]:
             v2[(b.name, q)] = ans.get(f"{b.name}.{q}@2", math.nan)
     probs += laws(sc, v2, d)
+    probs += coulomb(sc, ans, v2, sol.regimes)
+    return probs
+
+
+def coulomb(sc: Scene, ans: dict, v2: dict, regimes: dict) -> list[tuple[str, str]]:
+    """The program's friction regimes obey Coulomb: stick inside the cone; a sliding
+    contact pushes (J_n >= 0) and its friction opposes the slip before and after."""
+    probs = []
+    for c in sc.contacts:
+        if c.mode != "friction":
+            continue
+        jn, jt = ans.get(f"J_n[{c.label}]@1->2"), ans.get(f"J_t[{c.label}]@1->2")
+        if jn is None or jt is None:
+            continue
+        t = (-c.normal[1], c.normal[0])
+        vt1, vt2 = _rel(sc, c, None, t), _rel(sc, c, v2, t)
+        tol = 1e-9 * (abs(jn) + abs(jt) + 1e-300)
+        regime = regimes.get(f"1->2:{c.label}", "stick")
+        if regime == "stick" and abs(jt) > c.mu * jn + tol:
+            probs.append(("law", f"{c.label} sticks outside the friction cone: "
+                          f"|J_t| = {abs(jt)!r} > mu J_n = {c.mu * jn!r}"))
+        elif regime != "stick":
+            if jn < -tol:
+                probs.append(("law", f"{c.label} slides while pulling: J_n = {jn!r}"))
+            elif jt * vt1 > tol * abs(vt1) and jt * vt2 > -tol * abs(vt2):
+                probs.append(("law", f"{c.label}: friction J_t = {jt!r} acts along the slip "
+                              f"(before {vt1!r}, after {vt2!r})"))
+            elif vt1 * vt2 < 0 and abs(vt2) > 1e-9 * (abs(vt1) + 1.0):
+                probs.append(("law", f"{c.label}: sliding reversed the slip (before {vt1!r}, "
+                              f"after {vt2!r}): friction opposing it would have stopped it"))
     return probs
 
 
