@@ -12,8 +12,8 @@ contact is closing, a friction contact slips before the impact and exactly one
 stick/slide combination satisfies Coulomb's law (stick inside the cone, a sliding
 contact's slip not reversed), joints form a forest with the ground (no closed loop).
 
-Run `python tests/scenegen.py --count 10000` for the large run with shrinking of the
-failures (the CI test is tests/test_generated.py).
+Run `python tests/scenegen.py --count 10000 --shrink 2` for the large run with the
+failures shrunk (`--gated NAME` opens a gate below); the CI test is tests/test_generated.py.
 """
 from __future__ import annotations
 
@@ -46,10 +46,12 @@ REGIME_CHECK_FIXED = False
 # slip; and a sliding regime whose J_n < 0 is accepted.
 SLIDE_SIGN_FIXED = False
 
-# `equation Q = value` with Q's true value 0 written as the dense solve's round-off
-# (1e-17 m/s) is refused "inconsistent": the check's tolerance scales with the residual's
-# own terms (issue 9, reproduction 2; solve.py's checks fix it). Until then such values
-# are written as 0.
+# `equation Q = value` true to round-off is refused "inconsistent": a true 0 written as
+# the dense solve's 1e-17 m/s, a value off by 3e-14 relative (the float dense solve's
+# round-off, or an angular statement true only to the round-off of the positions), since
+# the check's tolerance scales with the residual's own terms, not the problem's quantities
+# (issue 9, reproduction 2; solve.py's checks fix it). Until then values are solved
+# exactly, a round-off 0 is written as 0, and no `equation` stands beside an angular one.
 CHECK_TOLERANCE_FIXED = False
 # `restitution ?` together with a redundant stated principle (`conserve momentum ...`):
 # the structural matching takes the stated row and leaves a numerically singular block
@@ -62,8 +64,7 @@ GATES = {"forming": FORMING_JOINTS_FIXED, "regime_check": REGIME_CHECK_FIXED,
          "slide_sign": SLIDE_SIGN_FIXED, "check_tolerance": CHECK_TOLERANCE_FIXED,
          "structure_rank": STRUCTURE_RANK_FIXED}
 CATEGORIES = ("free", "ground", "joints", "friction", "unknown_e", "redundant", "pendulum",
-              "forming",
-              "friction_stated", "friction_multi")
+              "forming", "friction_stated", "friction_multi")
 # categories that exist only to exercise one gate (drawn only when it is open)
 GATED = {"forming": "forming", "friction_stated": "regime_check",
          "friction_multi": "slide_sign"}

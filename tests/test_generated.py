@@ -4,8 +4,9 @@ solved through the real parser and pipeline, against an independent dense solve.
 The scenes (tests/scenegen.py) have bodies of every shape, several contacts at once
 (smooth, rough, Coulomb friction; restitution given or `?`; with the ground, with declared
 surfaces and between bodies), joints (pins to the ground and between bodies, welds,
-links) and redundant true statements (`conserve momentum ...` where it holds,
-`conserve angular momentum ... about` a lone ground pin, `equation Q = true value`).
+links; a body on a lone ground pin struck by free bodies) and redundant true statements
+(`conserve momentum ...` where it holds, `conserve angular momentum ... about` a lone
+ground pin, `equation Q = true value`).
 Every scene is well-posed by construction, so each must be answered (a contact that would
 pull is answered with a warning), and
 
@@ -15,7 +16,9 @@ pull is answered with a warning), and
 * momentum is conserved along every impulse-free direction, angular momentum about a
   ground pin that is the only external impulse, and frictionless contacts with e <= 1
   that push never gain energy (checked on the program's answers);
-* a stated true principle is reported to hold.
+* a stated true principle is reported to hold; a pulling contact is warned about; the
+  program's friction regimes obey Coulomb (stick inside the cone, sliding friction
+  against the slip, never reversing it, with J_n >= 0).
 
 CI runs a fixed budget (`--gen-count`, default 200 scenes); the large run is
 `nice -n 10 python -m pytest -m generated --gen-count 10000 tests/test_generated.py`
