@@ -13,6 +13,26 @@ EXAMPLES = ROOT / "examples"
 def pytest_addoption(parser):
     parser.addoption("--update-golden", action="store_true", default=False,
                      help="rewrite examples/*.out and *.json from the current output")
+    parser.addoption("--gen-count", type=int, default=200,
+                     help="scenes in the generated-problem test (tests/test_generated.py); "
+                          "the large run: -m generated --gen-count 10000")
+    parser.addoption("--gen-start", type=int, default=0,
+                     help="first seed of the generated-problem test")
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "generated: the generated-problem property test "
+                            "(random scenes against an independent dense solve)")
+
+
+@pytest.fixture
+def gen_count(request) -> int:
+    return request.config.getoption("--gen-count")
+
+
+@pytest.fixture
+def gen_start(request) -> int:
+    return request.config.getoption("--gen-start")
 
 
 @pytest.fixture
