@@ -301,6 +301,17 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
                     state.support = state.support or support  # the first: the cause
                     return True
                 _blame_downstream(system, structure, b, values, exc)
+            elif exc.diagnostics[0].code == "ill-conditioned" and precision != "exact":
+                # singular to float64 but not exactly: a statement true only to round-off
+                # (a stated direction that is perpendicular to a normal in decimals) is
+                # a dependent row to check, not a reason to refuse the file
+                dep, support = dependent_rows(system, block.equations, block.unknowns,
+                                              values, exact=False)
+                dep = {k for k in dep if system.equations[k].kind in ("stated", "user")}
+                if dep - state.excluded:
+                    state.excluded |= dep
+                    state.support = state.support or support
+                    return True
             raise
         reports.append(rep)
         state.used.update(block.equations)
