@@ -184,7 +184,7 @@ class ReferencesMixin:
     def _user_equation(self, ue: S.UserEquation) -> None:
         ev = self._evaluator()
         a, b = ev(ue.left), ev(ue.right, None)
-        if a.dim != b.dim:
+        if a.dim != b.dim and not (_bare_zero(ue.left) or _bare_zero(ue.right)):
             raise ProblemError(f"the two sides differ: {describe(a.dim)} = {describe(b.dim)}",
                                ue.span, code="units")
         if a.is_vector != b.is_vector:
@@ -252,3 +252,12 @@ def _expr_text(node) -> str:
 def _ref_help(ref: S.Ref) -> list[str]:
     return ["quantities: BODY.omega@S, BODY.v@S, POINT.v@S, BODY.vx@S, BODY.angle@S, BODY.speed@S, "
             "t@S->S, J_n[CONTACT]@S->S, e[CONTACT], T@S, T_lost@S->S, BODY.dtheta@S->S"]
+
+
+def _bare_zero(node) -> bool:
+    """A `0` (or `(0, 0)`) written without a unit: zero of any dimension."""
+    if isinstance(node, S.Num):
+        return node.value == 0 and node.unit is None
+    if isinstance(node, S.VecLit):
+        return _bare_zero(node.x) and _bare_zero(node.y)
+    return False

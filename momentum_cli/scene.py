@@ -431,10 +431,12 @@ class _Builder:
             raise ProblemError("a burning body is a particle (its thrust acts through G)",
                                s.span, code="name")
         self._states_exist(states, s.before, s.after, s.span)
-        if s.exhaust is None or s.rate is None:
-            raise ProblemError("a burn needs `exhaust SPEED along (x, y)` and `rate MASS_RATE`",
-                               s.span, code="name")
-        if (s.burned is None) == (s.duration is None):
+        if s.exhaust is None:
+            raise ProblemError("a burn needs `exhaust SPEED along (x, y)`", s.span, code="name")
+        if s.rate is None and s.burned is None:
+            raise ProblemError("a burn needs `burns MASS` (and `rate MASS_RATE` or `duration "
+                               "TIME` for its time)", s.span, code="name")
+        if s.rate is not None and (s.burned is None) == (s.duration is None):
             raise ProblemError("a burn needs either `burns MASS` or `duration TIME`", s.span,
                                code="name")
         for t in transitions:

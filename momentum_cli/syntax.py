@@ -694,6 +694,20 @@ def _tspan(tok) -> Span:
     return Span(tok.line, tok.column, tok.end_line, tok.end_column)
 
 
+def _drop_trailing_inch(expr):
+    """`L/2 in mm` parsed `2 in` as inches: the expression with its last number bare
+    (None when it does not end in a number read as inches)."""
+    if isinstance(expr, Num):
+        return Num(expr.span, expr.value) if expr.unit == "in" else None
+    if isinstance(expr, BinOp):
+        right = _drop_trailing_inch(expr.right)
+        return None if right is None else BinOp(expr.span, expr.op, expr.left, right)
+    if isinstance(expr, Neg):
+        arg = _drop_trailing_inch(expr.arg)
+        return None if arg is None else Neg(expr.span, arg)
+    return None
+
+
 def _make_transformer():
     from lark import Token, Transformer, v_args
 
@@ -1188,6 +1202,14 @@ def _make_transformer():
             name, expr = ch[0]
             unit = ch[1] if len(ch) > 1 else (None, None)
             return FindItem(_span(meta), name, expr, unit[0], unit[1])
+
+        def find_item_split(self, meta, ch):
+            name, expr = ch[0]
+            bare = _drop_trailing_inch(expr)
+            if bare is None:
+                raise ProblemError(f"write `in {ch[1]}` to give the unit of an answer",
+                                   _tspan(ch[1]), code="syntax")
+            return FindItem(_span(meta), name, bare, str(ch[1]), _tspan(ch[1]))
 
         def find_stmt(self, meta, ch):
             return Find(_span(meta), tuple(ch))

@@ -1,0 +1,75 @@
+"""Issue 10's language items, each against a closed form derived here (not the program's
+own output): the small grammar traps, the units a student types, energy of part of the
+scene, quantities of a body or a set, and two cases in one file."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from helpers import answers, error_of
+
+EX = Path(__file__).resolve().parent.parent / "examples"
+
+
+def ex(name: str) -> dict[str, float]:
+    return answers((EX / name).read_text(), name=name)
+
+
+# ---- item 12: small grammar traps -------------------------------------------------------
+def test_number_before_in_unit_is_a_number():
+    a = answers('problem "t"\nlet L = 1.5 m\nbody b: particle(mass = 1 kg)\n'
+                'state 1: b.v = (0, 0), b.pos = (0, 0)\n'
+                'find half = L/2 in mm, q = -L/2 in mm, r = 3 in + 2 in in mm\n')
+    assert a["half"] == pytest.approx(0.75)
+    assert a["q"] == pytest.approx(-0.75)
+    assert a["r"] == pytest.approx(5 * 0.0254)  # inches elsewhere stay inches
+
+
+def test_unit_without_in_after_a_name_says_write_in():
+    d = error_of('problem "t"\nbody b: particle(mass = 1 kg)\n'
+                 'state 1: b.v = (0, 0), b.pos = (0, 0)\nfind b.vx@1 mm\n')
+    assert "write `in mm`" in d.message
+
+
+def test_bare_zero_fits_any_dimension():
+    # elastic head-on impact of m1 = 2 kg at u = 3 m/s on m2 = 1 kg at rest:
+    # v1 = (m1 - m2) u/(m1 + m2), v2 = 2 m1 u/(m1 + m2)
+    a = ex("elastic_no_energy_lost.mom")
+    m1, m2, u = 2.0, 1.0, 3.0
+    assert a["A.vx@2"] == pytest.approx((m1 - m2) * u / (m1 + m2))
+    assert a["B.vx@2"] == pytest.approx(2 * m1 * u / (m1 + m2))
+    assert a["mean"] == pytest.approx((3 * m1 - m2) * u / (2 * (m1 + m2)))
+
+
+def test_zero_with_a_unit_still_checks_dimension():
+    d = error_of('problem "t"\nbody b: particle(mass = 1 kg)\n'
+                 'state 1: b.v = (1 m/s, 0), b.pos = (0, 0)\n'
+                 'equation b.vx@1 = 0 kg\nfind b.vy@1\n')
+    assert "differ" in d.message
+
+
+def test_burn_for_its_dv_needs_no_rate():
+    a = ex("rocket_dv_only.mom")
+    assert a["dv"] == pytest.approx(3000 * math.log(1000 / 700))
+    assert a["probe.mass@2"] == pytest.approx(700)
+
+
+def test_burn_without_rate_under_gravity_asks_for_rate_or_duration():
+    text = (EX / "rocket_dv_only.mom").read_text().replace(
+        'problem "', 'gravity 9.81 m/s^2 down\nproblem "')
+    assert "`rate MASS_RATE` or `duration TIME`" in error_of(text).message
+
+
+def test_burn_with_mass_and_duration_has_its_rate():
+    # free space, 300 kg of 1000 kg in 60 s at c = 3000 m/s: x = 0.3 burnt fraction,
+    # travel relative to coasting: -c (t - (m1/mdot) ln(m0/m1)) along the exhaust
+    text = (EX / "rocket_dv_only.mom").read_text().replace(
+        "    burns 300 kg", "    burns 300 kg\n    duration 60 s").replace(
+        "find dv", "find x2 = probe.x@2, dv")
+    a = answers(text)
+    c, m0, m1, t = 3000.0, 1000.0, 700.0, 60.0
+    mdot = (m0 - m1) / t
+    assert a["dv"] == pytest.approx(c * math.log(m0 / m1))
+    assert a["x2"] == pytest.approx(7500 * t + c * (t - m1 / mdot * math.log(m0 / m1)))
