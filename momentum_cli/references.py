@@ -7,6 +7,7 @@ quantity.
 """
 from __future__ import annotations
 
+import difflib
 import math
 
 from . import syntax as S
@@ -97,7 +98,13 @@ class ReferencesMixin:
                         if c.label == idx and not c.restitution_unknown:
                             return Q(Known(text, c.restitution), NONE)
             candidates = list(self.unknowns) + list(sc.constants) + ["g", "pi"]
-            raise ProblemError(f"unknown quantity '{text}'" + did_you_mean(text, candidates),
+            hint = did_you_mean(text, candidates)
+            known = _FAMILIES + list(sc.bodies) + list(sc.points)
+            if not hint and name not in known:
+                # a misspelt family, body or point with a good rest: `T_lots@1->2`
+                close = difflib.get_close_matches(name, sorted(set(known)), n=1, cutoff=0.6)
+                hint = f"; did you mean '{close[0]}{text[len(name):]}'?" if close else ""
+            raise ProblemError(f"unknown quantity '{text}'" + hint,
                                ref.span, code="name", notes=_ref_help(ref))
 
         return resolve
@@ -199,6 +206,7 @@ class ReferencesMixin:
 
     def _finds(self) -> list[FindSpec]:
         from .quantity import unit_readings
+        from .units import suggest_unit
 
         ev = self._evaluator()
         out = []
@@ -207,11 +215,12 @@ class ReferencesMixin:
             base = item.name or _expr_text(item.expr)
             unit, factor = _display_unit(self.unknowns, item, q)
             if item.unit:
-                readings = unit_readings(item.unit, item.unit_span)
+                readings = unit_readings(item.unit, item.unit_span, q.dim)
                 match = [r for r in readings if r[1] == q.dim]
                 if not match:
                     raise ProblemError(f"cannot show {describe(q.dim)} in {item.unit} "
-                                       f"({describe(readings[0][1])})", item.unit_span,
+                                       f"({describe(readings[0][1])})" +
+                                       suggest_unit(item.unit, q.dim), item.unit_span,
                                        code="units")
                 unit, factor = item.unit, match[0][0]
             if q.is_vector:
@@ -247,6 +256,10 @@ def _expr_text(node) -> str:
     if isinstance(node, S.Ref):
         return node.text
     return "value"
+
+
+# names of quantities that are not a body's (`T@S`, `J_n[A]@S->S`, ...)
+_FAMILIES = ["T", "T_lost", "t", "J_n", "J_t", "Jx", "Jy", "J", "e", "H", "p"]
 
 
 def _ref_help(ref: S.Ref) -> list[str]:

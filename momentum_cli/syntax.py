@@ -657,8 +657,19 @@ def _syntax_error(source: Source, exc) -> ProblemError:
             what = f"'{tok}'"
         end = Span(line, col, line, col + len(str(tok))) if tok.type not in (
             "_NL", "_INDENT", "_DEDENT") else Span(line, col)
-        return ProblemError(f"syntax error: unexpected {what}" + hint, end, code="syntax")
+        keyword = _keyword_hint(str(tok), words)
+        return ProblemError(f"syntax error: unexpected {what}" + (keyword or hint), end,
+                            code="syntax")
     return ProblemError(f"syntax error: {_first_line(exc)}", Span(line, col), code="syntax")
+
+
+def _keyword_hint(word: str, expected_words) -> str:
+    """"; did you mean 'impact'?" when a misspelt word is close to a keyword expected here."""
+    from .diagnostics import did_you_mean
+
+    keywords = [w.strip("'") for w in expected_words if w.startswith("'") and
+                w.strip("'").isalpha()]
+    return did_you_mean(word, keywords) if word.isidentifier() else ""
 
 
 def _block_opener(source: Source, line: int, col: int) -> int | None:

@@ -75,5 +75,49 @@ def test_burn_with_mass_and_duration_has_its_rate():
     assert a["x2"] == pytest.approx(7500 * t + c * (t - m1 / mdot * math.log(m0 / m1)))
 
 
+# ---- item 11: units and names a student types -------------------------------------------
+LB, LBF, FT, MI = 0.45359237, 4.4482216152605, 0.3048, 1609.344
+
+
+def baseball_hit_back():
+    a = ex("baseball_hit_back.mom")
+    m = 5 / 16 * LB                            # 5 oz of mass
+    u, v = 90 * MI / 3600, 110 * MI / 3600     # mi/h in m/s
+    assert a["J_n[bat]@1->2"] == pytest.approx(m * (u + v))
+    assert a["F_avg"] == pytest.approx(m * (u + v) / 0.001)
+    assert a["ball.vx@2"] == pytest.approx(v)
+    assert a["v_kmh"] == pytest.approx(v)
+    assert a["T@2"] == pytest.approx(0.5 * m * v * v)
+
+
+BASE = ('problem "t"\nbody A: particle(mass = 1 kg)\nbody B: particle(mass = 1 kg)\n'
+        'state 1: A.v = (1 m/s, 0), B.v = (0, 0), A.pos = (0, 0), B.pos = (1 m, 0)\n'
+        'state 2\nimpact 1 -> 2:\n    contact A with B normal (-1, 0): restitution 1\n')
+
+
+@pytest.mark.parametrize("line,hint", [
+    ("impakt 2 -> 3:", "did you mean 'impact'?"),
+    ("bdy C: particle(mass = 1 kg)", "did you mean 'body'?"),
+    ("conserve momentun x of {A, B} over 1 -> 2", "did you mean 'momentum'?"),
+    ("find T_lots@1->2", "did you mean 'T_lost@1->2'?"),
+    ("find Bb.vx@2", "did you mean 'B.vx@2'?"),
+    ("find A.omgea@2", "did you mean 'omega'?"),
+    ("find A.vx@2 in km", "did you mean 'km/h'?"),
+    ("find A.vx@2 in kmph", "did you mean 'mph'?"),
+])
+def test_did_you_mean(line, hint):
+    assert hint in error_of(BASE + line + "\n").message
+
+
+@pytest.mark.parametrize("text,si", [
+    ("3 hp", 3 * 550 * FT * LBF), ("2 kW", 2000.0), ("1.5 MW", 1.5e6), ("4 W", 4.0),
+    ("30 kmh", 30 / 3.6), ("30 km/hr", 30 / 3.6), ("60 mi/h", 60 * MI / 3600),
+    ("44 fps", 44 * FT), ("44 ft/sec", 44 * FT), ("2 sec", 2.0), ("1.5 hr", 5400.0),
+    ("30°", math.pi / 6), ("30 °", math.pi / 6), ("2 mi", 2 * MI),
+])
+def test_student_units(text, si):
+    assert answers(BASE + f"find q = {text}\n")["q"] == pytest.approx(si)
+
+
 # the examples' checks, run by test_examples.py (one check for every example)
-CHECKS = {f.__name__: f for f in [elastic_no_energy_lost, rocket_dv_only]}
+CHECKS = {f.__name__: f for f in [elastic_no_energy_lost, rocket_dv_only, baseball_hit_back]}
