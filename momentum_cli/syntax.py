@@ -259,6 +259,7 @@ class Transition:
     clauses: tuple
     before_span: Span
     after_span: Span
+    groups: tuple = ()  # `energy 2 -> 3 of {rod}, {ball}`: tuples of body names
 
 
 @record(frozen=True)
@@ -1101,8 +1102,14 @@ def _make_transformer():
 
         def transition_stmt(self, meta, ch):
             kind, a, b = ch[0], ch[1], ch[2]
-            return Transition(_span(meta), kind, str(a), str(b), tuple(ch[3:]), _tspan(a),
-                              _tspan(b))
+            rest = list(ch[3:])
+            groups = rest.pop(0)[1] if rest and isinstance(rest[0], tuple) and \
+                rest[0] and rest[0][0] == "energy_of" else ()
+            return Transition(_span(meta), kind, str(a), str(b), tuple(rest), _tspan(a),
+                              _tspan(b), groups)
+
+        def energy_of(self, meta, ch):
+            return ("energy_of", tuple(ch), _span(meta))
 
         def target_ground(self, meta, ch):
             return None

@@ -4,6 +4,7 @@ scene, quantities of a body or a set, and two cases in one file."""
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -119,5 +120,54 @@ def test_student_units(text, si):
     assert answers(BASE + f"find q = {text}\n")["q"] == pytest.approx(si)
 
 
+# ---- item 1: energy of part of the scene --------------------------------------------------
+def _struck_rod(M=3.0, L=1.2, m=0.5, u=6.0, e=0.8, g=9.81):
+    """Rod pinned at its top, struck at its lower end: angular momentum about O and
+    Newton's law give omega; the rod alone then swings: I_O w^2/2 = M g (L/2)(1 - cos)."""
+    I_O = M * L * L / 3
+    w = m * u * L * (1 + e) / (I_O + m * L * L)
+    v = w * L - e * u
+    swing = math.degrees(math.acos(1 - 0.5 * I_O * w * w / (M * g * L / 2)))
+    return w, v, swing
+
+
+def pendulum_struck_ball_flies_off():
+    a = ex("pendulum_struck_ball_flies_off.mom")
+    w, v, swing = _struck_rod()
+    assert a["rod.omega@2"] == pytest.approx(w)
+    assert a["ball.vx@2"] == pytest.approx(v)
+    assert a["swing"] == pytest.approx(math.radians(swing))
+
+
+def _pendulum_text(energy_line: str, extra: str = "") -> str:
+    text = (EX / "pendulum_struck_ball_flies_off.mom").read_text()
+    return re.sub(r"^energy 2 -> 3 of \{rod\}.*$", energy_line + extra, text, flags=re.M)
+
+
+def test_energy_splits_bodies_that_nothing_ties():
+    # no `of`: the ball is tied to the rod by nothing, so each has its own balance
+    a = answers(_pendulum_text("energy 2 -> 3"))
+    assert a["swing"] == pytest.approx(math.radians(_struck_rod()[2]))
+
+
+def test_energy_of_groups_and_free():
+    for line in ("energy 2 -> 3 of {rod}, {ball}", "energy 2 -> 3:\n    free ball"):
+        a = answers(_pendulum_text(line))
+        assert a["swing"] == pytest.approx(math.radians(_struck_rod()[2])), line
+
+
+def test_energy_over_tied_bodies_names_of_in_the_error():
+    d = error_of(_pendulum_text("energy 2 -> 3", "\nequation ball.x@3 = rod.x@3"))
+    assert d.code == "under-determined"
+    assert any("energy 2 -> 3 of {" in n for n in d.notes)
+
+
+def test_energy_of_is_only_for_energy_phases():
+    d = error_of(_pendulum_text("energy 2 -> 3 of {rod}").replace(
+        "impact 1 -> 2:", "impact 1 -> 2 of {rod}:"))
+    assert "energy phase" in d.message
+
+
 # the examples' checks, run by test_examples.py (one check for every example)
-CHECKS = {f.__name__: f for f in [elastic_no_energy_lost, rocket_dv_only, baseball_hit_back]}
+CHECKS = {f.__name__: f for f in [elastic_no_energy_lost, rocket_dv_only, baseball_hit_back,
+                                   pendulum_struck_ball_flies_off]}
