@@ -37,6 +37,7 @@ class Ref:
     index: str | None = None
     member: str | None = None
     at: tuple[str, ...] = ()
+    about: object = None  # a PointRef: `H[{rod, ball}]@2 about O`
 
     @property
     def text(self) -> str:
@@ -47,7 +48,16 @@ class Ref:
             s += f".{self.member}"
         if self.at:
             s += "@" + "->".join(self.at)
+        if self.about is not None:
+            s += f" about {self.about.text}"
         return s
+
+    @property
+    def bodies(self) -> tuple[str, ...]:
+        """The bodies an index names: `T[rod]` -> (rod,), `p[{A, B}]` -> (A, B)."""
+        if not self.index:
+            return ()
+        return tuple(n.strip() for n in self.index.strip("{}").split(","))
 
 
 @record(frozen=True)
@@ -759,6 +769,13 @@ def _make_transformer():
 
         def ref_index(self, meta, ch):
             return ("index", "-".join(str(c) for c in ch))
+
+        def ref_index_set(self, meta, ch):
+            return ("index", "{" + ", ".join(ch[0]) + "}")
+
+        def ref_about(self, meta, ch):
+            r = ch[0]
+            return Ref(_span(meta), r.name, r.index, r.member, r.at, ch[1])
 
         def ref_member(self, meta, ch):
             return ("member", str(ch[0]))

@@ -168,6 +168,52 @@ def test_energy_of_is_only_for_energy_phases():
     assert "energy phase" in d.message
 
 
+# ---- item 2: quantities of a body or a set ----------------------------------------------
+def struck_rod_system_momentum():
+    a = ex("struck_rod_system_momentum.mom")
+    M, L, m, u = 3.0, 1.2, 0.5, 6.0
+    w, v, _ = _struck_rod()
+    p2 = m * v + M * w * L / 2          # the rod's centre moves at w L/2
+    assert a["px[{rod, ball}]@1"] == pytest.approx(m * u)
+    assert a["px[{rod, ball}]@2"] == pytest.approx(p2)
+    assert a["py[{rod, ball}]@2"] == pytest.approx(0, abs=1e-12)
+    assert a["Jx[O]@1->2"] == pytest.approx(p2 - m * u)
+    # angular momentum about O: m u L before, I_O w + m v L after (equal)
+    assert a["H[{rod, ball}]@1 about O"] == pytest.approx(m * u * L)
+    assert a["H[{rod, ball}]@2 about O"] == pytest.approx(M * L * L / 3 * w + m * v * L)
+    assert a["T[rod]@2"] == pytest.approx(0.5 * M * L * L / 3 * w * w)
+    assert a["rod.T@2"] == pytest.approx(a["T[rod]@2"])
+    assert a["B.vx@2"] == pytest.approx(w * L)
+    assert a["B.speed@2"] == pytest.approx(w * L)
+
+
+SET = ('problem "t"\nbody A: particle(mass = 1 kg)\nbody B: particle(mass = 2 kg)\n'
+       'body r: rod(mass = 3 kg, length = 2 m)\n'
+       'state 1: A.v = (1 m/s, 2 m/s), A.pos = (0, 0), B.v = (3 m/s, 0), B.pos = (1 m, 1 m), '
+       'r.v = (0, 0), r.pos = (0, 2 m), r.omega = 2 rad/s, r.angle = 0\n')
+
+
+def test_quantities_of_sets_by_hand():
+    a = answers(SET + "find p[{A, B}]@1, q = py[{A, B, r}]@1, T[r]@1, T[{A, r}]@1, "
+                      "H[{A, B, r}]@1 about r.end(+), H[B]@1 about A\n")
+    assert (a["px[{A, B}]@1"], a["py[{A, B}]@1"], a["q"]) == (7.0, 2.0, 2.0)
+    I = 3 * 2 ** 2 / 12
+    assert a["T[r]@1"] == pytest.approx(0.5 * I * 4)
+    assert a["T[{A, r}]@1"] == pytest.approx(0.5 * 5 + 0.5 * I * 4)
+    # about (1, 2): A r=(-1,-2) v=(1,2): 0; B r=(0,-1) mv=(6,0): 6; rod I w = 2
+    assert a["H[{A, B, r}]@1 about r.end(+)"] == pytest.approx(8.0)
+    assert a["H[B]@1 about A"] == pytest.approx(-6.0)
+
+
+@pytest.mark.parametrize("find,words", [
+    ("H[{A, B}]@1", "about POINT"),
+    ("T[{A, C}]@1", "unknown body 'C'"),
+    ("T@1 about A", "'about' belongs to an angular momentum"),
+])
+def test_quantities_of_sets_errors(find, words):
+    assert words in error_of(SET + f"find {find}\n").message
+
+
 # the examples' checks, run by test_examples.py (one check for every example)
 CHECKS = {f.__name__: f for f in [elastic_no_energy_lost, rocket_dv_only, baseball_hit_back,
-                                   pendulum_struck_ball_flies_off]}
+                                   pendulum_struck_ball_flies_off, struck_rod_system_momentum]}
