@@ -107,6 +107,7 @@ class TransitionInfo:
     why: list[str]
     contacts: list[tuple[str, E, E]]  # label, approach normal velocity, separation velocity
     energy: tuple[E, E] | None = None  # kinetic energy of the bodies it moves, before/after
+    bodies: tuple[str, ...] = ()  # the bodies it moves (whose T its energy and T_lost cover)
 
 
 @record
@@ -518,7 +519,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         moved = [b for b in sc.bodies if b in busy]
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
         self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info,
-                                               energy))
+                                               energy, tuple(moved)))
 
     def holds_at(self, from_state: str | None, sid: str) -> bool:
         """Whether something that holds from state `from_state` on (None: always) holds
@@ -617,7 +618,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         why = ["energy is conserved except for the work U12 of the declared forces and moments"]
         if self.scene.gravity is not None:
             why.append("gravity and springs enter as potential energy V")
-        self.transitions.append(TransitionInfo("energy", t.key, i, j, t.span, why, []))
+        self.transitions.append(TransitionInfo("energy", t.key, i, j, t.span, why, [], None,
+                                               tuple(b for g in groups for b in g)))
 
     # ---- why a principle holds --------------------------------------------------------------------
     def _why(self, sources: list[ImpulseSource], t: TransitionSpec) -> list[str]:

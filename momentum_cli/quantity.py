@@ -53,6 +53,9 @@ _KEYWORDS = {"smooth", "rough", "friction", "restitution", "slip", "normal", "at
 
 def unit_readings(unit: str, span, want: Dim | None = None) -> list[tuple[float, Dim]]:
     """The readings of a unit; an unknown name is answered with units of dimension `want`."""
+    if unit.startswith("in:"):  # syntax.IN_UNIT: `2 in mm` that does not end a find item
+        raise ProblemError(f"`in {unit[3:]}` gives the unit of a `find` item, at its end", span,
+                           code="syntax")
     try:
         readings = parse_unit(unit)
     except OverflowError:  # `ft^-999`: the factor is not a float

@@ -85,7 +85,9 @@ class ReferencesMixin:
                 return Q(self._kinetic(at[0]), MOMENT)
             if member is None and idx is None and len(at) == 2 and name == "T_lost":
                 self._transition_exists(at, ref)
-                return Q(add(self._kinetic(at[0]), neg(self._kinetic(at[1]))), MOMENT)
+                moved = self._moved("->".join(at))  # only what this transition changes
+                return Q(add(self._kinetic(at[0], moved), neg(self._kinetic(at[1], moved))),
+                         MOMENT)
             if member is None and idx is None and len(at) == 2 and name == "t":
                 if self.flows and "->".join(at) in self.flows.durations:
                     return Q(self.flows.durations["->".join(at)], TIME)
@@ -115,6 +117,13 @@ class ReferencesMixin:
                                ref.span, code="name", notes=_ref_help(ref))
 
         return resolve
+
+    def _moved(self, key: str) -> list[str] | None:
+        """The bodies transition `key` changes (None: all, as for an energy phase)."""
+        for info in self.transitions:
+            if info.key == key and info.kind != "energy":
+                return list(info.bodies)
+        return None
 
     def _of_bodies(self, ref: S.Ref) -> Q:
         """T, p, px, py or H (about a point) of a body or a set: `p[{A, B}]@2`."""

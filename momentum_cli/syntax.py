@@ -41,15 +41,15 @@ class Ref:
 
     @property
     def text(self) -> str:
-        s = self.name
+        """One word (answers print as `NAME = VALUE UNIT`): `H[{rod, ball}]@2 about O` is
+        `H_O[{rod,ball}]@2`."""
+        s = self.name if self.about is None else f"{self.name}_{self.about.text}"
         if self.index:
             s += f"[{self.index}]"
         if self.member:
             s += f".{self.member}"
         if self.at:
             s += "@" + "->".join(self.at)
-        if self.about is not None:
-            s += f" about {self.about.text}"
         return s
 
     @property
@@ -716,17 +716,22 @@ def _tspan(tok) -> Span:
     return Span(tok.line, tok.column, tok.end_line, tok.end_column)
 
 
-def _drop_trailing_inch(expr):
-    """`L/2 in mm` parsed `2 in` as inches: the expression with its last number bare
-    (None when it does not end in a number read as inches)."""
+IN_UNIT = "in:"  # Num.unit of `2 in mm` (a bare 2 whose find item is shown in mm)
+
+
+def _split_in_unit(expr):
+    """`L/2 in mm` parses as L/(2 "in mm"): (the expression with a bare 2, "mm", its
+    span), or None when the expression does not end that way."""
     if isinstance(expr, Num):
-        return Num(expr.span, expr.value) if expr.unit == "in" else None
+        if expr.unit and expr.unit.startswith(IN_UNIT):
+            return Num(expr.span, expr.value), expr.unit[len(IN_UNIT):], expr.unit_span
+        return None
     if isinstance(expr, BinOp):
-        right = _drop_trailing_inch(expr.right)
-        return None if right is None else BinOp(expr.span, expr.op, expr.left, right)
+        r = _split_in_unit(expr.right)
+        return r and (BinOp(expr.span, expr.op, expr.left, r[0]), r[1], r[2])
     if isinstance(expr, Neg):
-        arg = _drop_trailing_inch(expr.arg)
-        return None if arg is None else Neg(expr.span, arg)
+        r = _split_in_unit(expr.arg)
+        return r and (Neg(expr.span, r[0]), r[1], r[2])
     return None
 
 
@@ -750,6 +755,10 @@ def _make_transformer():
         def unit(self, meta, ch):
             return (str(ch[0]), _tspan(ch[0]))
 
+        def quantity_in(self, meta, ch):
+            value = float(ch[0])
+            return Num(_span(meta), value, IN_UNIT + str(ch[1]), _tspan(ch[1]))
+
         def unit_inch(self, meta, ch):
             return ("in", _span(meta))
 
@@ -771,7 +780,7 @@ def _make_transformer():
             return ("index", "-".join(str(c) for c in ch))
 
         def ref_index_set(self, meta, ch):
-            return ("index", "{" + ", ".join(ch[0]) + "}")
+            return ("index", "{" + ",".join(ch[0]) + "}")
 
         def ref_about(self, meta, ch):
             r = ch[0]
@@ -1236,15 +1245,10 @@ def _make_transformer():
         def find_item(self, meta, ch):
             name, expr = ch[0]
             unit = ch[1] if len(ch) > 1 else (None, None)
+            split = _split_in_unit(expr) if len(ch) == 1 else None
+            if split is not None:
+                expr, unit = split[0], (split[1], split[2])
             return FindItem(_span(meta), name, expr, unit[0], unit[1])
-
-        def find_item_split(self, meta, ch):
-            name, expr = ch[0]
-            bare = _drop_trailing_inch(expr)
-            if bare is None:
-                raise ProblemError(f"write `in {ch[1]}` to give the unit of an answer",
-                                   _tspan(ch[1]), code="syntax")
-            return FindItem(_span(meta), name, bare, str(ch[1]), _tspan(ch[1]))
 
         def find_stmt(self, meta, ch):
             return Find(_span(meta), tuple(ch))

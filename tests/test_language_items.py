@@ -28,10 +28,10 @@ def test_number_before_in_unit_is_a_number():
     assert a["r"] == pytest.approx(5 * 0.0254)  # inches elsewhere stay inches
 
 
-def test_unit_without_in_after_a_name_says_write_in():
+def test_in_unit_inside_an_expression_is_a_located_error():
     d = error_of('problem "t"\nbody b: particle(mass = 1 kg)\n'
-                 'state 1: b.v = (0, 0), b.pos = (0, 0)\nfind b.vx@1 mm\n')
-    assert "write `in mm`" in d.message
+                 'state 1: b.v = (0, 0), b.pos = (0, 0)\nlet x = 2 in mm + 1 m\nfind x\n')
+    assert "`in mm` gives the unit of a `find` item" in d.message and d.span.line == 4
 
 
 def elastic_no_energy_lost():
@@ -174,13 +174,13 @@ def struck_rod_system_momentum():
     M, L, m, u = 3.0, 1.2, 0.5, 6.0
     w, v, _ = _struck_rod()
     p2 = m * v + M * w * L / 2          # the rod's centre moves at w L/2
-    assert a["px[{rod, ball}]@1"] == pytest.approx(m * u)
-    assert a["px[{rod, ball}]@2"] == pytest.approx(p2)
-    assert a["py[{rod, ball}]@2"] == pytest.approx(0, abs=1e-12)
+    assert a["px[{rod,ball}]@1"] == pytest.approx(m * u)
+    assert a["px[{rod,ball}]@2"] == pytest.approx(p2)
+    assert a["py[{rod,ball}]@2"] == pytest.approx(0, abs=1e-12)
     assert a["Jx[O]@1->2"] == pytest.approx(p2 - m * u)
     # angular momentum about O: m u L before, I_O w + m v L after (equal)
-    assert a["H[{rod, ball}]@1 about O"] == pytest.approx(m * u * L)
-    assert a["H[{rod, ball}]@2 about O"] == pytest.approx(M * L * L / 3 * w + m * v * L)
+    assert a["H_O[{rod,ball}]@1"] == pytest.approx(m * u * L)
+    assert a["H_O[{rod,ball}]@2"] == pytest.approx(M * L * L / 3 * w + m * v * L)
     assert a["T[rod]@2"] == pytest.approx(0.5 * M * L * L / 3 * w * w)
     assert a["rod.T@2"] == pytest.approx(a["T[rod]@2"])
     assert a["B.vx@2"] == pytest.approx(w * L)
@@ -196,13 +196,13 @@ SET = ('problem "t"\nbody A: particle(mass = 1 kg)\nbody B: particle(mass = 2 kg
 def test_quantities_of_sets_by_hand():
     a = answers(SET + "find p[{A, B}]@1, q = py[{A, B, r}]@1, T[r]@1, T[{A, r}]@1, "
                       "H[{A, B, r}]@1 about r.end(+), H[B]@1 about A\n")
-    assert (a["px[{A, B}]@1"], a["py[{A, B}]@1"], a["q"]) == (7.0, 2.0, 2.0)
+    assert (a["px[{A,B}]@1"], a["py[{A,B}]@1"], a["q"]) == (7.0, 2.0, 2.0)
     I = 3 * 2 ** 2 / 12
     assert a["T[r]@1"] == pytest.approx(0.5 * I * 4)
-    assert a["T[{A, r}]@1"] == pytest.approx(0.5 * 5 + 0.5 * I * 4)
+    assert a["T[{A,r}]@1"] == pytest.approx(0.5 * 5 + 0.5 * I * 4)
     # about (1, 2): A r=(-1,-2) v=(1,2): 0; B r=(0,-1) mv=(6,0): 6; rod I w = 2
-    assert a["H[{A, B, r}]@1 about r.end(+)"] == pytest.approx(8.0)
-    assert a["H[B]@1 about A"] == pytest.approx(-6.0)
+    assert a["H_r.end(+)[{A,B,r}]@1"] == pytest.approx(8.0)
+    assert a["H_A[B]@1"] == pytest.approx(-6.0)
 
 
 @pytest.mark.parametrize("find,words", [
@@ -214,6 +214,49 @@ def test_quantities_of_sets_errors(find, words):
     assert words in error_of(SET + f"find {find}\n").message
 
 
+# ---- item 13: two cases in one file ------------------------------------------------------
+def _disk_bounce(rough: bool, m=2.0, r=0.1, vx=2.0, vy=-3.0, e=0.5, g=9.81):
+    """Closed form: vy' = -e vy; smooth keeps vx; rough (no slip at the contact point,
+    I = m r^2/2): J_t = m vx/3 against the slip, vx' = 2 vx/3, omega' = -vx'/r."""
+    vy2 = -e * vy
+    vx2 = 2 * vx / 3 if rough else vx
+    w2 = -vx2 / r if rough else 0.0
+    T1 = 0.5 * m * (vx * vx + vy * vy)
+    T2 = 0.5 * m * (vx2 * vx2 + vy2 * vy2) + 0.5 * (m * r * r / 2) * w2 * w2
+    return vx2, vy2, w2, T1 - T2, vy2 * vy2 / (2 * g)
+
+
+def disk_bounce_smooth_or_rough():
+    a = ex("disk_bounce_smooth_or_rough.mom")
+    for sid, case, rough in (("2", "a", False), ("3", "b", True)):
+        vx, vy, w, lost, rise = _disk_bounce(rough)
+        assert a[f"disk.vx@{sid}"] == pytest.approx(vx)
+        assert a[f"disk.vy@{sid}"] == pytest.approx(vy)
+        assert a[f"disk.omega@{sid}"] == pytest.approx(w, abs=1e-12)
+        assert a[f"T_lost@1->{sid}"] == pytest.approx(lost)
+        assert a[f"rise_{case}"] == pytest.approx(rise)
+
+
+def test_t_lost_covers_only_what_the_impact_changes():
+    # a second body whose speed nobody gives: T_lost of the disk's bounce does not need it
+    text = (EX / "disk_bounce_smooth_or_rough.mom").read_text().replace(
+        'body disk:', 'body other: particle(mass = 5 kg)\nbody disk:')
+    a = answers(text)
+    assert a["T_lost@1->3"] == pytest.approx(_disk_bounce(True)[3])
+
+
+def test_report_says_which_bodies_a_t_covers():
+    from helpers import solve_text
+    from momentum_cli.report.model import build_report
+
+    text = (EX / "disk_bounce_smooth_or_rough.mom").read_text().replace(
+        'body disk:', 'body other: particle(mass = 5 kg)\nbody disk:')
+    rep = build_report("t.mom", solve_text(text))
+    details = [c.detail for c in rep.checks if c.name.startswith("kinetic energy")]
+    assert len(details) == 2 and all(d.startswith("T of {disk}:") for d in details)
+
+
 # the examples' checks, run by test_examples.py (one check for every example)
 CHECKS = {f.__name__: f for f in [elastic_no_energy_lost, rocket_dv_only, baseball_hit_back,
-                                   pendulum_struck_ball_flies_off, struck_rod_system_momentum]}
+                                   pendulum_struck_ball_flies_off, struck_rod_system_momentum,
+                                   disk_bounce_smooth_or_rough]}
