@@ -23,7 +23,7 @@ from .elements.contacts import ContactElement
 from .elements.joints import BearingFriction, joint_element
 from .elements.keys import duration_key, state_key
 from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
-from .energy_groups import energy_groups
+from .energy_groups import energy_groups, split_joints
 from .expr import (
     V2,
     ZERO,
@@ -598,6 +598,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         i, j = t.before, t.after
         group = f"energy {i} -> {j}"
         groups = energy_groups(self.scene, self.joints, self.holds_at, t)
+        for msg in split_joints(groups, self.joints, self.holds_at, t):
+            self.notes.warn(msg, t.span, code="energy")
         whole = len(groups) == 1 and len(groups[0]) == len(self.scene.bodies)
         for bodies in groups:
             U: E = ZERO

@@ -39,6 +39,22 @@ def energy_groups(scene, joints, holds_at, t) -> list[tuple[str, ...]]:
     return [tuple(g) for g in groups.values()] + [(b,) for b in t.free]
 
 
+def split_joints(groups, joints, holds_at, t) -> list[str]:
+    """Warnings for joints that `of {...}` groups cut (its work is left out of both)."""
+    where = {b: k for k, g in enumerate(groups) for b in g}
+    out = []
+    for jt in joints:
+        if not (holds_at(jt.from_state, t.before) or holds_at(jt.from_state, t.after)):
+            continue
+        a, b = jt.bodies()
+        if a is not None and b is not None and (a in where or b in where) and \
+                where.get(a) != where.get(b):
+            what = f"{jt.kind} {jt.label}" if jt.label else f"the {jt.kind}"
+            out.append(f"{what} joins {a} and {b}, which this energy phase "
+                       "balances apart: the work it does on each is left out")
+    return out
+
+
 def _bodies_at(scene, nodes, states: set[str]) -> list[str]:
     """The bodies whose quantities at these states the expressions mention."""
     out: list[str] = []

@@ -162,6 +162,17 @@ def test_energy_over_tied_bodies_names_of_in_the_error():
     assert any("energy 2 -> 3 of {" in n for n in d.notes)
 
 
+def test_energy_of_that_cuts_a_joint_warns():
+    from helpers import solve_text
+
+    text = _pendulum_text("energy 2 -> 3 of {rod}").replace(
+        "pin rod.end(-) to ground at (0, 0)",
+        "pin rod.end(-) to ground at (0, 0)\nspring s: ball to rod.end(+) stiffness 10 N/m")
+    sol = solve_text(text)
+    items = sol.system.notes.items
+    assert any("spring s joins ball and rod" in d.message for d in items)
+
+
 def test_energy_of_is_only_for_energy_phases():
     d = error_of(_pendulum_text("energy 2 -> 3 of {rod}").replace(
         "impact 1 -> 2:", "impact 1 -> 2 of {rod}:"))
