@@ -23,6 +23,7 @@ from .elements.contacts import ContactElement
 from .elements.joints import BearingFriction, joint_element
 from .elements.keys import duration_key, state_key
 from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
+from .energy_groups import energy_groups, split_joints
 from .expr import (
     V2,
     ZERO,
@@ -106,6 +107,7 @@ class TransitionInfo:
     why: list[str]
     contacts: list[tuple[str, E, E]]  # label, approach normal velocity, separation velocity
     energy: tuple[E, E] | None = None  # kinetic energy of the bodies it moves, before/after
+    bodies: tuple[str, ...] = ()  # the bodies it moves (whose T its energy and T_lost cover)
 
 
 @record
@@ -517,7 +519,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         moved = [b for b in sc.bodies if b in busy]
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
         self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info,
-                                               energy))
+                                               energy, tuple(moved)))
 
     def holds_at(self, from_state: str | None, sid: str) -> bool:
         """Whether something that holds from state `from_state` on (None: always) holds
@@ -572,19 +574,21 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                 terms.append(mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
         return add_all(terms)
 
-    def _potential(self, sid: str) -> E:
+    def _potential(self, sid: str, bodies=None) -> E:
         sc = self.scene
         V: E = ZERO
         if sc.gravity is not None:
             gx, gy = sc.gravity
             g = Known("g", sc.g)
-            for b, body in sc.bodies.items():
+            for b in sc.bodies if bodies is None else bodies:
                 r = self.pos(b, sid)
                 m = self.mass(b, sid)
                 # V = -m g_vec . r: with gravity `down` this is m*g*y
                 h = add(mul(Const(-gx / sc.g), r.x), mul(Const(-gy / sc.g), r.y))
                 V = add(V, mul(mul(m, g), h))
         for jt in self.joints:
+            if bodies is not None and not all(b is None or b in bodies for b in jt.bodies()):
+                continue
             e = jt.potential(self, sid)
             if e is not ZERO:
                 V = add(V, e)
@@ -593,21 +597,31 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def _energy(self, t: TransitionSpec) -> None:
         i, j = t.before, t.after
         group = f"energy {i} -> {j}"
-        U: E = ZERO
-        for F, p, span in t.forces:
-            d = self.point_position(p, j) - self.point_position(p, i)
-            U = add(U, d.dot(V2(Const(F[0]), Const(F[1]))))
-        for M, b, span in t.moments:
-            U = add(U, mul(Const(M), add(self.sv(b, "angle", j), neg(self.sv(b, "angle", i)))))
-        lhs = add(add(self._kinetic(i), self._potential(i)), U)
-        rhs = add(self._kinetic(j), self._potential(j))
-        self.eq(lhs, rhs, "work-energy: T1 + V1 + U12 = T2 + V2", group, t.span)
+        groups = energy_groups(self.scene, self.joints, self.holds_at, t)
+        for msg in split_joints(groups, self.joints, self.holds_at, t):
+            self.notes.warn(msg, t.span, code="energy")
+        whole = len(groups) == 1 and len(groups[0]) == len(self.scene.bodies)
+        for bodies in groups:
+            U: E = ZERO
+            for F, p, span in t.forces:
+                if p.body in bodies:
+                    d = self.point_position(p, j) - self.point_position(p, i)
+                    U = add(U, d.dot(V2(Const(F[0]), Const(F[1]))))
+            for M, b, span in t.moments:
+                if b in bodies:
+                    U = add(U, mul(Const(M), add(self.sv(b, "angle", j),
+                                                 neg(self.sv(b, "angle", i)))))
+            lhs = add(add(self._kinetic(i, bodies), self._potential(i, bodies)), U)
+            rhs = add(self._kinetic(j, bodies), self._potential(j, bodies))
+            of = "" if whole else f" of {{{', '.join(bodies)}}}"
+            self.eq(lhs, rhs, f"work-energy{of}: T1 + V1 + U12 = T2 + V2", group, t.span)
         for body, surface, span in t.rolls:
             self._rolling(body, surface, j, group, span, None)
         why = ["energy is conserved except for the work U12 of the declared forces and moments"]
         if self.scene.gravity is not None:
             why.append("gravity and springs enter as potential energy V")
-        self.transitions.append(TransitionInfo("energy", t.key, i, j, t.span, why, []))
+        self.transitions.append(TransitionInfo("energy", t.key, i, j, t.span, why, [], None,
+                                               tuple(b for g in groups for b in g)))
 
     # ---- why a principle holds --------------------------------------------------------------------
     def _why(self, sources: list[ImpulseSource], t: TransitionSpec) -> list[str]:

@@ -194,9 +194,7 @@ class FlowCompiler:
     # ---- burning bodies
     def burn(self, b: S.BurnDecl) -> None:
         c = self.c
-        sc = c.scene
         key = f"{b.before}->{b.after}"
-        group = f"burn {b.body} {b.before} -> {b.after}"
         speed = self._q(b.exhaust, VELOCITY, "the exhaust speed", False)
         d = self._q(b.direction, NONE, "the exhaust direction", True)
         if not (isinstance(d.x, Const) and isinstance(d.y, Const)):
@@ -207,6 +205,8 @@ class FlowCompiler:
             raise ProblemError("the exhaust direction must be non-zero", b.direction.span,
                                code="number")
         e = (d.x.value / n, d.y.value / n)
+        if b.rate is None:
+            return self._burn_no_rate(b, speed, e)
         mdot = self._rate(b.rate, "the burn rate")
         if isinstance(mdot, Const) and (mdot.value < 0 or mdot.value == 0 and b.burned
                                         is not None):
@@ -227,9 +227,15 @@ class FlowCompiler:
         m1 = add_all([m0, neg(dm)])
         self.masses[(b.body, b.after)] = m1
         self.durations[key] = t
-        g = sc.gravity or (0.0, 0.0)
         if not (variables(m0) or variables(dm) or variables(t)):
             return self._burn_numbers(b, speed, e, evaluate(m0, {}), evaluate(dm, {}), t)
+        self._burn_closed(b, mdot, speed, e, m0, m1, t)
+
+    def _burn_closed(self, b: S.BurnDecl, mdot: E, speed: E, e, m0: E, m1: E, t: E) -> None:
+        """The rocket equation and the path, in symbols (some of rate, time, mass unknown)."""
+        c = self.c
+        group = f"burn {b.body} {b.before} -> {b.after}"
+        g = c.scene.gravity or (0.0, 0.0)
         ln = fn("ln", mul(m0, power(m1, -1.0)))
         i, j = b.before, b.after
         span = b.span
@@ -245,6 +251,39 @@ class FlowCompiler:
                               mul(Const(-ek), mul(speed, drift))]),
                  f"position {comp} at the end of the burn (closed form): r1 = r0 + v0 t + g t^2/2"
                  " - e c (t - (m1/mdot) ln(m0/m1))", group, span)
+
+    def _burn_no_rate(self, b: S.BurnDecl, speed: E, e) -> None:
+        """A burn given by the mass it burns alone: the rocket equation's change of velocity
+        does not depend on the rate; the time (and so the path and gravity's share) does,
+        so it needs a `duration` or no gravity along the motion."""
+        c = self.c
+        group = f"burn {b.body} {b.before} -> {b.after}"
+        m0 = c.mass(b.body, b.before)
+        dm = self._q(b.burned, MASS, "the mass burned", False)
+        m_before = evaluate(m0, {}) if not variables(m0) else None
+        if isinstance(dm, Const) and m_before is not None and dm.value >= m_before:
+            raise ProblemError(f"the burn takes {dm.value:g} kg out of a body of {m_before:g} "
+                               "kg: no mass would be left", b.span, code="number")
+        m1 = add_all([m0, neg(dm)])
+        self.masses[(b.body, b.after)] = m1
+        key = f"{b.before}->{b.after}"
+        if b.duration is not None:
+            t = self._q(b.duration, TIME, "the burn's duration", False)
+            self.durations[key] = t
+            mdot = mul(dm, power(t, -1.0))
+            if not (variables(m0) or variables(dm) or variables(t)):
+                return self._burn_numbers(b, speed, e, evaluate(m0, {}), evaluate(dm, {}), t)
+            return self._burn_closed(b, mdot, speed, e, m0, m1, t)
+        g = c.scene.gravity or (0.0, 0.0)
+        if g != (0.0, 0.0):
+            raise ProblemError("under gravity a burn's time matters: give its `rate MASS_RATE` "
+                               "or `duration TIME`", b.span, code="name")
+        ln = fn("ln", mul(m0, power(m1, -1.0)))
+        v0, v1 = c.vel(b.body, b.before), c.vel(b.body, b.after)
+        for comp, ek, a0, a1 in (("x", e[0], v0.x, v1.x), ("y", e[1], v0.y, v1.y)):
+            c.eq(a1, add_all([a0, mul(Const(-ek), mul(speed, ln))]),
+                 f"rocket equation {comp} (constant exhaust speed, any rate): "
+                 "v1 = v0 - e c ln(m0/m1)", group, b.span)
 
     def _burn_numbers(self, b: S.BurnDecl, speed: E, e, m0: float, dm: float,
                       t: E) -> None:

@@ -23,6 +23,7 @@ from .units import (
     dim_pow,
     parse_unit,
     reading_for,
+    unknown_unit_message,
 )
 
 
@@ -50,7 +51,11 @@ _KEYWORDS = {"smooth", "rough", "friction", "restitution", "slip", "normal", "at
              "down", "up", "left", "right", "into", "contact", "stops", "rolls", "rest"}
 
 
-def unit_readings(unit: str, span) -> list[tuple[float, Dim]]:
+def unit_readings(unit: str, span, want: Dim | None = None) -> list[tuple[float, Dim]]:
+    """The readings of a unit; an unknown name is answered with units of dimension `want`."""
+    if unit.startswith("in:"):  # syntax.IN_UNIT: `2 in mm` that does not end a find item
+        raise ProblemError(f"`in {unit[3:]}` gives the unit of a `find` item, at its end", span,
+                           code="syntax")
     try:
         readings = parse_unit(unit)
     except OverflowError:  # `ft^-999`: the factor is not a float
@@ -65,7 +70,8 @@ def unit_readings(unit: str, span) -> list[tuple[float, Dim]]:
         if unit in _KEYWORDS:
             notes.append(f"a unit follows its number directly: is a ',' missing before "
                          f"'{unit}'?")
-        raise ProblemError(str(exc), where, code="units", notes=notes) from None
+        message = unknown_unit_message(exc.name, want) if exc.name else str(exc)
+        raise ProblemError(message, where, code="units", notes=notes) from None
     if not all(math.isfinite(f) and f != 0 for f, _ in readings):
         raise ProblemError(f"unit '{unit}' is out of range (an exponent is too large)", span,
                            code="units")
@@ -89,7 +95,7 @@ class Evaluator:
                 # a bare 0 is zero in any unit
                 return Q(Const(0.0), expect) if node.value == 0 and expect else \
                     Q(Const(node.value), NONE)
-            factor, dim = reading_for(unit_readings(node.unit, node.unit_span), expect)
+            factor, dim = reading_for(unit_readings(node.unit, node.unit_span, expect), expect)
             value = node.value * factor
             if not math.isfinite(value):
                 raise ProblemError("number too large", node.span, code="number")

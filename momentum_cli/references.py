@@ -7,19 +7,22 @@ quantity.
 """
 from __future__ import annotations
 
+import difflib
 import math
 
 from . import syntax as S
 from .diagnostics import ProblemError, did_you_mean
 from .elements.keys import duration_key
 from .elements.kinds import EquationKind, KeyKind, TransitionKind
-from .expr import Const, E, Known, Var, add, mul, neg, power
+from .expr import V2, Const, E, Known, Var, add, add_all, mul, neg, power
 from .quantity import Evaluator, Q
 from .records import record
-from .scene import STATE_QTYS, TransitionSpec
+from .scene import STATE_QTYS, PointOn, TransitionSpec
 from .source import Span
 from .units import (
     ACCELERATION,
+    ANGULAR_IMPULSE,
+    IMPULSE,
     LENGTH,
     MASS,
     MOMENT,
@@ -62,6 +65,11 @@ class ReferencesMixin:
                     return Q(self.unknown(name, dim, KeyKind.USER, unit or si_label(dim)), dim)
                 if name in self.unknowns:
                     return Q(Var(name), self.unknowns[name].dim)
+            if ref.about is not None and (name != "H" or idx is None):
+                raise ProblemError(f"'about' belongs to an angular momentum: write "
+                                   f"`H[{{BODY, ...}}]@S about POINT`", ref.span, code="name")
+            if name in _OF_BODIES and idx is not None and member is None and len(at) == 1:
+                return self._of_bodies(ref)
             if member and len(at) == 1 and name in sc.bodies:
                 return self._body_ref(ref)
             if member in ("v", "vx", "vy", "speed") and len(at) == 1 and name in sc.points:
@@ -77,7 +85,9 @@ class ReferencesMixin:
                 return Q(self._kinetic(at[0]), MOMENT)
             if member is None and idx is None and len(at) == 2 and name == "T_lost":
                 self._transition_exists(at, ref)
-                return Q(add(self._kinetic(at[0]), neg(self._kinetic(at[1]))), MOMENT)
+                moved = self._moved("->".join(at))  # only what this transition changes
+                return Q(add(self._kinetic(at[0], moved), neg(self._kinetic(at[1], moved))),
+                         MOMENT)
             if member is None and idx is None and len(at) == 2 and name == "t":
                 if self.flows and "->".join(at) in self.flows.durations:
                     return Q(self.flows.durations["->".join(at)], TIME)
@@ -97,10 +107,65 @@ class ReferencesMixin:
                         if c.label == idx and not c.restitution_unknown:
                             return Q(Known(text, c.restitution), NONE)
             candidates = list(self.unknowns) + list(sc.constants) + ["g", "pi"]
-            raise ProblemError(f"unknown quantity '{text}'" + did_you_mean(text, candidates),
+            hint = did_you_mean(text, candidates)
+            known = _FAMILIES + list(sc.bodies) + list(sc.points)
+            if not hint and name not in known:
+                # a misspelt family, body or point with a good rest: `T_lots@1->2`
+                close = difflib.get_close_matches(name, sorted(set(known)), n=1, cutoff=0.6)
+                hint = f"; did you mean '{close[0]}{text[len(name):]}'?" if close else ""
+            raise ProblemError(f"unknown quantity '{text}'" + hint,
                                ref.span, code="name", notes=_ref_help(ref))
 
         return resolve
+
+    def _moved(self, key: str) -> list[str] | None:
+        """The bodies transition `key` changes (None: all, as for an energy phase)."""
+        for info in self.transitions:
+            if info.key == key and info.kind != "energy":
+                return list(info.bodies)
+        return None
+
+    def _of_bodies(self, ref: S.Ref) -> Q:
+        """T, p, px, py or H (about a point) of a body or a set: `p[{A, B}]@2`."""
+        sc = self.scene
+        sid = ref.at[0]
+        bodies = ref.bodies
+        for b in bodies:
+            if b not in sc.bodies:
+                raise ProblemError(f"unknown body '{b}' in {ref.text}" +
+                                   did_you_mean(b, sc.bodies), ref.span, code="name")
+        self._state_exists(sid, ref)
+        if ref.name == "T":
+            return Q(self._kinetic(sid, bodies), MOMENT)
+        if ref.name == "H":
+            if ref.about is None:
+                raise ProblemError(f"an angular momentum is about a point: write `{ref.text} "
+                                   "about POINT`", ref.span, code="name")
+            return Q(self._angular_momentum(bodies, self._point_of(ref.about), sid),
+                     ANGULAR_IMPULSE)
+        terms = [(self.mass(b, sid), self.vel(b, sid)) for b in bodies]
+        p = V2(add_all([mul(m, v.x) for m, v in terms]), add_all([mul(m, v.y) for m, v in terms]))
+        if ref.name == "p":
+            return Q(p, IMPULSE)
+        return Q(p.x if ref.name == "px" else p.y, IMPULSE)
+
+    def _point_of(self, ref: S.PointRef) -> PointOn:
+        """A point named after `about`: a named point, a body's centre, `rod.end(+)`."""
+        sc = self.scene
+        if ref.end and ref.name in sc.bodies and sc.bodies[ref.name].length is not None:
+            half = sc.bodies[ref.name].length / 2 * (1 if ref.end == "+" else -1)
+            return PointOn(ref.name, (half, 0.0), ref.text, ref.span)
+        if ref.member in ("center", "centre", "G") and ref.name in sc.bodies:
+            return PointOn(ref.name, (0.0, 0.0), ref.text, ref.span)
+        name = ref.member if ref.member else ref.name
+        if name in sc.points and not ref.end:
+            p = sc.points[name]
+            return PointOn(p.body, p.offset, p.name, ref.span)
+        if name in sc.bodies and not ref.end:
+            return PointOn(name, (0.0, 0.0), name, ref.span)
+        raise ProblemError(f"unknown point '{ref.text}'" +
+                           did_you_mean(name, list(sc.points) + list(sc.bodies)), ref.span,
+                           code="name")
 
     def _state_exists(self, sid: str, ref: S.Ref) -> None:
         if sid not in self.scene.states:
@@ -184,7 +249,7 @@ class ReferencesMixin:
     def _user_equation(self, ue: S.UserEquation) -> None:
         ev = self._evaluator()
         a, b = ev(ue.left), ev(ue.right, None)
-        if a.dim != b.dim:
+        if a.dim != b.dim and not (_bare_zero(ue.left) or _bare_zero(ue.right)):
             raise ProblemError(f"the two sides differ: {describe(a.dim)} = {describe(b.dim)}",
                                ue.span, code="units")
         if a.is_vector != b.is_vector:
@@ -199,6 +264,7 @@ class ReferencesMixin:
 
     def _finds(self) -> list[FindSpec]:
         from .quantity import unit_readings
+        from .units import suggest_unit
 
         ev = self._evaluator()
         out = []
@@ -207,11 +273,12 @@ class ReferencesMixin:
             base = item.name or _expr_text(item.expr)
             unit, factor = _display_unit(self.unknowns, item, q)
             if item.unit:
-                readings = unit_readings(item.unit, item.unit_span)
+                readings = unit_readings(item.unit, item.unit_span, q.dim)
                 match = [r for r in readings if r[1] == q.dim]
                 if not match:
                     raise ProblemError(f"cannot show {describe(q.dim)} in {item.unit} "
-                                       f"({describe(readings[0][1])})", item.unit_span,
+                                       f"({describe(readings[0][1])})" +
+                                       suggest_unit(item.unit, q.dim), item.unit_span,
                                        code="units")
                 unit, factor = item.unit, match[0][0]
             if q.is_vector:
@@ -219,6 +286,8 @@ class ReferencesMixin:
                 if isinstance(item.expr, S.Ref) and item.expr.member in ("v", "pos"):
                     comps = {"v": ("vx", "vy"), "pos": ("x", "y")}[item.expr.member]
                     names = [base.replace(f".{item.expr.member}@", f".{c}@") for c in comps]
+                elif isinstance(item.expr, S.Ref) and item.expr.name == "p" and not item.name:
+                    names = ["px" + base[1:], "py" + base[1:]]
                 else:
                     names = [f"{base}.x", f"{base}.y"]
                 out.append(FindSpec(names[0], v.x, q.dim, unit, factor, item.span))
@@ -249,6 +318,22 @@ def _expr_text(node) -> str:
     return "value"
 
 
+# quantities of a body or a set of bodies: `T[rod]@2`, `p[{A, B}]@2`, `H[{A}]@2 about O`
+_OF_BODIES = ("T", "p", "px", "py", "H")
+
+# names of quantities that are not a body's (`T@S`, `J_n[A]@S->S`, ...)
+_FAMILIES = ["T", "T_lost", "t", "J_n", "J_t", "Jx", "Jy", "J", "e", "H", "p"]
+
+
 def _ref_help(ref: S.Ref) -> list[str]:
     return ["quantities: BODY.omega@S, BODY.v@S, POINT.v@S, BODY.vx@S, BODY.angle@S, BODY.speed@S, "
             "t@S->S, J_n[CONTACT]@S->S, e[CONTACT], T@S, T_lost@S->S, BODY.dtheta@S->S"]
+
+
+def _bare_zero(node) -> bool:
+    """A `0` (or `(0, 0)`) written without a unit: zero of any dimension."""
+    if isinstance(node, S.Num):
+        return node.value == 0 and node.unit is None
+    if isinstance(node, S.VecLit):
+        return _bare_zero(node.x) and _bare_zero(node.y)
+    return False

@@ -124,6 +124,8 @@ class TransitionSpec:
     forces: list[tuple[tuple[float, float], PointOn, Span]] = field(default_factory=list)
     moments: list[tuple[float, str, Span]] = field(default_factory=list)
     duration: float | None = None
+    groups: list[tuple[str, ...]] = field(default_factory=list)  # energy `of {rod}, {ball}`
+    free: list[str] = field(default_factory=list)  # energy `free ball`: a balance of its own
 
     @property
     def key(self) -> str:
@@ -431,10 +433,12 @@ class _Builder:
             raise ProblemError("a burning body is a particle (its thrust acts through G)",
                                s.span, code="name")
         self._states_exist(states, s.before, s.after, s.span)
-        if s.exhaust is None or s.rate is None:
-            raise ProblemError("a burn needs `exhaust SPEED along (x, y)` and `rate MASS_RATE`",
-                               s.span, code="name")
-        if (s.burned is None) == (s.duration is None):
+        if s.exhaust is None:
+            raise ProblemError("a burn needs `exhaust SPEED along (x, y)`", s.span, code="name")
+        if s.rate is None and s.burned is None:
+            raise ProblemError("a burn needs `burns MASS` (and `rate MASS_RATE` or `duration "
+                               "TIME` for its time)", s.span, code="name")
+        if s.rate is not None and (s.burned is None) == (s.duration is None):
             raise ProblemError("a burn needs either `burns MASS` or `duration TIME`", s.span,
                                code="name")
         for t in transitions:
@@ -792,11 +796,30 @@ class _Builder:
                 t.duration = d
             elif c.kind == Clause.FREE:
                 self._body_named(c.names[0], c.span)
+                if s.kind == TransitionKind.ENERGY:  # its own energy balance
+                    t.free.append(c.names[0])
+        self._energy_groups(s, t)
         if s.kind == TransitionKind.IMPACT and (t.forces or t.moments):
             raise ProblemError("an impact is instantaneous: finite forces and moments give no "
                                "impulse; put them in an interval", (t.forces or t.moments)[0][2],
                                code="name")
         return t
+
+    def _energy_groups(self, s: S.Transition, t: TransitionSpec) -> None:
+        """`of {rod}, {ball}`: the groups of bodies an energy phase balances one by one."""
+        if not s.groups:
+            return
+        if s.kind != TransitionKind.ENERGY:
+            raise ProblemError("`of {...}` belongs to an energy phase", s.span, code="name")
+        seen: set[str] = set()
+        for group in s.groups:
+            for name in group:
+                self._body_named(name, s.span)
+                if name in seen:
+                    raise ProblemError(f"'{name}' is in two groups of this energy phase",
+                                       s.span, code="name")
+                seen.add(name)
+            t.groups.append(tuple(group))
 
     def _surface_named(self, name: str, span: Span) -> Surface:
         if name == "ground":

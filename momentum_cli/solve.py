@@ -575,6 +575,14 @@ def _under_determined(system: System, structure: Structure, missing: list[str]) 
         tips.append("add an end condition such as `A stops relative to B`")
     if tips:
         notes.append("; ".join(tips))
+    for k in sorted(structure.under_eqs):
+        eq = system.equations[k]
+        if eq.principle.startswith("work-energy:") and len(system.scene.bodies) > 1:
+            i, j = eq.group.split(" ", 1)[1].split(" -> ")
+            notes.append(f"`{eq.group}` balances the energy of every body together: for "
+                         f"some of them write `energy {i} -> {j} of {{BODY, ...}}` (groups "
+                         f"that do not interact: `of {{A}}, {{B}}`)")
+            break
     n_eq = len(structure.under_eqs)
     notes.append(f"the undetermined part has {len(structure.under)} unknowns and {n_eq} "
                  f"equation{'s' if n_eq != 1 else ''}")

@@ -37,10 +37,13 @@ class Ref:
     index: str | None = None
     member: str | None = None
     at: tuple[str, ...] = ()
+    about: object = None  # a PointRef: `H[{rod, ball}]@2 about O`
 
     @property
     def text(self) -> str:
-        s = self.name
+        """One word (answers print as `NAME = VALUE UNIT`): `H[{rod, ball}]@2 about O` is
+        `H_O[{rod,ball}]@2`."""
+        s = self.name if self.about is None else f"{self.name}_{self.about.text}"
         if self.index:
             s += f"[{self.index}]"
         if self.member:
@@ -48,6 +51,13 @@ class Ref:
         if self.at:
             s += "@" + "->".join(self.at)
         return s
+
+    @property
+    def bodies(self) -> tuple[str, ...]:
+        """The bodies an index names: `T[rod]` -> (rod,), `p[{A, B}]` -> (A, B)."""
+        if not self.index:
+            return ()
+        return tuple(n.strip() for n in self.index.strip("{}").split(","))
 
 
 @record(frozen=True)
@@ -259,6 +269,7 @@ class Transition:
     clauses: tuple
     before_span: Span
     after_span: Span
+    groups: tuple = ()  # `energy 2 -> 3 of {rod}, {ball}`: tuples of body names
 
 
 @record(frozen=True)
@@ -657,8 +668,19 @@ def _syntax_error(source: Source, exc) -> ProblemError:
             what = f"'{tok}'"
         end = Span(line, col, line, col + len(str(tok))) if tok.type not in (
             "_NL", "_INDENT", "_DEDENT") else Span(line, col)
-        return ProblemError(f"syntax error: unexpected {what}" + hint, end, code="syntax")
+        keyword = _keyword_hint(str(tok), words)
+        return ProblemError(f"syntax error: unexpected {what}" + (keyword or hint), end,
+                            code="syntax")
     return ProblemError(f"syntax error: {_first_line(exc)}", Span(line, col), code="syntax")
+
+
+def _keyword_hint(word: str, expected_words) -> str:
+    """"; did you mean 'impact'?" when a misspelt word is close to a keyword expected here."""
+    from .diagnostics import did_you_mean
+
+    keywords = [w.strip("'") for w in expected_words if w.startswith("'") and
+                w.strip("'").isalpha()]
+    return did_you_mean(word, keywords) if word.isidentifier() else ""
 
 
 def _block_opener(source: Source, line: int, col: int) -> int | None:
@@ -694,6 +716,25 @@ def _tspan(tok) -> Span:
     return Span(tok.line, tok.column, tok.end_line, tok.end_column)
 
 
+IN_UNIT = "in:"  # Num.unit of `2 in mm` (a bare 2 whose find item is shown in mm)
+
+
+def _split_in_unit(expr):
+    """`L/2 in mm` parses as L/(2 "in mm"): (the expression with a bare 2, "mm", its
+    span), or None when the expression does not end that way."""
+    if isinstance(expr, Num):
+        if expr.unit and expr.unit.startswith(IN_UNIT):
+            return Num(expr.span, expr.value), expr.unit[len(IN_UNIT):], expr.unit_span
+        return None
+    if isinstance(expr, BinOp):
+        r = _split_in_unit(expr.right)
+        return r and (BinOp(expr.span, expr.op, expr.left, r[0]), r[1], r[2])
+    if isinstance(expr, Neg):
+        r = _split_in_unit(expr.arg)
+        return r and (Neg(expr.span, r[0]), r[1], r[2])
+    return None
+
+
 def _make_transformer():
     from lark import Token, Transformer, v_args
 
@@ -714,6 +755,10 @@ def _make_transformer():
         def unit(self, meta, ch):
             return (str(ch[0]), _tspan(ch[0]))
 
+        def quantity_in(self, meta, ch):
+            value = float(ch[0])
+            return Num(_span(meta), value, IN_UNIT + str(ch[1]), _tspan(ch[1]))
+
         def unit_inch(self, meta, ch):
             return ("in", _span(meta))
 
@@ -733,6 +778,13 @@ def _make_transformer():
 
         def ref_index(self, meta, ch):
             return ("index", "-".join(str(c) for c in ch))
+
+        def ref_index_set(self, meta, ch):
+            return ("index", "{" + ",".join(ch[0]) + "}")
+
+        def ref_about(self, meta, ch):
+            r = ch[0]
+            return Ref(_span(meta), r.name, r.index, r.member, r.at, ch[1])
 
         def ref_member(self, meta, ch):
             return ("member", str(ch[0]))
@@ -1076,8 +1128,14 @@ def _make_transformer():
 
         def transition_stmt(self, meta, ch):
             kind, a, b = ch[0], ch[1], ch[2]
-            return Transition(_span(meta), kind, str(a), str(b), tuple(ch[3:]), _tspan(a),
-                              _tspan(b))
+            rest = list(ch[3:])
+            groups = rest.pop(0)[1] if rest and isinstance(rest[0], tuple) and \
+                rest[0] and rest[0][0] == "energy_of" else ()
+            return Transition(_span(meta), kind, str(a), str(b), tuple(rest), _tspan(a),
+                              _tspan(b), groups)
+
+        def energy_of(self, meta, ch):
+            return ("energy_of", tuple(ch), _span(meta))
 
         def target_ground(self, meta, ch):
             return None
@@ -1187,6 +1245,9 @@ def _make_transformer():
         def find_item(self, meta, ch):
             name, expr = ch[0]
             unit = ch[1] if len(ch) > 1 else (None, None)
+            split = _split_in_unit(expr) if len(ch) == 1 else None
+            if split is not None:
+                expr, unit = split[0], (split[1], split[2])
             return FindItem(_span(meta), name, expr, unit[0], unit[1])
 
         def find_stmt(self, meta, ch):

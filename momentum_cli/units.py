@@ -41,28 +41,38 @@ UNITS: dict[str, tuple[float, Dim]] = {
     "yd": (0.9144, LENGTH), "mi": (1609.344, LENGTH),
     # time
     "s": (1.0, TIME), "ms": (1e-3, TIME), "min": (60.0, TIME), "h": (3600.0, TIME),
-    "hr": (3600.0, TIME),
+    "hr": (3600.0, TIME), "sec": (1.0, TIME),
     # force, energy, power
     "N": (1.0, FORCE), "kN": (1e3, FORCE), "lbf": (_LBF, FORCE), "kip": (1e3 * _LBF, FORCE),
-    "J": (1.0, MOMENT), "kJ": (1e3, MOMENT), "W": (1.0, (1, 2, -3)),
+    "J": (1.0, MOMENT), "kJ": (1e3, MOMENT), "W": (1.0, (1, 2, -3)), "kW": (1e3, (1, 2, -3)),
+    "MW": (1e6, (1, 2, -3)), "hp": (550 * _FT * _LBF, (1, 2, -3)),  # mechanical horsepower
     # angles (dimensionless) and rates
     "rad": (1.0, NONE), "deg": (math.pi / 180, NONE), "degree": (math.pi / 180, NONE),
+    "°": (math.pi / 180, NONE),
     "rev": (2 * math.pi, NONE), "rpm": (2 * math.pi / 60, RATE), "Hz": (1.0, RATE),
     # speeds
     "mph": (1609.344 / 3600, VELOCITY), "kph": (1000 / 3600, VELOCITY),
+    "kmh": (1000 / 3600, VELOCITY), "fps": (_FT, VELOCITY),  # km/h (not km), ft/s
 }
+# Spellings offered in "did you mean" besides the names above (what a student means).
+COMPOUNDS = ("m/s", "km/h", "km/hr", "mi/h", "ft/s", "ft/sec", "in/s", "m/s^2", "ft/s^2",
+             "rad/s", "deg/s", "N*s", "lb*s", "N*m", "lb*ft", "N*m*s", "kg*m^2", "slug*ft^2",
+             "kg*m/s", "N/m", "lb/ft", "lb/in", "kg/s", "slug/s")
 # `lb` is ambiguous on purpose: force first (textbook weights, lb*ft), then mass.
-AMBIGUOUS = {"lb": [(_LBF, FORCE), (_LBM, MASS)], "lbs": [(_LBF, FORCE), (_LBM, MASS)]}
+# `oz` likewise: an ounce-force (a weight) first, then an ounce of mass.
+AMBIGUOUS = {"lb": [(_LBF, FORCE), (_LBM, MASS)], "lbs": [(_LBF, FORCE), (_LBM, MASS)],
+             "oz": [(_LBF / 16, FORCE), (_LBM / 16, MASS)]}
 
-_TOKEN = re.compile(r"([*/])?([A-Za-z_][A-Za-z_0-9]*)(?:(?:\*\*|\^)(-?\d+))?")
+_TOKEN = re.compile(r"([*/])?([A-Za-z_][A-Za-z_0-9]*|°)(?:(?:\*\*|\^)(-?\d+))?")
 
 
 class UnitError(ValueError):
     """An unknown unit name in a unit expression; `offset` is where in the text."""
 
-    def __init__(self, message: str, offset: int = 0):
+    def __init__(self, message: str, offset: int = 0, name: str | None = None):
         super().__init__(message)
         self.offset = offset
+        self.name = name  # the unknown unit name, when that is the trouble
 
 
 def dim_mul(a: Dim, b: Dim) -> Dim:
@@ -103,7 +113,7 @@ def parse_unit(text: str) -> list[tuple[float, Dim]]:
         elif name in AMBIGUOUS:
             options = AMBIGUOUS[name]
         else:
-            raise UnitError(unknown_unit_message(name), m.start(2))
+            raise UnitError(unknown_unit_message(name), m.start(2), name)
         p = int(power) if power else 1
         if abs(p) > 12:
             raise UnitError(f"unit power {p} is out of range", m.start(3))
@@ -121,12 +131,25 @@ def parse_unit(text: str) -> list[tuple[float, Dim]]:
     return readings
 
 
-def unknown_unit_message(name: str) -> str:
-    from .diagnostics import did_you_mean
-
+def unknown_unit_message(name: str, want: Dim | None = None) -> str:
     if name == "g":
         return "'g' is the file's gravity, not a unit (write grams as 'gram')"
-    return f"unknown unit '{name}'" + did_you_mean(name, list(UNITS) + list(AMBIGUOUS))
+    return f"unknown unit '{name}'" + suggest_unit(name, want)
+
+
+def suggest_unit(name: str, want: Dim | None = None) -> str:
+    """A "; did you mean X?" suffix for a unit, preferring those of dimension `want`."""
+    from .diagnostics import did_you_mean
+
+    every = [u for u in list(UNITS) + list(AMBIGUOUS) + list(COMPOUNDS)
+             if u not in _TERSE and u != name]
+    if want is not None:
+        every = [u for u in every if any(d == want for _f, d in parse_unit(u))]
+    return did_you_mean(name, every)
+
+
+# read but not offered as suggestions: the spelled-out forms say more (`km` -> `km/h`)
+_TERSE = {"kmh", "kph", "fps", "sec", "°"}
 
 
 def reading_for(readings: list[tuple[float, Dim]], want: Dim | None) -> tuple[float, Dim]:

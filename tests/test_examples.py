@@ -473,6 +473,10 @@ CHECKS = {f.__name__: f for f in [
     rod_rough_floor_newton, rod_rough_floor_poisson, rod_rough_floor_energetic,
 ]}
 
+from test_language_items import CHECKS as LANGUAGE_CHECKS  # noqa: E402 (issue 10's items)
+
+CHECKS.update(LANGUAGE_CHECKS)
+
 # the open-system examples (flow_*) are checked against their closed forms in test_flows.py
 PROBLEMS = sorted(p.stem for p in EXAMPLES.glob("*.mom") if not p.stem.startswith("flow_"))
 

@@ -36,11 +36,14 @@ PINT_NAME = {
     "Hz": "hertz",
     "mph": "mile / hour",
     "kph": "kilometer / hour",
+    "kW": "kilowatt", "MW": "megawatt", "hp": "horsepower", "sec": "second",
+    "°": "degree", "kmh": "kilometer / hour", "fps": "foot / second",
 }
 # `lb` (and `lbs`) is read as a force first, then as a mass.
 PINT_AMBIGUOUS = {
     "lb": ["force_pound", "pound"],
     "lbs": ["force_pound", "pound"],
+    "oz": ["force_ounce", "ounce"],
 }
 
 REL = 1e-14  # pint and we write the same exact definitions; allow a few ulps
@@ -111,7 +114,7 @@ def test_single_names_parse_to_their_table_entry():
 
 # ---- compound expressions ------------------------------------------------------------------
 
-_NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
+_NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*|°")
 
 
 def to_pint(expr: str, readings: dict[str, str] | None = None) -> str:
@@ -131,7 +134,7 @@ COMPOUND = [
     "m/s^2", "m/s**2", "kg*m^2", "kg*m**2", "N*m", "ft/s^2", "ft/s**2", "km/h", "m/s",
     "ft/s", "N*s", "N*m*s", "kN*m", "slug*ft^2", "lbm*in^2", "kip*ft", "J/s", "rad/s",
     "rad/s^2", "rev/min", "deg/s", "N/m", "lbf/in", "mm/ms", "kg*m/s", "lbf*s", "in/s^2",
-    "km/h/s", "m^-1", "s^-2", "kg*m**2/s", "mi/h",
+    "km/h/s", "m^-1", "s^-2", "kg*m**2/s", "mi/h", "ft/sec", "km/hr", "kW*h", "hp*s",
 ]
 
 
@@ -203,3 +206,38 @@ def test_unknown_names_are_errors(expr):
 def test_malformed_expressions_are_errors(expr):
     with pytest.raises(UnitError):
         parse_unit(expr)
+
+
+# ---- what a student types: issue 10 item 11 ------------------------------------------------
+
+def test_kmh_is_kilometres_per_hour_not_kilometres():
+    (f, d), = parse_unit("kmh")
+    assert d == (0, 1, -1) and close(f, 1000 / 3600)
+
+
+def test_degree_sign_is_a_degree():
+    (f, d), = parse_unit("°")
+    assert d == (0, 0, 0) and close(f, math.pi / 180)
+
+
+def test_oz_reads_as_weight_first_then_mass():
+    (f1, d1), (f2, d2) = parse_unit("oz")
+    assert d1 == (1, 1, -2) and d2 == (1, 0, 0)
+    assert close(16 * f1, AMBIGUOUS["lb"][0][0]) and close(16 * f2, AMBIGUOUS["lb"][1][0])
+
+
+@pytest.mark.parametrize("name,want,expect", [
+    ("km", (0, 1, -1), "km/h"),        # a length where a speed is wanted
+    ("kgg", None, "kg"),
+    ("ftsec", (0, 1, -1), "ft/sec"),
+])
+def test_unit_suggestions_have_the_right_dimension(name, want, expect):
+    from momentum_cli.units import suggest_unit
+
+    assert f"'{expect}'" in suggest_unit(name, want)
+
+
+def test_a_unit_of_another_dimension_is_not_suggested_as_itself():
+    from momentum_cli.units import suggest_unit
+
+    assert suggest_unit("kmh", (1, 1, -2)) == "" or "kmh'" not in suggest_unit("kmh", (1, 1, -2))

@@ -277,8 +277,9 @@ def _energy_checks(sol: Solution, sig: int) -> list[CheckReport]:
             status, what = "warning", "GAINED (not physical for an impact)"
         else:
             status, what = "ok", "lost"
+        of = f"T of {{{', '.join(t.bodies)}}}: " if t.bodies else ""
         out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", status,
-                               f"T{t.before} = {fmt_num(a, sig)} J, T{t.after} = "
+                               f"{of}T{t.before} = {fmt_num(a, sig)} J, T{t.after} = "
                                f"{fmt_num(b, sig)} J, {what} {fmt_num(abs(lost) if abs(lost) > tol else 0.0, sig)} J "
                                f"({fmt_num(abs(frac) * 100 if abs(lost) > tol else 0.0, 4)} %)",
                                _finite(frac)))
