@@ -36,6 +36,7 @@ from .expr import (
     neg,
     omega_cross,
     rotate,
+    rotate_v2,
     to_text,
 )
 from .principles import PrinciplesMixin, _acts_on, _internal
@@ -45,12 +46,14 @@ from .scene import (
     STATE_QTYS,
     PointOn,
     Scene,
+    Symbolic,
     TransitionSpec,
 )
 from .source import Span
 from .units import (
     TIME,
     Dim,
+    describe,
     si_label,
 )
 
@@ -295,11 +298,27 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if p.round_contact and normal is not None and b.radius:
             r = b.radius
             return V2(Const(-sign * r * normal[0]), Const(-sign * r * normal[1]))
+        if p.located_by is not None:
+            return rotate_v2(self.symbolic(p.located_by), self.sv(p.body, "angle", sid))
         if p.offset == (0.0, 0.0):
             return V2(ZERO, ZERO)
         if b.is_particle:
             return V2(ZERO, ZERO)
         return rotate(p.offset, self.sv(p.body, "angle", sid))
+
+    def symbolic(self, s: Symbolic) -> E | V2:
+        """A force, moment, duration or offset that names unknowns, dimension checked."""
+        q = self._evaluator()(s.node, s.dim)
+        if q.is_vector != s.vector:
+            raise ProblemError(f"{s.what} needs " + ("a vector such as (1, 0); got a scalar"
+                                                     if s.vector else "a scalar; got a vector"),
+                               s.node.span, code="type")
+        if q.dim != s.dim:
+            raise ProblemError(f"{s.what} needs {describe(s.dim)}; got {describe(q.dim)}",
+                               s.node.span, code="units")
+        if s.vector and s.shift != (0.0, 0.0):
+            return q.value + V2(Const(s.shift[0]), Const(s.shift[1]))
+        return q.value
 
     def point_velocity(self, p: PointOn | None, sid: str, normal=None, sign=1.0) -> V2:
         if p is None or p.body is None:
@@ -469,13 +488,19 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                     sources.append(ImpulseSource((b, None), b, _unit(sc.gravity), False,
                                            f"weight of {b}"))
             for F, p, span in t.forces:
-                Fv = V2(Const(F[0]), Const(F[1]))
+                Fv = self.symbolic(F) if isinstance(F, Symbolic) else V2(Const(F[0]),
+                                                                           Const(F[1]))
                 apply(p, Fv.scale(dur()))
-                sources.append(ImpulseSource((p.body, None), p.name, _unit(F), False,
+                direction = None if isinstance(F, Symbolic) else _unit(F)
+                sources.append(ImpulseSource((p.body, None), p.name, direction, False,
                                        f"force at {p.name}"))
             for M, b, span in t.moments:
-                ang[b].append(mul(Const(M), dur()))
+                Mv = self.symbolic(M) if isinstance(M, Symbolic) else Const(M)
+                ang[b].append(mul(Mv, dur()))
                 sources.append(ImpulseSource((b, None), b, None, True, f"moment on {b}"))
+        if t.duration_expr is not None:
+            self.eq(dur(), self.symbolic(t.duration_expr), "the duration as stated", group,
+                    t.duration_expr.node.span)
         # impulse-momentum for each body that something acts on
         busy = self._busy[key]
         for b, body in sc.bodies.items():

@@ -58,6 +58,19 @@ class Body:
 
 
 @record(frozen=True)
+class Symbolic:
+    """A value the file writes with unknowns (`force (P, 0)`, `duration 2 s - t@1->2`,
+    `point Q = rod at (d, 0)`): compile evaluates it among the other unknowns and checks
+    its dimension there. `shift` is added to a vector (a point's offset from G)."""
+
+    node: object
+    dim: Dim
+    what: str
+    vector: bool
+    shift: tuple[float, float] = (0.0, 0.0)
+
+
+@record(frozen=True)
 class PointOn:
     """A point of a body (offset from G in the body frame) or of the ground (world)."""
 
@@ -66,6 +79,7 @@ class PointOn:
     name: str
     span: Span
     round_contact: bool = False  # a round body's contact point: G - r n, in the world frame
+    located_by: Symbolic | None = None  # the offset, when an unknown locates the point
 
 
 @record(frozen=True)
@@ -121,9 +135,12 @@ class TransitionSpec:
     stops_relative: list[tuple[str, str, Span]] = field(default_factory=list)
     stops: list[tuple[str, Span]] = field(default_factory=list)
     rolls: list[tuple[str, str, Span]] = field(default_factory=list)
-    forces: list[tuple[tuple[float, float], PointOn, Span]] = field(default_factory=list)
-    moments: list[tuple[float, str, Span]] = field(default_factory=list)
+    # a force or moment is a constant, or a Symbolic when it names unknowns
+    forces: list[tuple[tuple[float, float] | Symbolic, PointOn, Span]] = \
+        field(default_factory=list)
+    moments: list[tuple[float | Symbolic, str, Span]] = field(default_factory=list)
     duration: float | None = None
+    duration_expr: Symbolic | None = None  # a duration that names unknowns
 
     @property
     def key(self) -> str:
@@ -278,6 +295,24 @@ class _Builder:
             raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
         return (x / n, y / n)
 
+    def _names_unknowns(self, node) -> bool:
+        """Whether an expression names something other than a constant (an `unknown`, a
+        state's quantity, `t@1->2`): then compile evaluates it."""
+        if isinstance(node, S.Ref):
+            plain = node.index is None and node.member is None and not node.at
+            return not (plain and (node.name in self.constants or node.name in ("pi", "g")))
+        kids = {S.BinOp: ("left", "right"), S.Neg: ("arg",), S.Mag: ("arg",),
+                S.VecLit: ("x", "y")}.get(type(node), ())
+        if isinstance(node, S.Call):
+            return any(self._names_unknowns(a) for a in node.args)
+        return any(self._names_unknowns(getattr(node, k)) for k in kids)
+
+    def effect(self, node, dim: Dim, what: str, vector: bool):
+        """A force, moment or duration: a constant, or a Symbolic that names unknowns."""
+        if self._names_unknowns(node):
+            return Symbolic(node, dim, what, vector)
+        return self.vector(node, dim, what) if vector else self.value(node, dim, what)
+
     def _check_dim(self, q: Q, dim: Dim, node, what: str) -> None:
         if q.dim != dim:
             got = describe(q.dim)
@@ -343,14 +378,14 @@ class _Builder:
             elif isinstance(s, S.ConserveAngular):
                 self._states_exist(states, s.before, s.after, s.span)
                 self._body_names(s.bodies, s.span)
-                stated.append(StatedAngular(s.span, s.bodies, self.point(s.about), s.before,
+                stated.append(StatedAngular(s.span, s.bodies, self.fixed_point(s.about), s.before,
                                             s.after))
             elif isinstance(s, S.RestitutionLaw):
                 self._states_exist(states, s.before, s.after, s.span)
                 e = self.value(s.value, NONE, "a coefficient of restitution")
                 self._check_restitution(e, s.value.span)
-                b = self.point(s.b) if s.b is not None else None
-                stated.append(StatedRestitution(s.span, e, self.point(s.a), b,
+                b = self.fixed_point(s.b) if s.b is not None else None
+                stated.append(StatedRestitution(s.span, e, self.fixed_point(s.a), b,
                                                 self.unit_vector(s.along, "the line of impact"),
                                                 s.before, s.after))
         equations = [s for s in st if isinstance(s, S.UserEquation)]
@@ -590,9 +625,19 @@ class _Builder:
             raise ProblemError(f"'{s.name}' is already defined", s.span, code="name")
         if s.alias is not None:
             p = self.point(s.alias)
-            self.points[s.name] = PointOn(p.body, p.offset, s.name, s.span)
+            self.points[s.name] = PointOn(p.body, p.offset, s.name, s.span,
+                                          located_by=p.located_by)
             return
-        xy = self.vector(s.offset, LENGTH, "a point's position")
+        xy = self.effect(s.offset, LENGTH, "a point's position", True)
+        if isinstance(xy, Symbolic):
+            body = self._body_named(s.body, s.span)
+            if body.is_particle:
+                raise ProblemError(f"'{body.name}' is a particle: its only point is its centre",
+                                   s.offset.span, code="name")
+            self.points[s.name] = PointOn(body.name, body.origin, s.name, s.span,
+                                          located_by=Symbolic(xy.node, LENGTH, xy.what, True,
+                                                              body.origin))
+            return
         if s.body == "ground" or s.body in self.surfaces:
             self.points[s.name] = PointOn(None, xy, s.name, s.span)
             return
@@ -608,6 +653,15 @@ class _Builder:
             raise ProblemError(f"unknown body '{name}'" + did_you_mean(name, self.bodies), span,
                                code="name")
         return self.bodies[name]
+
+    def fixed_point(self, ref: S.PointRef) -> PointOn:
+        """A point at a known place: joints, contacts and stated principles need one."""
+        p = self.point(ref)
+        if p.located_by is not None:
+            raise ProblemError(f"'{ref.text}' is located by an unknown: only a force may act "
+                               "there", ref.span, code="name",
+                               notes=["locate it with constants, or apply a `force` at it"])
+        return p
 
     def point(self, ref: S.PointRef) -> PointOn:
         """Resolve a point reference: named point, body centre, `rod.end(+)`, `rod.A`."""
@@ -630,10 +684,10 @@ class _Builder:
                 raise ProblemError(f"'{body.name}' has no point '{ref.member}'" +
                                    did_you_mean(ref.member, mine + ["center"]), ref.span,
                                    code="name")
-            return PointOn(p.body, p.offset, ref.text, ref.span)
+            return PointOn(p.body, p.offset, ref.text, ref.span, located_by=p.located_by)
         if ref.name in self.points:
             p = self.points[ref.name]
-            return PointOn(p.body, p.offset, p.name, ref.span)
+            return PointOn(p.body, p.offset, p.name, ref.span, located_by=p.located_by)
         if ref.name in self.bodies:
             b = self.bodies[ref.name]
             return PointOn(b.name, (0.0, 0.0), b.name, ref.span, round_contact=True)
@@ -648,7 +702,7 @@ class _Builder:
 
     # ---- joints
     def _joint(self, s: S.Joint) -> Joint:
-        a, b = self.point(s.a), self.point(s.b)
+        a, b = self.fixed_point(s.a), self.fixed_point(s.b)
         if a.body is None and b.body is not None:
             a, b = b, a
         if a.body is None:
@@ -777,15 +831,19 @@ class _Builder:
                 self._surface_named(c.names[1], c.span)
                 t.rolls.append((c.names[0], c.names[1], c.span))
             elif c.kind == Clause.FORCE:
-                f = self.vector(c.value, FORCE, "a force")
+                f = self.effect(c.value, FORCE, "a force", True)
                 t.forces.append((f, self.point(c.point), c.span))
             elif c.kind == Clause.MOMENT:
                 body = self._body_named(c.names[0], c.span)
-                t.moments.append((self.value(c.value, MOMENT, "a moment"), body.name, c.span))
+                t.moments.append((self.effect(c.value, MOMENT, "a moment", False), body.name,
+                                  c.span))
             elif c.kind == Clause.DURATION:
                 if s.kind != TransitionKind.INTERVAL:
                     raise ProblemError("only an interval has a duration", c.span, code="name")
-                d = self.value(c.value, TIME, "a duration")
+                d = self.effect(c.value, TIME, "a duration", False)
+                if isinstance(d, Symbolic):
+                    t.duration_expr = d
+                    continue
                 if d <= 0:
                     raise ProblemError("a duration must be positive", c.value.span,
                                        code="number")
@@ -808,8 +866,8 @@ class _Builder:
         return self.surfaces[name]
 
     def _contact(self, c: S.Contact, kind: str) -> Contact:
-        a = self.point(c.a)
-        b = self.point(c.b) if c.b is not None else None
+        a = self.fixed_point(c.a)
+        b = self.fixed_point(c.b) if c.b is not None else None
         surface = None
         if b is not None and b.body is None:
             surface = b.name

@@ -456,6 +456,11 @@ CHECKS = {f.__name__: f for f in [
     rod_rough_floor_newton, rod_rough_floor_poisson, rod_rough_floor_energetic,
 ]}
 
+# the examples of the language items (issue 10), checked in test_language_items.py
+from test_language_items import EXAMPLE_CHECKS  # noqa: E402
+
+CHECKS.update(EXAMPLE_CHECKS)
+
 # the open-system examples (flow_*) are checked against their closed forms in test_flows.py
 PROBLEMS = sorted(p.stem for p in EXAMPLES.glob("*.mom") if not p.stem.startswith("flow_"))
 
