@@ -12,6 +12,7 @@ from dataclasses import field
 from . import syntax as S
 from .diagnostics import Collector, ProblemError, did_you_mean
 from .elements.kinds import Clause, JointKind, Prop, Restitution, Tangential, TransitionKind
+from .elements.geometry import centre, line_of_centres
 from .expr import Const
 from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
 from .records import record
@@ -805,7 +806,7 @@ class _Builder:
                     raise ProblemError("contacts belong to impacts and intervals; an energy phase "
                                        "takes gravity, springs, forces and moments", c.span,
                                        code="name")
-                con = self._contact(c, s.kind)
+                con = self._contact(c, s.kind, states[s.before])
                 if con.label in labels:
                     raise ProblemError(f"two contacts are called '{con.label}' in this transition",
                                        c.span, code="name",
@@ -856,6 +857,45 @@ class _Builder:
                                code="name")
         return t
 
+    def _geometric_normal(self, c: S.Contact, a: PointOn, b: PointOn,
+                          before: StateSpec) -> tuple[float, float]:
+        """The normal the shapes fix, from the positions given in the state before: the
+        line of centres of two round bodies, or from a round body's centre to the point
+        it touches (a rod's end)."""
+        round_ = [p.round_contact and bool(self.bodies[p.body].radius) for p in (a, b)]
+        if not any(round_):
+            raise ProblemError("a contact needs a normal: between two points the geometry "
+                               "fixes none; write `normal (x, y)` (the direction of the impulse "
+                               "on the first body), or give a body a radius", c.span,
+                               code="name")
+        pose, missing = {}, []
+        for p in (a, b):
+            g = before.givens
+            qtys = ("x", "y") + (("angle",) if p.offset != (0.0, 0.0) else ())
+            lack = [q for q in qtys if (p.body, q) not in g]
+            missing += [f"{p.body}.{q}" for q in lack]
+            if not lack:
+                pose[p.body] = (g[(p.body, "x")][0], g[(p.body, "y")][0],
+                                g[(p.body, "angle")][0] if "angle" in qtys else 0.0)
+        if missing:
+            raise ProblemError(f"the normal from the geometry needs {', '.join(missing)} in "
+                               f"state {before.id}; give them, or write `normal (x, y)`",
+                               c.span, code="name")
+        n, d = line_of_centres(centre(pose, a), centre(pose, b))
+        if n is None:
+            raise ProblemError("the two contact points coincide in state "
+                               f"{before.id}: the geometry fixes no normal; write "
+                               "`normal (x, y)`", c.span, code="name")
+        reach = sum(self.bodies[p.body].radius for p, r in zip((a, b), round_) if r)
+        if abs(d - reach) > 1e-6 * max(d, reach):
+            self.notes.warn(f"contact {a.name} with {b.name}: the bodies are {d:.6g} m apart in "
+                           f"state {before.id} but their radii reach {reach:.6g} m; the normal "
+                           "is along the line of centres", c.span)
+        else:
+            self.notes.note(f"contact {a.name} with {b.name}: normal ({n[0]:.4g}, {n[1]:.4g}) "
+                            f"on {a.name}, from the geometry in state {before.id}", c.span)
+        return n
+
     def _surface_named(self, name: str, span: Span) -> Surface:
         if name == "ground":
             return Surface("ground", None, (0.0, 0.0), span)
@@ -865,7 +905,7 @@ class _Builder:
                                                          "(0, 1)`"])
         return self.surfaces[name]
 
-    def _contact(self, c: S.Contact, kind: str) -> Contact:
+    def _contact(self, c: S.Contact, kind: str, before: StateSpec | None = None) -> Contact:
         a = self.fixed_point(c.a)
         b = self.fixed_point(c.b) if c.b is not None else None
         surface = None
@@ -886,9 +926,14 @@ class _Builder:
             normal = sf.normal
         elif kind == "simulate" and b is not None:
             normal = None  # two bodies: the simulation takes the normal from their shapes
+        elif b is not None and before is not None:
+            normal = self._geometric_normal(c, a, b, before)
         else:
-            raise ProblemError("a contact needs a normal: `normal (0, 1)` (the direction of the "
-                               "impulse on the first body)", c.span, code="name")
+            where = f"'{surface}' has no normal: declare `surface {surface} normal (0, 1)`, " \
+                if surface not in (None, "ground") else ""
+            raise ProblemError("a contact needs a normal: " + where + "`normal (0, 1)` (the "
+                               "direction of the impulse on the first body)", c.span,
+                               code="name")
         e = None
         e_unknown = False
         e_name = None

@@ -65,9 +65,56 @@ find d
     assert "located by an unknown" in d.message and d.span.line == 5
 
 
+
+# ---- item 8: normals from geometry ---------------------------------------------------------
+def test_two_pucks_take_the_line_of_centres():
+    m, v, e, phi = 0.17, 5.0, 0.9, math.radians(30)
+    n = (math.cos(phi), math.sin(phi))  # from A's centre to B's
+    vn = v * n[0]  # equal masses, B at rest: the normal parts exchange with restitution
+    vb, va_n = (1 + e) / 2 * vn, (1 - e) / 2 * vn
+    got = answers(_file("pucks_line_of_centres.mom"))
+    va = (v - vn * n[0] + va_n * n[0], -vn * n[1] + va_n * n[1])
+    for k, want in {"B.vx@2": vb * n[0], "B.vy@2": vb * n[1], "A.vx@2": va[0],
+                    "A.vy@2": va[1]}.items():
+        assert math.isclose(got[k], want, rel_tol=1e-12), k
+    assert m > 0
+
+
+ROD_ON_DISK = """
+body rod: rod(mass = 2 kg, length = 1 m)
+body ball: disk(mass = 0.5 kg, radius = 0.1 m)
+state 1:
+    rod.pos = (0, 0), rod.angle = 0, rod.v = (0, -3 m/s), rod.omega = 0
+    ball.pos = (0.5 m, -0.1 m), ball at rest
+state 2
+impact 1 -> 2:
+    contact rod.end(+) with ball: restitution 0.5, smooth
+find ball.vy@2, rod.omega@2
+"""
+
+
+def test_a_rod_end_on_a_round_body_takes_the_normal_through_its_centre():
+    m, L, M, v, e = 2.0, 1.0, 0.5, 3.0, 0.5
+    w_eff = 1 / m + (L / 2) ** 2 / (m * L * L / 12) + 1 / M  # the end's and ball's compliance
+    J = (1 + e) * v / w_eff  # along the vertical line through the ball's centre
+    got = answers(ROD_ON_DISK)
+    assert math.isclose(got["ball.vy@2"], -J / M, rel_tol=1e-12)
+    assert math.isclose(got["rod.omega@2"], J * (L / 2) / (m * L * L / 12), rel_tol=1e-12)
+
+
+def test_where_the_geometry_fixes_no_normal_the_error_says_so():
+    d = error_of(ROD_ON_DISK.replace("ball: disk(mass = 0.5 kg, radius = 0.1 m)",
+                                     "ball: rod(mass = 0.5 kg, length = 0.2 m)")
+                 .replace("with ball:", "with ball.end(-):"))
+    assert "geometry fixes none" in d.message and d.span.line == 9
+    d = error_of(ROD_ON_DISK.replace("rod.angle = 0, ", ""))
+    assert "needs rod.angle in state 1" in d.message and d.span.line == 9
+
+
 # each example of these items, by the test that checks it against its closed form
 EXAMPLE_CHECKS = {
     "unknown_tug_force": test_an_unknown_force_from_the_speed_it_gives,
     "unknown_split_duration": test_a_duration_that_is_what_is_left_of_a_total,
     "centre_of_percussion": test_the_centre_of_percussion_is_two_thirds_down_the_bar,
+    "pucks_line_of_centres": test_two_pucks_take_the_line_of_centres,
 }
