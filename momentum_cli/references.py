@@ -62,6 +62,11 @@ class ReferencesMixin:
                     return Q(self.unknown(name, dim, KeyKind.USER, unit or si_label(dim)), dim)
                 if name in self.unknowns:
                     return Q(Var(name), self.unknowns[name].dim)
+            if member and len(at) == 1 and name in self._by_label:  # a joint's `pole.omega@2`
+                self._state_exists(at[0], ref)
+                q = self._by_label[name].quantity(member, at[0], self)
+                if q is not None:
+                    return Q(q, STATE_QTYS[member][0])
             if member and len(at) == 1 and name in sc.bodies:
                 return self._body_ref(ref)
             if member in ("v", "vx", "vy", "speed") and len(at) == 1 and name in sc.points:

@@ -533,7 +533,8 @@ class _Builder:
             if a.name in out:
                 raise ProblemError(f"'{a.name}' is given twice", a.span, code="name")
             v = self.value(a.value, ARG_DIMS[a.name], f"'{a.name}'")
-            if v <= 0 and not (a.name == "radius" and v == 0):
+            zero_ok = a.name == "radius" or (a.name == "inertia" and shape.kind == "rigid")
+            if v <= 0 and not (zero_ok and v == 0):  # rigid(inertia = 0): a point mass
                 raise ProblemError(f"'{a.name}' must be positive; got {v:g}", a.value.span,
                                    code="number")
             out[a.name] = (v, a.value.span)
@@ -594,9 +595,10 @@ class _Builder:
             shape = s.shapes[0]
             m, inertia, formula, r, L, w = self._simple(shape)
             kind = shape.kind
+            point_mass = kind == "particle" or (kind == "rigid" and inertia == 0)
             self.bodies[s.name] = Body(s.name, s.span, kind, m, inertia, formula,
                                        r if kind in ROUND or kind in ("particle", "rigid") else None,
-                                       L, kind == "particle", (0.0, 0.0), w)
+                                       L, point_mass, (0.0, 0.0), w)
             return
         parts = []
         for shape in s.shapes:

@@ -111,10 +111,63 @@ def test_where_the_geometry_fixes_no_normal_the_error_says_so():
     assert "needs rod.angle in state 1" in d.message and d.span.line == 9
 
 
+
+# ---- item 9: particles that turn together -----------------------------------------------------
+def test_two_skaters_grabbing_a_pole_spin_about_their_centre():
+    mA, mB, L, vAx, vAy = 60.0, 80.0, 2.0, 4.0, -1.0
+    vy = mA * vAy / (mA + mB)  # along the pole: a plastic impact of the two masses
+    mu = mA * mB / (mA + mB)
+    got = answers(_file("skaters_grab_pole.mom"))
+    for k, want in {"pole.omega@2": -vAx / L,  # across the pole: untouched, so they turn
+                    "A.vx@2": vAx, "A.vy@2": vy, "B.vy@2": vy,
+                    "J[pole]@1->2": mA * (vy - vAy),
+                    "T_lost@1->2": 0.5 * mu * vAy ** 2}.items():
+        assert math.isclose(got[k], want, rel_tol=1e-12), k
+
+
+def test_a_rigid_body_with_no_inertia_is_a_point_mass():
+    got = answers("""
+body a: rigid(mass = 2 kg, inertia = 0)
+state 1: a.v = (1 m/s, 0)
+state 2
+interval 1 -> 2:
+    force (1 N, 0) on a
+    duration 1 s
+find a.vx@2
+""")
+    assert math.isclose(got["a.vx@2"], 1.5, rel_tol=1e-12)
+
+
 # each example of these items, by the test that checks it against its closed form
 EXAMPLE_CHECKS = {
     "unknown_tug_force": test_an_unknown_force_from_the_speed_it_gives,
     "unknown_split_duration": test_a_duration_that_is_what_is_left_of_a_total,
     "centre_of_percussion": test_the_centre_of_percussion_is_two_thirds_down_the_bar,
     "pucks_line_of_centres": test_two_pucks_take_the_line_of_centres,
+    "skaters_grab_pole": test_two_skaters_grabbing_a_pole_spin_about_their_centre,
 }
+
+
+def test_simulated_skaters_on_a_pole_turn_uniformly_about_their_centre():
+    from momentum_cli.scene import build
+    from momentum_cli.sim.integrate import simulate
+    from momentum_cli.source import Source
+    from momentum_cli.syntax import parse
+
+    text = """
+body A: particle(mass = 60 kg)
+body B: particle(mass = 80 kg)
+weld pole: A to B
+state 1:
+    A.pos = (0, 1 m), A.v = (2 m/s, 0)
+    B.pos = (0, -1 m), B.v = (-1.5 m/s, 0)
+simulate from 1:
+    until t = 1 s
+"""
+    res = simulate(build(parse(Source("t.mom", text))), rtol=1e-10)
+    f = res.frame()
+    w, t = -3.5 / 2, 1.0  # zero momentum: they turn about the fixed centre (0, -1/7 m)
+    c, rA = -1 / 7, 1 - (-1 / 7)
+    ax, ay = f.pose["A"][0], f.pose["A"][1]
+    assert math.isclose(ax, -rA * math.sin(w * t), abs_tol=1e-7)
+    assert math.isclose(ay, c + rA * math.cos(w * t), abs_tol=1e-7)

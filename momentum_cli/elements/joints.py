@@ -25,8 +25,8 @@ joint_kind = registrar(JOINTS)  # @joint_kind(KIND) on a JointElement subclass
 
 
 def joint_element(jt, scene) -> "JointElement":
-    """The element for a scene Joint record."""
-    return JOINTS[JointKind(jt.kind)](jt, scene)
+    """The element for a scene Joint record (its class may choose a variant)."""
+    return JOINTS[JointKind(jt.kind)].element_for(jt, scene)
 
 
 class JointElement(Element):
@@ -43,8 +43,16 @@ class JointElement(Element):
         self.has_particle = any(p.body is not None and bodies[p.body].is_particle
                                 for p in (jt.a, jt.b))
 
+    @classmethod
+    def element_for(cls, jt, scene) -> "JointElement":
+        return cls(jt, scene)
+
     def bodies(self) -> tuple[str | None, ...]:
         return (self.a.body, self.b.body)
+
+    def quantity(self, member: str, sid: str, compiler):
+        """A quantity the joint defines (`pole.omega@2`), or None."""
+        return None
 
     def describe(self) -> str:
         return f"{self.kind} {self.label}"
@@ -167,6 +175,14 @@ class Weld(Pin):
 
     transmits_moment = True
 
+    @classmethod
+    def element_for(cls, jt, scene) -> "JointElement":
+        """Two particles welded together are one rigid body: a RigidPair."""
+        bodies = [scene.bodies[p.body] for p in (jt.a, jt.b) if p.body is not None]
+        if len(bodies) == 2 and all(b.is_particle for b in bodies):
+            return RigidPair(jt, scene)
+        return cls(jt, scene)
+
     def state_rows(self, phase: Phase, compiler) -> None:
         super().state_rows(phase, compiler)
         if not self.has_particle:
@@ -219,6 +235,58 @@ class Link(JointElement):
     def sim_reference(self, frame) -> float | None:
         dx, dy = self._gap(frame)
         return dx * self.along[0] + dy * self.along[1]
+
+    def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
+        return [self.sim_reference(frame) - ref[self.label]]
+
+
+class RigidPair(JointElement):
+    """Two particles welded at a distance (skaters holding a light pole): one rigid body.
+    The pole is a two-force member: one impulse along the line between them, and their
+    relative velocity has no part along it; the pair turns with
+    omega = (r_a - r_b) x (v_a - v_b) / |r_a - r_b|^2 (`LABEL.omega@S`)."""
+
+    kind = JointKind.WELD
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        return [impulse_key(Component.J, self.label, phase.key)]
+
+    def _line(self, compiler, sid: str) -> V2:
+        return compiler.point_position(self.a, sid) - compiler.point_position(self.b, sid)
+
+    def impulse(self, phase: Phase, compiler) -> None:
+        d = self._line(compiler, phase.before)
+        Jl = compiler.unknown(self.unknowns(phase)[0], IMPULSE, KeyKind.IMPULSE)
+        self._pair(d.scale(mul(Jl, power(d.dot(d), -0.5))), None, phase)
+        phase.sources.append(ImpulseSource(self.bodies(), self.a.name, None, False,
+                                           self.describe()))
+
+    def state_rows(self, phase: Phase, compiler) -> None:
+        sid = phase.before
+        va, vb = compiler.point_velocity(self.a, sid), compiler.point_velocity(self.b, sid)
+        compiler.eq((va - vb).dot(self._line(compiler, sid)), ZERO,
+                    f"weld {self.label}: the particles keep their distance (one rigid body)",
+                    phase.group, self.span)
+
+    def quantity(self, member: str, sid: str, compiler):
+        if member != "omega":
+            return None
+        d = self._line(compiler, sid)
+        rel = compiler.point_velocity(self.a, sid) - compiler.point_velocity(self.b, sid)
+        return mul(d.cross(rel), power(d.dot(d), -1.0))
+
+    def constraint(self, frame) -> list:
+        J, beta = self._pair_rows(frame)
+        dx, dy = self._gap(frame)
+        va = frame.point_velocity(self.a.body, (0.0, 0.0))
+        vb = frame.point_velocity(self.b.body, (0.0, 0.0))
+        rel2 = (va[0] - vb[0]) ** 2 + (va[1] - vb[1]) ** 2
+        d = math.hypot(dx, dy)  # a unit row: its multiplier is the force along the pole
+        return [SimRow(f"F[{self.label}]", (dx * J[0] + dy * J[1]) / d,
+                       (dx * beta[0] + dy * beta[1] + rel2) / d)]
+
+    def sim_reference(self, frame) -> float | None:
+        return math.hypot(*self._gap(frame))
 
     def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
         return [self.sim_reference(frame) - ref[self.label]]
