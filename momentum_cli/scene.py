@@ -720,7 +720,12 @@ class _Builder:
                 raise ProblemError("`at` places a pin to the ground; a pin between bodies is "
                                    "where its two points meet", s.at.span, code="name")
             b = PointOn(None, self.vector(s.at, LENGTH, "a pin's position"), b.name, b.span)
-        along = self.unit_vector(s.along, "a link's direction") if s.along is not None else None
+        if s.kind == "slider" and (b.offset != (0.0, 0.0) or a.body is None):
+            raise ProblemError("a slider puts a body on another body's line: `slider collar on "
+                               "rod along (1, 0)` (the line through the rod's centre)", s.span,
+                               code="name")
+        along = self.unit_vector(s.along, f"a {s.kind}'s direction") \
+            if s.along is not None else None
         k = length = None
         if s.kind == "spring":
             k = self.value(s.stiffness, STIFFNESS, "a spring stiffness")

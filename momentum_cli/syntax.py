@@ -1020,7 +1020,7 @@ def _make_transformer():
                     rest = rest[:-1]
                 if kind == "pin" and rest:
                     kw["at"] = rest[0]
-                elif kind == "link":
+                elif kind in ("link", "slider"):
                     kw["along"] = rest[0]
                 elif kind == "spring":
                     kw["stiffness"] = rest[0]
@@ -1031,6 +1031,7 @@ def _make_transformer():
 
         pin_stmt, weld_stmt = _joint("pin"), _joint("weld")
         link_stmt, spring_stmt = _joint("link"), _joint("spring")
+        slider_stmt = _joint("slider")
 
         # -- states
         def qty_ref(self, meta, ch):

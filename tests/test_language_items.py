@@ -138,6 +138,43 @@ find a.vx@2
     assert math.isclose(got["a.vx@2"], 1.5, rel_tol=1e-12)
 
 
+
+# ---- item 3: a collar on a slider ----------------------------------------------------------------
+def test_a_collar_sliding_out_conserves_angular_momentum_and_energy_then_strikes_the_stop():
+    M, L, m, r1, w1 = 4.0, 1.2, 1.5, 0.2, 6.0
+    I_O = M * L * L / 3
+    w2 = (I_O + m * r1 ** 2) * w1 / (I_O + m * L ** 2)  # angular momentum about the axle
+    T1 = 0.5 * (I_O + m * r1 ** 2) * w1 ** 2
+    vr = math.sqrt((2 * T1 - (I_O + m * L ** 2) * w2 ** 2) / m)  # energy: the rest is radial
+    got = answers(_file("collar_slides_on_spinning_rod.mom"))
+    # the stop's impulse acts along the rod, through the axle: the spin is unchanged and
+    # the collar's radial energy is lost
+    for k, want in {"rod.omega@2": w2, "collar.vx@2": vr, "rod.omega@3": w2,
+                    "T_lost@2->3": 0.5 * m * vr ** 2}.items():
+        assert math.isclose(got[k], want, rel_tol=1e-12), k
+    assert abs(got["collar.vx@3"]) < 1e-12
+
+
+def test_a_slider_pushed_across_moves_the_rod_and_not_along():
+    # a free rod (no pin) and a collar at its centre: a blow across the rod on the collar
+    # moves both together; a blow along it moves the collar alone
+    text = """
+body rod: rod(mass = 3 kg, length = 1 m)
+body collar: particle(mass = 1 kg)
+slider collar on rod along (1, 0)
+state 1: rod.angle = 0, rod.pos = (0, 0), rod at rest, collar.pos = (0, 0), collar at rest
+state 2
+interval 1 -> 2:
+    force (2 N, 4 N) on collar
+    duration 1 s
+find collar.vx@2, collar.vy@2, rod.vx@2, rod.vy@2, rod.omega@2
+"""
+    got = answers(text)
+    for k, want in {"collar.vx@2": 2.0, "collar.vy@2": 1.0, "rod.vx@2": 0.0, "rod.vy@2": 1.0,
+                    "rod.omega@2": 0.0}.items():
+        assert math.isclose(got[k], want, rel_tol=1e-12, abs_tol=1e-12), k
+
+
 # each example of these items, by the test that checks it against its closed form
 EXAMPLE_CHECKS = {
     "unknown_tug_force": test_an_unknown_force_from_the_speed_it_gives,
@@ -145,6 +182,8 @@ EXAMPLE_CHECKS = {
     "centre_of_percussion": test_the_centre_of_percussion_is_two_thirds_down_the_bar,
     "pucks_line_of_centres": test_two_pucks_take_the_line_of_centres,
     "skaters_grab_pole": test_two_skaters_grabbing_a_pole_spin_about_their_centre,
+    "collar_slides_on_spinning_rod":
+        test_a_collar_sliding_out_conserves_angular_momentum_and_energy_then_strikes_the_stop,
 }
 
 

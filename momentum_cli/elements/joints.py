@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import math
 
-from ..expr import ZERO, Const, E, V2, add, mul, neg, power
+from ..diagnostics import ProblemError
+from ..expr import ZERO, Const, E, V2, add, mul, neg, omega_cross, power, rotate
 from ..units import ANGULAR_IMPULSE, IMPULSE
 from .base import Element, ImpulseSource, Phase, SimRow, registrar
 from .keys import Key, impulse_key
@@ -290,6 +291,63 @@ class RigidPair(JointElement):
 
     def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
         return [self.sim_reference(frame) - ref[self.label]]
+
+
+@joint_kind(JointKind.SLIDER)
+class Slider(JointElement):
+    """A collar on a body's line (a prismatic joint): free along it, held across it by one
+    impulse J across the line, applied on the body where the collar is (so it turns the
+    body); a rigid collar also turns with the body (a moment M). One velocity row across
+    the line at each state: the collar's velocity less the body's material point under it."""
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        out = [impulse_key(Component.J, self.label, phase.key)]
+        if not self.has_particle and self.b.body is not None:
+            out.append(impulse_key(Component.M, self.label, phase.key))
+        return out
+
+    def _across(self, compiler, sid: str) -> V2:
+        n = (-self.along[1], self.along[0])
+        if self.b.body is None or compiler.scene.bodies[self.b.body].is_particle:
+            return V2(Const(n[0]), Const(n[1]))
+        return rotate(n, compiler.sv(self.b.body, "angle", sid))
+
+    def _arm(self, compiler, sid: str) -> V2:
+        """From the body's centre to the collar: where the reaction acts on the body."""
+        return compiler.point_position(self.a, sid) - compiler.point_position(self.b, sid)
+
+    def impulse(self, phase: Phase, compiler) -> None:
+        sid, keys = phase.before, self.unknowns(phase)
+        J = self._across(compiler, sid).scale(compiler.unknown(keys[0], IMPULSE,
+                                                               KeyKind.IMPULSE))
+        M = compiler.unknown(keys[1], ANGULAR_IMPULSE, KeyKind.ANGULAR_IMPULSE) \
+            if len(keys) > 1 else None
+        phase.apply(self.a, J, M)
+        if self.b.body is not None:
+            torque = self._arm(compiler, sid).cross(-J)
+            phase.apply(self.b, -J, add(torque, neg(M)) if M is not None else torque)
+        phase.sources.append(ImpulseSource(self.bodies(), self.a.name, None, False,
+                                           self.describe()))
+
+    def state_rows(self, phase: Phase, compiler) -> None:
+        sid = phase.before
+        va = compiler.point_velocity(self.a, sid)
+        vb = V2(ZERO, ZERO)
+        if self.b.body is not None:
+            w = compiler.sv(self.b.body, "omega", sid)
+            vb = compiler.vel(self.b.body, sid) + omega_cross(w, self._arm(compiler, sid))
+        compiler.eq((va - vb).dot(self._across(compiler, sid)), ZERO,
+                    f"slider {self.label}: no relative velocity across the line", phase.group,
+                    self.span)
+        if len(self.unknowns(phase)) > 1:
+            compiler.eq(compiler.sv(self.a.body, "omega", sid),
+                        compiler.sv(self.b.body, "omega", sid),
+                        f"slider {self.label}: turns with {self.b.body}", phase.group,
+                        self.span)
+
+    def constraint(self, frame) -> list:
+        raise ProblemError("`momentum simulate` does not model a slider yet; `solve` does",
+                           self.span, code="name")
 
 
 class _LineForce(JointElement):

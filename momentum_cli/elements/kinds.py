@@ -22,6 +22,7 @@ class JointKind(_Word):
     LINK = "link"
     SPRING = "spring"
     DAMPER = "damper"  # a simulation's dashpot: a force along its line, no impulse
+    SLIDER = "slider"  # a collar free along a body's line, held across it
 
 
 class Tangential(_Word):

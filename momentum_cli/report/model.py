@@ -86,8 +86,8 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
     else:
         effects.append("no gravity (none declared)")
     for j in sc.joints:
-        what = {"pin": "pin", "weld": "weld", "link": "link (two-force member)",
-                "spring": "spring"}[j.kind]
+        what = {"link": "link (two-force member)",
+                "slider": "slider (free along the line)"}.get(j.kind, str(j.kind))
         other = j.b.name if j.b.body else "ground"
         effects.append(f"{what} {j.label}: {j.a.name} to {other}")
     knowns = []
