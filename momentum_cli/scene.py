@@ -113,6 +113,7 @@ class Contact:
     separation: float | None = None  # the relative normal speed after an impact, if given
     law: Restitution = Restitution.NEWTON  # how the normal impulse ends (elements/contacts.py)
     law_span: Span | None = None  # where the file states the normal law (`restitution ...`)
+    mu_static: float | None = None  # `static 0.4`: checked against the friction a no-slip needs
 
 
 @record
@@ -858,11 +859,42 @@ class _Builder:
                 t.duration = d
             elif c.kind == Clause.FREE:
                 self._body_named(c.names[0], c.span)
+        if s.kind == TransitionKind.INTERVAL:
+            t.rolls = self._rolling_throughout(t)
         if s.kind == TransitionKind.IMPACT and (t.forces or t.moments):
             raise ProblemError("an impact is instantaneous: finite forces and moments give no "
                                "impulse; put them in an interval", (t.forces or t.moments)[0][2],
                                code="name")
         return t
+
+    def _rolling_throughout(self, t: TransitionSpec) -> list:
+        """`BODY rolls on SURFACE` in an interval with no contact of its own: the body rolls
+        throughout, held by a rough contact (normal and friction forces unknown). With a
+        `friction MU` contact it is the end of a slide (kept as an end condition)."""
+        kept = []
+        for body, surface, span in t.rolls:
+            if any(c.a.body == body and c.b is None and c.surface in (surface, None)
+                   for c in t.contacts):
+                kept.append((body, surface, span))
+                continue
+            sf = self._surface_named(surface, span)
+            b = self.bodies[body]
+            if sf.normal is None:
+                raise ProblemError(f"rolling on '{surface}' needs its normal: declare `surface "
+                                   f"{surface} normal (0, 1)`", span, code="name")
+            if b.radius is None or b.is_particle:
+                raise ProblemError(f"'{body}' cannot roll: only disks, rings, spheres and "
+                                   "bodies with a radius roll", span, code="name")
+            if any(c.label == body for c in t.contacts):
+                raise ProblemError(f"a contact is already called '{body}' in this transition",
+                                   span, code="name")
+            t.contacts.append(Contact(label=body, span=span,
+                                      a=PointOn(body, (0.0, 0.0), body, span, True), b=None,
+                                      normal=sf.normal, restitution=None,
+                                      restitution_unknown=False, mode=Tangential.ROUGH,
+                                      mu=None, slip=None,
+                                      surface=None if surface == "ground" else surface))
+        return kept
 
     def _geometric_normal(self, c: S.Contact, a: PointOn, b: PointOn,
                           before: StateSpec) -> tuple[float, float]:
@@ -948,6 +980,7 @@ class _Builder:
         mode = Tangential.SMOOTH
         mu = None
         slip = None
+        mu_static = None
         modes = []
         law, law_span = Restitution.NEWTON, None
         for p in c.props:
@@ -974,6 +1007,11 @@ class _Builder:
                                        p.value.span, code="number")
                 mode = Tangential.FRICTION
                 modes.append(p)
+            elif p.kind == Prop.STATIC:
+                mu_static = self.value(p.value, NONE, "a static friction coefficient")
+                if mu_static < 0:
+                    raise ProblemError("a friction coefficient cannot be negative; got "
+                                       f"{mu_static:g}", p.value.span, code="number")
             elif p.kind == Prop.SLIP:
                 slip = self.unit_vector(p.value, "a slip direction")
             elif p.kind == Prop.SEPARATION:
@@ -994,10 +1032,9 @@ class _Builder:
         if separation is not None and (e is not None or e_unknown):
             raise ProblemError("give either a restitution or a separation speed, not both",
                                c.span, code="name")
-        if kind == TransitionKind.INTERVAL and mode == Tangential.ROUGH:
-            raise ProblemError("in an interval a rough contact needs a friction coefficient "
-                               "(`friction 0.3`); rolling is `BODY rolls on SURFACE`",
-                               modes[0].span, code="name")
+        if mu_static is not None and mode != Tangential.ROUGH:
+            raise ProblemError("`static MU` checks the friction a no-slip contact needs: write "
+                               "`rough, static 0.4`", c.span, code="name")
         if law is not Restitution.NEWTON:
             if kind != "impact":
                 raise ProblemError(f"the {law} restitution law resolves an impact; here write "
@@ -1014,7 +1051,7 @@ class _Builder:
                        restitution_unknown=e_unknown, mode=Tangential(mode), mu=mu, slip=slip,
                        surface=surface, restitution_name=e_name, separation=separation,
                        law=Restitution.SEPARATION if separation is not None else law,
-                       law_span=law_span)
+                       law_span=law_span, mu_static=mu_static)
 
     def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
         self._states_exist(states, s.before, s.after, s.span)

@@ -1122,6 +1122,9 @@ def _make_transformer():
         def prop_friction(self, meta, ch):
             return Prop(_span(meta), "friction", ch[0])
 
+        def prop_static(self, meta, ch):
+            return Prop(_span(meta), "static", ch[0])
+
         def prop_slip(self, meta, ch):
             return Prop(_span(meta), "slip", ch[0])
 

@@ -175,6 +175,46 @@ find collar.vx@2, collar.vy@2, rod.vx@2, rod.vy@2, rod.omega@2
         assert math.isclose(got[k], want, rel_tol=1e-12, abs_tol=1e-12), k
 
 
+
+# ---- item 4: rolling during an interval -----------------------------------------------------------
+def test_a_disk_rolls_down_an_incline_with_the_friction_it_needs():
+    m, r, g, th, T = 3.0, 0.2, 9.81, math.radians(25), 2.0
+    a = g * math.sin(th) / 1.5  # m a = m g sin - F, (m r^2/2) a / r = F r
+    got = answers(_file("disk_rolls_down_incline_interval.mom"))
+    for k, want in {"disk.speed@2": a * T, "disk.omega@2": -a * T / r,
+                    "friction": m * g * math.sin(th) / 3,
+                    "normal": m * g * math.cos(th)}.items():
+        assert math.isclose(got[k], want, rel_tol=1e-12), k
+
+
+ROLLS = """
+gravity 9.81 m/s^2 down
+body hoop: ring(mass = 2 kg, radius = 0.5 m)
+surface incline normal (sin(30 deg), cos(30 deg))
+state 1: hoop at rest
+state 2
+interval 1 -> 2:
+    hoop rolls on incline
+    duration 1 s
+find hoop.speed@2, F = J_t[hoop]@1->2 / t@1->2
+"""
+
+
+def test_rolls_on_in_an_interval_means_rolling_throughout():
+    g, m = 9.81, 2.0
+    got = answers(ROLLS)  # a hoop: I = m r^2, so a = g sin / 2 and F = m g sin / 2
+    assert math.isclose(got["hoop.speed@2"], g * 0.5 / 2, rel_tol=1e-12)
+    assert math.isclose(got["F"], m * g * 0.5 / 2, rel_tol=1e-12)
+
+
+def test_the_static_coefficient_that_is_too_small_is_reported():
+    from helpers import solve_text
+
+    text = _file("disk_rolls_down_incline_interval.mom").replace("static 0.2", "static 0.1")
+    checks = {c.name: c for c in solve_text(text).checks}
+    assert checks["friction at disk (1->2)"].status == "warning"
+
+
 # each example of these items, by the test that checks it against its closed form
 EXAMPLE_CHECKS = {
     "unknown_tug_force": test_an_unknown_force_from_the_speed_it_gives,
@@ -182,6 +222,8 @@ EXAMPLE_CHECKS = {
     "centre_of_percussion": test_the_centre_of_percussion_is_two_thirds_down_the_bar,
     "pucks_line_of_centres": test_two_pucks_take_the_line_of_centres,
     "skaters_grab_pole": test_two_skaters_grabbing_a_pole_spin_about_their_centre,
+    "disk_rolls_down_incline_interval":
+        test_a_disk_rolls_down_an_incline_with_the_friction_it_needs,
     "collar_slides_on_spinning_rod":
         test_a_collar_sliding_out_conserves_angular_momentum_and_energy_then_strikes_the_stop,
 }

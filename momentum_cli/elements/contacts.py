@@ -184,6 +184,9 @@ class TangentialLaw:
         """The power of the tangential force of a persistent contact."""
         return 0.0
 
+    def friction_detail(self, jt: float, jn: float) -> str:
+        return f"|J_t| = {abs(jt):.6g} N*s"
+
     def describe(self) -> str:
         return str(self.kind)
 
@@ -203,6 +206,39 @@ class Rough(TangentialLaw):
     def stamp_impact(self, rows: ContactRows, compiler) -> None:
         compiler.eq(rows.vt2, ZERO, f"no slip at {self.c.label} (rough)", rows.phase.group,
                     self.c.span)
+        self._static_site(rows, compiler)
+
+    def stamp_interval(self, rows: ContactRows, compiler) -> None:
+        """No slip at either end: with constant forces the slip rate changes linearly, so
+        none throughout (rolling). The friction impulse J_t is what that needs."""
+        for sid, vt in ((rows.phase.before, rows.vt1), (rows.phase.after, rows.vt2)):
+            compiler.eq(vt, ZERO, f"no slip at {self.c.label} (rough: throughout)",
+                        f"state {sid}", self.c.span)
+        self._static_site(rows, compiler)
+
+    def _static_site(self, rows: ContactRows, compiler) -> None:
+        """With `static MU`: the friction the no-slip needs is checked against it."""
+        mu = getattr(self.c, "mu_static", None)
+        if mu is not None:
+            compiler.friction.append(FrictionSite(rows.site, self.c.label, rows.phase.key, mu,
+                                                  rows.jn.name, rows.jt.name, Regime.NO_SLIP,
+                                                  None, self.c.span, True, self))
+
+    def static_check(self, jt: float, jn: float) -> tuple[str, str]:
+        """(status, detail) of the friction a no-slip needs against the static coefficient."""
+        ok = self.stick_holds(jt, jn)
+        return ("ok" if ok else "warning"), self.friction_detail(jt, jn) + (
+            "" if ok else ": it would slip (give `friction MU` for the sliding case)")
+
+    def stick_holds(self, jt: float, jn: float) -> bool:
+        mu = getattr(self.c, "mu_static", None)
+        return mu is None or not abs(jt) > mu * jn * (1 + STICK_SLACK) + 1e-300
+
+    def friction_detail(self, jt: float, jn: float) -> str:
+        mu = getattr(self.c, "mu_static", None)
+        if mu is None or jn <= 0:
+            return super().friction_detail(jt, jn)
+        return f"no slip needs mu >= |J_t|/J_n = {abs(jt) / jn:.6g}; static {mu:g}"
 
 
 @tangential_law(Tangential.FRICTION)
@@ -346,7 +382,7 @@ class ContactElement(Element):
                 jt = values.get(impulse_key(Component.JT, self.label, k.transition), 0.0)
                 out.append(Check(f"friction at {self.label} ({k.transition})",
                                  self.tangential.stick_holds(jt, x),
-                                 f"|J_t| = {abs(jt):.6g} N*s"))
+                                 self.tangential.friction_detail(jt, x)))
         return out
 
     def describe(self) -> str:

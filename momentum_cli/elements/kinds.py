@@ -49,6 +49,7 @@ class Regime(_Word):
     REST = "rest"  # simulate: a persistent contact with no tangential force (smooth)
     SLIDE_POS = "slide+"  # slipping along +t: friction along -t
     SLIDE_NEG = "slide-"
+    NO_SLIP = "no slip"  # a rough contact: no regime to choose; its friction is only checked
 
     @property
     def sign(self) -> float:
@@ -124,6 +125,7 @@ class Prop(_Word):
     FRICTION = "friction"
     SLIP = "slip"
     SEPARATION = "separation"
+    STATIC = "static"  # the static coefficient a no-slip contact is checked against
 
 
 class EquationKind(_Word):
