@@ -176,7 +176,7 @@ find collar.vx@2, collar.vy@2, rod.vx@2, rod.vy@2, rod.omega@2
 
 
 
-# ---- item 4: rolling during an interval -----------------------------------------------------------
+# ---- item 4: rolling during an interval ------------------------------------------------------
 def test_a_disk_rolls_down_an_incline_with_the_friction_it_needs():
     m, r, g, th, T = 3.0, 0.2, 9.81, math.radians(25), 2.0
     a = g * math.sin(th) / 1.5  # m a = m g sin - F, (m r^2/2) a / r = F r
