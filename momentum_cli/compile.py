@@ -19,7 +19,7 @@ from dataclasses import field
 from . import syntax as S
 from .diagnostics import Collector, ProblemError
 from .elements.base import FrictionSite, ImpulseSource, Phase
-from .elements.contacts import ContactElement
+from .elements.contacts import contact_element
 from .elements.joints import BearingFriction, joint_element
 from .elements.keys import duration_key, state_key
 from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
@@ -472,7 +472,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         phase = Phase(PhaseKind(t.kind), i, j, group, t.span, apply, sources, contacts_info,
                       dur)
         for c in t.contacts:
-            ContactElement(c).stamp(phase, self)
+            contact_element(c).stamp(phase, self)
         for jt in self.joints:
             if jt.acts_in(self, t):
                 jt.stamp(phase, self)

@@ -102,7 +102,7 @@ class Contact:
     span: Span
     a: PointOn
     b: PointOn | None  # None: the ground or a fixed surface
-    normal: tuple[float, float]  # unit; the direction of the impulse on `a`
+    normal: tuple[float, float] | None  # unit, the impulse on `a`; None: plan-view friction
     restitution: float | None
     restitution_unknown: bool
     mode: Tangential  # smooth | rough | friction
@@ -867,6 +867,22 @@ class _Builder:
                                code="name")
         return t
 
+    def _plan_friction(self, c: S.Contact, kind: str, a: PointOn, b, surface) -> bool:
+        """`contact wreck with ground: friction 0.6` under `gravity ... into plane`: kinetic
+        friction in the plane, against the velocity, the normal force the weight."""
+        if b is not None or surface not in (None, "ground") or self.gravity is not None \
+                or self.g is None or kind != TransitionKind.INTERVAL:
+            return False
+        props = {p.kind for p in c.props}
+        if props != {Prop.FRICTION}:
+            raise ProblemError("with gravity into the plane, a contact with the ground is "
+                               "friction in the plane: write only `friction MU`", c.span,
+                               code="name")
+        if a.offset != (0.0, 0.0):
+            raise ProblemError("plan-view friction acts on a body as a whole: write the body's "
+                               "name", c.a.span, code="name")
+        return True
+
     def _rolling_throughout(self, t: TransitionSpec) -> list:
         """`BODY rolls on SURFACE` in an interval with no contact of its own: the body rolls
         throughout, held by a rough contact (normal and friction forces unknown). With a
@@ -967,6 +983,8 @@ class _Builder:
             normal = None  # two bodies: the simulation takes the normal from their shapes
         elif b is not None and before is not None:
             normal = self._geometric_normal(c, a, b, before)
+        elif self._plan_friction(c, kind, a, b, surface):
+            normal = None  # friction with the ground in plan view (elements.PlanFriction)
         else:
             where = f"'{surface}' has no normal: declare `surface {surface} normal (0, 1)`, " \
                 if surface not in (None, "ground") else ""

@@ -215,6 +215,32 @@ def test_the_static_coefficient_that_is_too_small_is_reported():
     assert checks["friction at disk (1->2)"].status == "warning"
 
 
+
+# ---- item 7: friction with the ground in plan view ---------------------------------------------
+def test_a_wreck_skids_to_rest_against_its_velocity():
+    m1, v1, m2, v2, mu, g = 1500.0, 15.0, 1100.0, 20.0, 0.6, 9.81
+    vx, vy = m1 * v1 / (m1 + m2), m2 * v2 / (m1 + m2)  # they lock: momentum conserved
+    speed = math.hypot(vx, vy)
+    s = speed ** 2 / (2 * mu * g)  # decelerating at mu g along a straight line
+    got = answers(_file("intersection_crash_skid.mom"))
+    for k, want in {"car.vx@2": vx, "car.vy@2": vy, "t@2->3": speed / (mu * g),
+                    "car.dx@2->3": s * vx / speed, "car.dy@2->3": s * vy / speed}.items():
+        assert math.isclose(got[k], want, rel_tol=1e-12), k
+
+
+def test_plan_friction_takes_only_a_coefficient():
+    d = error_of("""
+gravity 9.81 m/s^2 into plane
+body puck: particle(mass = 1 kg)
+state 1: puck.v = (3 m/s, 4 m/s)
+state 2
+interval 1 -> 2:
+    contact puck with ground: friction 0.1, slip (1, 0)
+    puck stops
+""")
+    assert "write only `friction MU`" in d.message and d.span.line == 7
+
+
 # each example of these items, by the test that checks it against its closed form
 EXAMPLE_CHECKS = {
     "unknown_tug_force": test_an_unknown_force_from_the_speed_it_gives,
@@ -224,6 +250,7 @@ EXAMPLE_CHECKS = {
     "skaters_grab_pole": test_two_skaters_grabbing_a_pole_spin_about_their_centre,
     "disk_rolls_down_incline_interval":
         test_a_disk_rolls_down_an_incline_with_the_friction_it_needs,
+    "intersection_crash_skid": test_a_wreck_skids_to_rest_against_its_velocity,
     "collar_slides_on_spinning_rod":
         test_a_collar_sliding_out_conserves_angular_momentum_and_energy_then_strikes_the_stop,
 }

@@ -11,7 +11,7 @@ with `@restitution_law`; it may take over the tangential rows (`owns_tangential`
 from __future__ import annotations
 
 from ..diagnostics import ProblemError
-from ..expr import ZERO, Const, E, Known, V2, evaluate, mul, neg, variables
+from ..expr import ZERO, Const, E, Known, V2, add, evaluate, mul, neg, power, variables
 from ..records import record
 from ..units import IMPULSE, NONE
 from .base import Check, Element, FrictionSite, ImpulseSource, Phase, SimRow, registrar
@@ -445,3 +445,55 @@ class ContactElement(Element):
         vb = compiler.point_velocity(c.b, sid, c.normal, -1.0) if c.b is not None \
             else V2(ZERO, ZERO)
         return va - vb
+
+
+class PlanFriction(Element):
+    """Kinetic friction with the ground in plan view (`gravity ... into plane`): over an
+    interval the ground pushes against the body's velocity at the start with mu m g, at
+    its centre (no moment; the skid runs straight, so the direction holds throughout):
+    J = -mu m g t v1/|v1|, an impulse of its own, `J[LABEL]@1->2` in magnitude."""
+
+    def __init__(self, c):
+        self.c = c
+        self.label = c.label
+        self.span = c.span
+
+    def bodies(self) -> tuple[str | None, ...]:
+        return (self.c.a.body, None)
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        return [impulse_key(Component.JX, self.label, phase.key),
+                impulse_key(Component.JY, self.label, phase.key)]
+
+    def stamp(self, phase: Phase, compiler) -> None:
+        c, sc = self.c, compiler.scene
+        if phase.kind is not PhaseKind.INTERVAL:
+            raise ProblemError("friction with the ground in plan view acts over an interval; "
+                               "an impact needs a normal", c.span, code="name")
+        body = c.a.body
+        v = compiler.vel(body, phase.before)
+        speed = power(add(mul(v.x, v.x), mul(v.y, v.y)), 0.5)
+        if not variables(speed) and evaluate(speed, {}) == 0:
+            raise ProblemError(f"{body} is at rest in state {phase.before}: kinetic friction "
+                               "needs it to slide", c.span, code="name")
+        kx, ky = self.unknowns(phase)
+        J = V2(compiler.unknown(kx, IMPULSE, KeyKind.IMPULSE),
+               compiler.unknown(ky, IMPULSE, KeyKind.IMPULSE))
+        # along the velocity (J x v1 = 0) and against it with mu m g t: J . v1 = -mu m g t |v1|
+        m_g = mul(compiler.mass(body, phase.before), Known("g", sc.g))
+        compiler.eq(J.cross(v), ZERO, f"plan-view friction on {body}: along its velocity",
+                    phase.group, c.span)
+        compiler.eq(J.dot(v), neg(mul(mul(mul(Const(c.mu), m_g), phase.dur()), speed)),
+                    f"plan-view friction on {body}: mu m g t against its velocity (normal "
+                    "force: the weight)", phase.group, c.span)
+        phase.apply(c.a, J, None)  # at G: c.a is the body itself
+        phase.sources.append(ImpulseSource((body, None), body, None, False,
+                                           f"friction on {body}"))
+
+    def describe(self) -> str:
+        return f"contact {self.label}: plan-view friction {self.c.mu:g}"
+
+
+def contact_element(c) -> Element:
+    """The element for a contact record: plan-view friction when it has no normal."""
+    return PlanFriction(c) if c.normal is None else ContactElement(c)
