@@ -1050,9 +1050,10 @@ class _Builder:
         if separation is not None and (e is not None or e_unknown):
             raise ProblemError("give either a restitution or a separation speed, not both",
                                c.span, code="name")
-        if mu_static is not None and mode != Tangential.ROUGH:
-            raise ProblemError("`static MU` checks the friction a no-slip contact needs: write "
-                               "`rough, static 0.4`", c.span, code="name")
+        if mu_static is not None and mode not in (Tangential.ROUGH, Tangential.FRICTION):
+            raise ProblemError("`static MU` checks the friction a contact needs to hold: write "
+                               "`rough, static 0.4` or `friction 0.3 static 0.4`", c.span,
+                               code="name")
         if law is not Restitution.NEWTON:
             if kind != "impact":
                 raise ProblemError(f"the {law} restitution law resolves an impact; here write "

@@ -1100,7 +1100,10 @@ def _make_transformer():
             return Contact(_span(meta), label, a, b, normal, props)
 
         def contact_props(self, meta, ch):
-            return list(ch)
+            out = []  # `friction 0.3 static 0.4` is two props
+            for p in ch:
+                out.extend(p if isinstance(p, list) else [p])
+            return out
 
         def prop_restitution(self, meta, ch):
             value, law = ch[0], str(ch[1]) if len(ch) > 1 else None
@@ -1121,6 +1124,9 @@ def _make_transformer():
 
         def prop_friction(self, meta, ch):
             return Prop(_span(meta), "friction", ch[0])
+
+        def prop_friction_static(self, meta, ch):
+            return [Prop(_span(meta), "friction", ch[0]), Prop(_span(meta), "static", ch[1])]
 
         def prop_static(self, meta, ch):
             return Prop(_span(meta), "static", ch[0])

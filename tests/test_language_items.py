@@ -241,6 +241,36 @@ interval 1 -> 2:
     assert "write only `friction MU`" in d.message and d.span.line == 7
 
 
+
+# ---- item 6: static and kinetic friction, and what happens at a stop ----------------------------
+def test_a_crate_stops_up_an_incline_and_slides_back():
+    g, th, mk, v0 = 9.81, math.radians(25), 0.3, 5.0
+    up = g * (math.sin(th) + mk * math.cos(th))  # friction down the slope while going up
+    down = g * (math.sin(th) - mk * math.cos(th))  # and up the slope while coming down
+    got = answers(_file("crate_up_incline_slides_back.mom"))
+    for k, want in {"t@1->2": v0 / up, "up_slope": v0 ** 2 / (2 * up),
+                    "crate.speed@3": down * 1.0}.items():
+        assert math.isclose(got[k], want, rel_tol=1e-12), k
+
+
+def _hold_check(text: str):
+    from helpers import solve_text
+
+    return [c for c in solve_text(text).checks if "holding it" in c.detail]
+
+
+def test_static_friction_holds_a_crate_when_tan_theta_is_below_it():
+    text = _file("crate_up_incline_slides_back.mom")
+    [c] = _hold_check(text.replace("let slope = 25 deg", "let slope = 20 deg"))
+    assert c.status == "ok" and c.detail.endswith("it holds")  # tan 20 deg = 0.364 < 0.4
+    assert f"{math.tan(math.radians(20)):.6g}" in c.detail
+    # the comma form, and no phase after the stop: a slip is a warning
+    alone = text.replace("friction 0.3 static 0.4", "friction 0.3, static 0.4")
+    alone = alone[:alone.index("interval 2 -> 3")] + "find t@1->2\n"
+    [c] = _hold_check(alone)
+    assert c.status == "warning" and "it slips" in c.detail
+
+
 # each example of these items, by the test that checks it against its closed form
 EXAMPLE_CHECKS = {
     "unknown_tug_force": test_an_unknown_force_from_the_speed_it_gives,
@@ -251,6 +281,7 @@ EXAMPLE_CHECKS = {
     "disk_rolls_down_incline_interval":
         test_a_disk_rolls_down_an_incline_with_the_friction_it_needs,
     "intersection_crash_skid": test_a_wreck_skids_to_rest_against_its_velocity,
+    "crate_up_incline_slides_back": test_a_crate_stops_up_an_incline_and_slides_back,
     "collar_slides_on_spinning_rod":
         test_a_collar_sliding_out_conserves_angular_momentum_and_energy_then_strikes_the_stop,
 }

@@ -187,6 +187,30 @@ class TangentialLaw:
     def friction_detail(self, jt: float, jn: float) -> str:
         return f"|J_t| = {abs(jt):.6g} N*s"
 
+    def _static_site(self, rows: ContactRows, compiler, jt_name: str | None = None,
+                     then: str = "") -> None:
+        """With `static MU`: the friction a no-slip (or a hold) needs is checked against it."""
+        mu = getattr(self.c, "mu_static", None)
+        if mu is not None:
+            self.then = then
+            compiler.friction.append(FrictionSite(rows.site, self.c.label, rows.phase.key, mu,
+                                                  rows.jn.name, jt_name or rows.jt.name,
+                                                  Regime.NO_SLIP, None, self.c.span, True, self))
+
+    def static_check(self, jt: float, jn: float) -> tuple[str, str]:
+        """(status, detail) of the friction needed against the static coefficient."""
+        mu = self.c.mu_static
+        ok = not abs(jt) > mu * jn * (1 + STICK_SLACK) + 1e-300
+        need = f"{abs(jt) / jn:.6g}" if jn > 0 else "inf"
+        detail = f"{self.holding} needs mu >= |J_t|/J_n = {need}; static {mu:g}"
+        if ok:
+            return "ok", detail + ": it holds"
+        then = getattr(self, "then", "")
+        return ("ok" if then else "warning"), detail + ": it slips" + (
+            f" ({then})" if then else " (give `friction MU` for the sliding case)")
+
+    holding = "no slip"
+
     def describe(self) -> str:
         return str(self.kind)
 
@@ -215,20 +239,6 @@ class Rough(TangentialLaw):
             compiler.eq(vt, ZERO, f"no slip at {self.c.label} (rough: throughout)",
                         f"state {sid}", self.c.span)
         self._static_site(rows, compiler)
-
-    def _static_site(self, rows: ContactRows, compiler) -> None:
-        """With `static MU`: the friction the no-slip needs is checked against it."""
-        mu = getattr(self.c, "mu_static", None)
-        if mu is not None:
-            compiler.friction.append(FrictionSite(rows.site, self.c.label, rows.phase.key, mu,
-                                                  rows.jn.name, rows.jt.name, Regime.NO_SLIP,
-                                                  None, self.c.span, True, self))
-
-    def static_check(self, jt: float, jn: float) -> tuple[str, str]:
-        """(status, detail) of the friction a no-slip needs against the static coefficient."""
-        ok = self.stick_holds(jt, jn)
-        return ("ok" if ok else "warning"), self.friction_detail(jt, jn) + (
-            "" if ok else ": it would slip (give `friction MU` for the sliding case)")
 
     def stick_holds(self, jt: float, jn: float) -> bool:
         mu = getattr(self.c, "mu_static", None)
@@ -285,6 +295,31 @@ class Coulomb(TangentialLaw):
         compiler.friction.append(FrictionSite(rows.site, c.label, rows.phase.key, c.mu,
                                               rows.jn.name, rows.jt.name, regime, rows.vt1,
                                               c.span, decided, self))
+        self._hold_at_stop(rows, compiler)
+
+    holding = "at the stop, holding it"
+
+    def _hold_at_stop(self, rows: ContactRows, compiler) -> None:
+        """`friction MU static MUS` on a particle that stops at the interval's end: would
+        static friction hold it? With the interval's other forces still acting, holding
+        needs the tangential impulse J_hold = m (v2 - v1).t - J_t over the same time,
+        against mu_s J_n."""
+        c, phase = self.c, rows.phase
+        t = compiler.tspecs.get(phase.key)
+        body = c.a.body
+        if getattr(c, "mu_static", None) is None or t is None or \
+                body not in {b for b, _ in t.stops} or \
+                not compiler.scene.bodies[body].is_particle:
+            return
+        tg = V2(Const(-c.normal[1]), Const(c.normal[0]))
+        dv = compiler.vel(body, phase.after) - compiler.vel(body, phase.before)
+        key = impulse_key(Component.J_HOLD, c.label, phase.key)
+        hold = compiler.unknown(key, IMPULSE, KeyKind.DERIVED)
+        compiler.eq(hold, add(mul(compiler.mass(body, phase.before), dv.dot(tg)), neg(rows.jt)),
+                    f"friction that would hold {body} at the stop", phase.group, c.span)
+        later = [x for x in compiler.scene.transitions if x.before == phase.after]
+        self._static_site(rows, compiler, hold.name,
+                          f"transition {later[0].key} follows" if later else "")
 
     def next_regime(self, site: FrictionSite, values: dict) -> Regime | None:
         """The regime to try next after solving with `site.regime`, or None if it held:

@@ -97,6 +97,7 @@ class Component(_Word):
     JY = "Jy"
     J = "J"  # along a link
     M = "M"  # a moment impulse (weld, bearing friction)
+    J_HOLD = "J_hold"  # the friction impulse that would hold a stopped body (a static check)
     E = "e"
     V_SEP = "v_sep"
 
