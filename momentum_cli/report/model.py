@@ -140,7 +140,7 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                for n, v, u, si in sol.answers]
     regimes = [dict(contact=s.label, transition=s.transition,
                     regime="stick" if s.regime == "stick" else "slide")
-               for s in system.friction]
+               for s in system.friction if s.regime != "no slip"]  # static checks: in checks
     counts = dict(unknowns=len(system.unknowns), equations=len(system.equations),
                   blocks=len(st.blocks), solved_blocks=len(sol.blocks),
                   redundant=len(st.redundant) + len(st.constant_eqs),
