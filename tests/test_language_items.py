@@ -310,3 +310,33 @@ simulate from 1:
     ax, ay = f.pose["A"][0], f.pose["A"][1]
     assert math.isclose(ax, -rA * math.sin(w * t), abs_tol=1e-7)
     assert math.isclose(ay, c + rA * math.cos(w * t), abs_tol=1e-7)
+
+
+def test_a_simulated_collar_slides_out_keeping_angular_momentum_and_energy():
+    from momentum_cli.scene import build
+    from momentum_cli.sim.integrate import simulate
+    from momentum_cli.source import Source
+    from momentum_cli.syntax import parse
+
+    text = """
+body rod: rod(mass = 4 kg, length = 1.2 m)
+body collar: particle(mass = 1.5 kg)
+pin rod.end(-) to ground at (0, 0)
+slider collar on rod along (1, 0)
+state 1:
+    rod.angle = 0, rod.omega = 6 rad/s
+    collar.pos = (0.2 m, 0), collar.v = (0, 1.2 m/s)
+simulate from 1:
+    until t = 0.3 s
+"""
+    M, L, m, r1, w1 = 4.0, 1.2, 1.5, 0.2, 6.0
+    I_O = M * L * L / 3
+    f = simulate(build(parse(Source("t.mom", text))), rtol=1e-10).frame()
+    (cx, cy, _), (vx, vy, _) = f.pose["collar"], f.twist["collar"]
+    th, w = f.pose["rod"][2], f.twist["rod"][2]
+    assert abs(-cx * math.sin(th) + cy * math.cos(th)) < 1e-8  # on the rod's line
+    H = I_O * w + m * (cx * vy - cy * vx)
+    T = 0.5 * I_O * w * w + 0.5 * m * (vx * vx + vy * vy)
+    assert math.isclose(H, (I_O + m * r1 * r1) * w1, rel_tol=1e-8)
+    assert math.isclose(T, 0.5 * (I_O + m * r1 * r1) * w1 * w1, rel_tol=1e-8)
+    assert math.hypot(cx, cy) > 0.3  # it has slid out

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 
-from ..diagnostics import ProblemError
 from ..expr import ZERO, Const, E, V2, add, mul, neg, omega_cross, power, rotate
 from ..units import ANGULAR_IMPULSE, IMPULSE
 from .base import Element, ImpulseSource, Phase, SimRow, registrar
@@ -345,9 +344,48 @@ class Slider(JointElement):
                         f"slider {self.label}: turns with {self.b.body}", phase.group,
                         self.span)
 
+    # ---- simulate: g = n . (v_collar - v_m) = 0, m the body's material point under the
+    # collar; its rate adds w x n to n and w x (v_collar - v_G) to v_m (the point slides)
+    def _sim_across(self, frame) -> tuple[float, float]:
+        n = (-self.along[1], self.along[0])
+        if self.b.body is None:
+            return n
+        th = frame.pose[self.b.body][2]
+        c, s_ = math.cos(th), math.sin(th)
+        return (c * n[0] - s_ * n[1], s_ * n[0] + c * n[1])
+
     def constraint(self, frame) -> list:
-        raise ProblemError("`momentum simulate` does not model a slider yet; `solve` does",
-                           self.span, code="name")
+        n = self._sim_across(frame)
+        Ja, ba = frame.point_jac(self.a.body, frame.offset(self.a.body, self.a.offset))
+        vc = frame.point_velocity(self.a.body, frame.offset(self.a.body, self.a.offset))
+        row, beta = n[0] * Ja[0] + n[1] * Ja[1], n[0] * ba[0] + n[1] * ba[1]
+        rows = []
+        if self.b.body is not None:
+            pc = frame.point(self.a.body, self.a.offset)
+            gx, gy, _ = frame.pose[self.b.body]
+            r = (pc[0] - gx, pc[1] - gy)
+            Jm, bm = frame.point_jac(self.b.body, r, centripetal=False)
+            vm = frame.point_velocity(self.b.body, r)
+            vgx, vgy, w = frame.twist[self.b.body]
+            rel = (vc[0] - vm[0], vc[1] - vm[1])
+            slide = (vc[0] - vgx, vc[1] - vgy)
+            ndot = (-w * n[1], w * n[0])
+            row = row - (n[0] * Jm[0] + n[1] * Jm[1])
+            beta += ndot[0] * rel[0] + ndot[1] * rel[1] - (n[0] * bm[0] + n[1] * bm[1]) \
+                - (n[0] * -w * slide[1] + n[1] * w * slide[0])
+            if not self.has_particle:
+                rows.append(SimRow(f"M[{self.label}]", frame.jac[self.a.body][2] -
+                                   frame.jac[self.b.body][2], 0.0, True))
+        return [SimRow(f"F[{self.label}]", row, beta)] + rows
+
+    def sim_reference(self, frame) -> float | None:
+        n = self._sim_across(frame)
+        pc = frame.point(self.a.body, self.a.offset)
+        pg = frame.point(self.b.body, (0.0, 0.0))
+        return (pc[0] - pg[0]) * n[0] + (pc[1] - pg[1]) * n[1]
+
+    def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
+        return [self.sim_reference(frame) - ref[self.label]]
 
 
 class _LineForce(JointElement):
