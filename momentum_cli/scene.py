@@ -986,8 +986,8 @@ class _Builder:
         elif self._plan_friction(c, kind, a, b, surface):
             normal = None  # friction with the ground in plan view (elements.PlanFriction)
         else:
-            where = f"'{surface}' has no normal: declare `surface {surface} normal (0, 1)`, " \
-                if surface not in (None, "ground") else ""
+            where = f"declare `surface {surface} normal (0, 1)` or write " \
+                if surface not in (None, "ground") else "write "
             raise ProblemError("a contact needs a normal: " + where + "`normal (0, 1)` (the "
                                "direction of the impulse on the first body)", c.span,
                                code="name")
