@@ -19,7 +19,7 @@ from dataclasses import field
 from . import syntax as S
 from .diagnostics import Collector, ProblemError
 from .elements.base import FrictionSite, ImpulseSource, Phase
-from .elements.contacts import ContactElement
+from .elements.contacts import contact_element
 from .elements.joints import BearingFriction, joint_element
 from .elements.keys import duration_key, state_key
 from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
@@ -37,6 +37,7 @@ from .expr import (
     neg,
     omega_cross,
     rotate,
+    rotate_v2,
     to_text,
 )
 from .principles import PrinciplesMixin, _acts_on, _internal
@@ -46,12 +47,14 @@ from .scene import (
     STATE_QTYS,
     PointOn,
     Scene,
+    Symbolic,
     TransitionSpec,
 )
 from .source import Span
 from .units import (
     TIME,
     Dim,
+    describe,
     si_label,
 )
 
@@ -134,9 +137,11 @@ def compile_scene(scene: Scene, regimes: dict[str, str] | None = None,
     return c.run()
 
 
-def _mass_order(phases: list) -> list:
-    """Burns and gains ordered so that a phase starting at state S comes after every
-    phase ending at S (the mass it starts with is what they left); else file order."""
+def _chronological(phases: list) -> list:
+    """Phases ordered so that one starting at state S comes after every phase ending at
+    S (a burn's start mass is what they left; the unknowns of a state are made by the
+    phase that ends there, so the structure never depends on the order of the file's
+    statements); else file order."""
     ends = {p.after for p in phases}
     done: list = []
     left = list(phases)
@@ -297,11 +302,27 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if p.round_contact and normal is not None and b.radius:
             r = b.radius
             return V2(Const(-sign * r * normal[0]), Const(-sign * r * normal[1]))
+        if p.located_by is not None:
+            return rotate_v2(self.symbolic(p.located_by), self.sv(p.body, "angle", sid))
         if p.offset == (0.0, 0.0):
             return V2(ZERO, ZERO)
         if b.is_particle:
             return V2(ZERO, ZERO)
         return rotate(p.offset, self.sv(p.body, "angle", sid))
+
+    def symbolic(self, s: Symbolic) -> E | V2:
+        """A force, moment, duration or offset that names unknowns, dimension checked."""
+        q = self._evaluator()(s.node, s.dim)
+        if q.is_vector != s.vector:
+            raise ProblemError(f"{s.what} needs " + ("a vector such as (1, 0); got a scalar"
+                                                     if s.vector else "a scalar; got a vector"),
+                               s.node.span, code="type")
+        if q.dim != s.dim:
+            raise ProblemError(f"{s.what} needs {describe(s.dim)}; got {describe(q.dim)}",
+                               s.node.span, code="units")
+        if s.vector and s.shift != (0.0, 0.0):
+            return q.value + V2(Const(s.shift[0]), Const(s.shift[1]))
+        return q.value
 
     def point_velocity(self, p: PointOn | None, sid: str, normal=None, sign=1.0) -> V2:
         if p is None or p.body is None:
@@ -337,14 +358,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
             self.flows = FlowCompiler(self)
             # first, in the order of their states: later phases use the mass one leaves
-            for b in _mass_order(sc.burns + sc.gains):
+            for b in _chronological(sc.burns + sc.gains):
                 if isinstance(b, S.GainDecl):
                     self.flows.gain(b)
                 else:
                     self.flows.burn(b)
             for cv in sc.steady:
                 self.flows.steady(cv)
-        for t in sc.transitions:
+        for t in _chronological(sc.transitions):
             if t.kind == TransitionKind.ENERGY:
                 self._energy(t)
             else:
@@ -455,7 +476,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         phase = Phase(PhaseKind(t.kind), i, j, group, t.span, apply, sources, contacts_info,
                       dur)
         for c in t.contacts:
-            ContactElement(c).stamp(phase, self)
+            contact_element(c).stamp(phase, self)
         for jt in self.joints:
             if jt.acts_in(self, t):
                 jt.stamp(phase, self)
@@ -471,13 +492,19 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                     sources.append(ImpulseSource((b, None), b, _unit(sc.gravity), False,
                                            f"weight of {b}"))
             for F, p, span in t.forces:
-                Fv = V2(Const(F[0]), Const(F[1]))
+                Fv = self.symbolic(F) if isinstance(F, Symbolic) else V2(Const(F[0]),
+                                                                           Const(F[1]))
                 apply(p, Fv.scale(dur()))
-                sources.append(ImpulseSource((p.body, None), p.name, _unit(F), False,
+                direction = None if isinstance(F, Symbolic) else _unit(F)
+                sources.append(ImpulseSource((p.body, None), p.name, direction, False,
                                        f"force at {p.name}"))
             for M, b, span in t.moments:
-                ang[b].append(mul(Const(M), dur()))
+                Mv = self.symbolic(M) if isinstance(M, Symbolic) else Const(M)
+                ang[b].append(mul(Mv, dur()))
                 sources.append(ImpulseSource((b, None), b, None, True, f"moment on {b}"))
+        if t.duration_expr is not None:
+            self.eq(dur(), self.symbolic(t.duration_expr), "the duration as stated", group,
+                    t.duration_expr.node.span)
         # impulse-momentum for each body that something acts on
         busy = self._busy[key]
         for b, body in sc.bodies.items():

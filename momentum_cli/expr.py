@@ -506,3 +506,9 @@ def rotate(r: tuple[float, float], angle: E) -> V2:
     c, s = fn("cos", angle), fn("sin", angle)
     x, y = r
     return V2(add(mul(Const(x), c), neg(mul(Const(y), s))), add(mul(Const(x), s), mul(Const(y), c)))
+
+
+def rotate_v2(r: V2, angle: E) -> V2:
+    """A body-frame offset whose components are expressions (a point an unknown locates)."""
+    c, s = fn("cos", angle), fn("sin", angle)
+    return V2(add(mul(r.x, c), neg(mul(r.y, s))), add(mul(r.x, s), mul(r.y, c)))

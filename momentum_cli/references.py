@@ -70,6 +70,11 @@ class ReferencesMixin:
                                    f"`H[{{BODY, ...}}]@S about POINT`", ref.span, code="name")
             if name in _OF_BODIES and idx is not None and member is None and len(at) == 1:
                 return self._of_bodies(ref)
+            if member and len(at) == 1 and name in self._by_label:  # a joint's `pole.omega@2`
+                self._state_exists(at[0], ref)
+                q = self._by_label[name].quantity(member, at[0], self)
+                if q is not None:
+                    return Q(q, STATE_QTYS[member][0])
             if member and len(at) == 1 and name in sc.bodies:
                 return self._body_ref(ref)
             if member in ("v", "vx", "vy", "speed") and len(at) == 1 and name in sc.points:

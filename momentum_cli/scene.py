@@ -12,6 +12,7 @@ from dataclasses import field
 from . import syntax as S
 from .diagnostics import Collector, ProblemError, did_you_mean
 from .elements.kinds import Clause, JointKind, Prop, Restitution, Tangential, TransitionKind
+from .elements.geometry import centre, line_of_centres
 from .expr import Const
 from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
 from .records import record
@@ -58,6 +59,19 @@ class Body:
 
 
 @record(frozen=True)
+class Symbolic:
+    """A value the file writes with unknowns (`force (P, 0)`, `duration 2 s - t@1->2`,
+    `point Q = rod at (d, 0)`): compile evaluates it among the other unknowns and checks
+    its dimension there. `shift` is added to a vector (a point's offset from G)."""
+
+    node: object
+    dim: Dim
+    what: str
+    vector: bool
+    shift: tuple[float, float] = (0.0, 0.0)
+
+
+@record(frozen=True)
 class PointOn:
     """A point of a body (offset from G in the body frame) or of the ground (world)."""
 
@@ -66,6 +80,7 @@ class PointOn:
     name: str
     span: Span
     round_contact: bool = False  # a round body's contact point: G - r n, in the world frame
+    located_by: Symbolic | None = None  # the offset, when an unknown locates the point
 
 
 @record(frozen=True)
@@ -87,7 +102,7 @@ class Contact:
     span: Span
     a: PointOn
     b: PointOn | None  # None: the ground or a fixed surface
-    normal: tuple[float, float]  # unit; the direction of the impulse on `a`
+    normal: tuple[float, float] | None  # unit, the impulse on `a`; None: plan-view friction
     restitution: float | None
     restitution_unknown: bool
     mode: Tangential  # smooth | rough | friction
@@ -98,6 +113,7 @@ class Contact:
     separation: float | None = None  # the relative normal speed after an impact, if given
     law: Restitution = Restitution.NEWTON  # how the normal impulse ends (elements/contacts.py)
     law_span: Span | None = None  # where the file states the normal law (`restitution ...`)
+    mu_static: float | None = None  # `static 0.4`: checked against the friction a no-slip needs
 
 
 @record
@@ -121,11 +137,14 @@ class TransitionSpec:
     stops_relative: list[tuple[str, str, Span]] = field(default_factory=list)
     stops: list[tuple[str, Span]] = field(default_factory=list)
     rolls: list[tuple[str, str, Span]] = field(default_factory=list)
-    forces: list[tuple[tuple[float, float], PointOn, Span]] = field(default_factory=list)
-    moments: list[tuple[float, str, Span]] = field(default_factory=list)
+    # a force or moment is a constant, or a Symbolic when it names unknowns
+    forces: list[tuple[tuple[float, float] | Symbolic, PointOn, Span]] = \
+        field(default_factory=list)
+    moments: list[tuple[float | Symbolic, str, Span]] = field(default_factory=list)
     duration: float | None = None
     groups: list[tuple[str, ...]] = field(default_factory=list)  # energy `of {rod}, {ball}`
     free: list[str] = field(default_factory=list)  # energy `free ball`: a balance of its own
+    duration_expr: Symbolic | None = None  # a duration that names unknowns
 
     @property
     def key(self) -> str:
@@ -280,6 +299,24 @@ class _Builder:
             raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
         return (x / n, y / n)
 
+    def _names_unknowns(self, node) -> bool:
+        """Whether an expression names something other than a constant (an `unknown`, a
+        state's quantity, `t@1->2`): then compile evaluates it."""
+        if isinstance(node, S.Ref):
+            plain = node.index is None and node.member is None and not node.at
+            return not (plain and (node.name in self.constants or node.name in ("pi", "g")))
+        kids = {S.BinOp: ("left", "right"), S.Neg: ("arg",), S.Mag: ("arg",),
+                S.VecLit: ("x", "y")}.get(type(node), ())
+        if isinstance(node, S.Call):
+            return any(self._names_unknowns(a) for a in node.args)
+        return any(self._names_unknowns(getattr(node, k)) for k in kids)
+
+    def effect(self, node, dim: Dim, what: str, vector: bool):
+        """A force, moment or duration: a constant, or a Symbolic that names unknowns."""
+        if self._names_unknowns(node):
+            return Symbolic(node, dim, what, vector)
+        return self.vector(node, dim, what) if vector else self.value(node, dim, what)
+
     def _check_dim(self, q: Q, dim: Dim, node, what: str) -> None:
         if q.dim != dim:
             got = describe(q.dim)
@@ -345,14 +382,14 @@ class _Builder:
             elif isinstance(s, S.ConserveAngular):
                 self._states_exist(states, s.before, s.after, s.span)
                 self._body_names(s.bodies, s.span)
-                stated.append(StatedAngular(s.span, s.bodies, self.point(s.about), s.before,
+                stated.append(StatedAngular(s.span, s.bodies, self.fixed_point(s.about), s.before,
                                             s.after))
             elif isinstance(s, S.RestitutionLaw):
                 self._states_exist(states, s.before, s.after, s.span)
                 e = self.value(s.value, NONE, "a coefficient of restitution")
                 self._check_restitution(e, s.value.span)
-                b = self.point(s.b) if s.b is not None else None
-                stated.append(StatedRestitution(s.span, e, self.point(s.a), b,
+                b = self.fixed_point(s.b) if s.b is not None else None
+                stated.append(StatedRestitution(s.span, e, self.fixed_point(s.a), b,
                                                 self.unit_vector(s.along, "the line of impact"),
                                                 s.before, s.after))
         equations = [s for s in st if isinstance(s, S.UserEquation)]
@@ -501,7 +538,8 @@ class _Builder:
             if a.name in out:
                 raise ProblemError(f"'{a.name}' is given twice", a.span, code="name")
             v = self.value(a.value, ARG_DIMS[a.name], f"'{a.name}'")
-            if v <= 0 and not (a.name == "radius" and v == 0):
+            zero_ok = a.name == "radius" or (a.name == "inertia" and shape.kind == "rigid")
+            if v <= 0 and not (zero_ok and v == 0):  # rigid(inertia = 0): a point mass
                 raise ProblemError(f"'{a.name}' must be positive; got {v:g}", a.value.span,
                                    code="number")
             out[a.name] = (v, a.value.span)
@@ -562,9 +600,10 @@ class _Builder:
             shape = s.shapes[0]
             m, inertia, formula, r, L, w = self._simple(shape)
             kind = shape.kind
+            point_mass = kind == "particle" or (kind == "rigid" and inertia == 0)
             self.bodies[s.name] = Body(s.name, s.span, kind, m, inertia, formula,
                                        r if kind in ROUND or kind in ("particle", "rigid") else None,
-                                       L, kind == "particle", (0.0, 0.0), w)
+                                       L, point_mass, (0.0, 0.0), w)
             return
         parts = []
         for shape in s.shapes:
@@ -594,9 +633,19 @@ class _Builder:
             raise ProblemError(f"'{s.name}' is already defined", s.span, code="name")
         if s.alias is not None:
             p = self.point(s.alias)
-            self.points[s.name] = PointOn(p.body, p.offset, s.name, s.span)
+            self.points[s.name] = PointOn(p.body, p.offset, s.name, s.span,
+                                          located_by=p.located_by)
             return
-        xy = self.vector(s.offset, LENGTH, "a point's position")
+        xy = self.effect(s.offset, LENGTH, "a point's position", True)
+        if isinstance(xy, Symbolic):
+            body = self._body_named(s.body, s.span)
+            if body.is_particle:
+                raise ProblemError(f"'{body.name}' is a particle: its only point is its centre",
+                                   s.offset.span, code="name")
+            self.points[s.name] = PointOn(body.name, body.origin, s.name, s.span,
+                                          located_by=Symbolic(xy.node, LENGTH, xy.what, True,
+                                                              body.origin))
+            return
         if s.body == "ground" or s.body in self.surfaces:
             self.points[s.name] = PointOn(None, xy, s.name, s.span)
             return
@@ -612,6 +661,15 @@ class _Builder:
             raise ProblemError(f"unknown body '{name}'" + did_you_mean(name, self.bodies), span,
                                code="name")
         return self.bodies[name]
+
+    def fixed_point(self, ref: S.PointRef) -> PointOn:
+        """A point at a known place: joints, contacts and stated principles need one."""
+        p = self.point(ref)
+        if p.located_by is not None:
+            raise ProblemError(f"'{ref.text}' is located by an unknown: only a force may act "
+                               "there", ref.span, code="name",
+                               notes=["locate it with constants, or apply a `force` at it"])
+        return p
 
     def point(self, ref: S.PointRef) -> PointOn:
         """Resolve a point reference: named point, body centre, `rod.end(+)`, `rod.A`."""
@@ -634,10 +692,10 @@ class _Builder:
                 raise ProblemError(f"'{body.name}' has no point '{ref.member}'" +
                                    did_you_mean(ref.member, mine + ["center"]), ref.span,
                                    code="name")
-            return PointOn(p.body, p.offset, ref.text, ref.span)
+            return PointOn(p.body, p.offset, ref.text, ref.span, located_by=p.located_by)
         if ref.name in self.points:
             p = self.points[ref.name]
-            return PointOn(p.body, p.offset, p.name, ref.span)
+            return PointOn(p.body, p.offset, p.name, ref.span, located_by=p.located_by)
         if ref.name in self.bodies:
             b = self.bodies[ref.name]
             return PointOn(b.name, (0.0, 0.0), b.name, ref.span, round_contact=True)
@@ -652,7 +710,7 @@ class _Builder:
 
     # ---- joints
     def _joint(self, s: S.Joint) -> Joint:
-        a, b = self.point(s.a), self.point(s.b)
+        a, b = self.fixed_point(s.a), self.fixed_point(s.b)
         if a.body is None and b.body is not None:
             a, b = b, a
         if a.body is None:
@@ -667,7 +725,12 @@ class _Builder:
                 raise ProblemError("`at` places a pin to the ground; a pin between bodies is "
                                    "where its two points meet", s.at.span, code="name")
             b = PointOn(None, self.vector(s.at, LENGTH, "a pin's position"), b.name, b.span)
-        along = self.unit_vector(s.along, "a link's direction") if s.along is not None else None
+        if s.kind == "slider" and (b.offset != (0.0, 0.0) or a.body is None):
+            raise ProblemError("a slider puts a body on another body's line: `slider collar on "
+                               "rod along (1, 0)` (the line through the rod's centre)", s.span,
+                               code="name")
+        along = self.unit_vector(s.along, f"a {s.kind}'s direction") \
+            if s.along is not None else None
         k = length = None
         if s.kind == "spring":
             k = self.value(s.stiffness, STIFFNESS, "a spring stiffness")
@@ -755,7 +818,7 @@ class _Builder:
                     raise ProblemError("contacts belong to impacts and intervals; an energy phase "
                                        "takes gravity, springs, forces and moments", c.span,
                                        code="name")
-                con = self._contact(c, s.kind)
+                con = self._contact(c, s.kind, states[s.before])
                 if con.label in labels:
                     raise ProblemError(f"two contacts are called '{con.label}' in this transition",
                                        c.span, code="name",
@@ -781,15 +844,19 @@ class _Builder:
                 self._surface_named(c.names[1], c.span)
                 t.rolls.append((c.names[0], c.names[1], c.span))
             elif c.kind == Clause.FORCE:
-                f = self.vector(c.value, FORCE, "a force")
+                f = self.effect(c.value, FORCE, "a force", True)
                 t.forces.append((f, self.point(c.point), c.span))
             elif c.kind == Clause.MOMENT:
                 body = self._body_named(c.names[0], c.span)
-                t.moments.append((self.value(c.value, MOMENT, "a moment"), body.name, c.span))
+                t.moments.append((self.effect(c.value, MOMENT, "a moment", False), body.name,
+                                  c.span))
             elif c.kind == Clause.DURATION:
                 if s.kind != TransitionKind.INTERVAL:
                     raise ProblemError("only an interval has a duration", c.span, code="name")
-                d = self.value(c.value, TIME, "a duration")
+                d = self.effect(c.value, TIME, "a duration", False)
+                if isinstance(d, Symbolic):
+                    t.duration_expr = d
+                    continue
                 if d <= 0:
                     raise ProblemError("a duration must be positive", c.value.span,
                                        code="number")
@@ -799,6 +866,8 @@ class _Builder:
                 if s.kind == TransitionKind.ENERGY:  # its own energy balance
                     t.free.append(c.names[0])
         self._energy_groups(s, t)
+        if s.kind == TransitionKind.INTERVAL:
+            t.rolls = self._rolling_throughout(t)
         if s.kind == TransitionKind.IMPACT and (t.forces or t.moments):
             raise ProblemError("an impact is instantaneous: finite forces and moments give no "
                                "impulse; put them in an interval", (t.forces or t.moments)[0][2],
@@ -820,6 +889,89 @@ class _Builder:
                                        s.span, code="name")
                 seen.add(name)
             t.groups.append(tuple(group))
+    def _plan_friction(self, c: S.Contact, kind: str, a: PointOn, b, surface) -> bool:
+        """`contact wreck with ground: friction 0.6` under `gravity ... into plane`: kinetic
+        friction in the plane, against the velocity, the normal force the weight."""
+        if b is not None or surface not in (None, "ground") or self.gravity is not None \
+                or self.g is None or kind != TransitionKind.INTERVAL:
+            return False
+        props = {p.kind for p in c.props}
+        if props != {Prop.FRICTION}:
+            raise ProblemError("with gravity into the plane, a contact with the ground is "
+                               "friction in the plane: write only `friction MU`", c.span,
+                               code="name")
+        if a.offset != (0.0, 0.0):
+            raise ProblemError("plan-view friction acts on a body as a whole: write the body's "
+                               "name", c.a.span, code="name")
+        return True
+
+    def _rolling_throughout(self, t: TransitionSpec) -> list:
+        """`BODY rolls on SURFACE` in an interval with no contact of its own: the body rolls
+        throughout, held by a rough contact (normal and friction forces unknown). With a
+        `friction MU` contact it is the end of a slide (kept as an end condition)."""
+        kept = []
+        for body, surface, span in t.rolls:
+            if any(c.a.body == body and c.b is None and c.surface in (surface, None)
+                   for c in t.contacts):
+                kept.append((body, surface, span))
+                continue
+            sf = self._surface_named(surface, span)
+            b = self.bodies[body]
+            if sf.normal is None:
+                raise ProblemError(f"rolling on '{surface}' needs its normal: declare `surface "
+                                   f"{surface} normal (0, 1)`", span, code="name")
+            if b.radius is None or b.is_particle:
+                raise ProblemError(f"'{body}' cannot roll: only disks, rings, spheres and "
+                                   "bodies with a radius roll", span, code="name")
+            if any(c.label == body for c in t.contacts):
+                raise ProblemError(f"a contact is already called '{body}' in this transition",
+                                   span, code="name")
+            t.contacts.append(Contact(label=body, span=span,
+                                      a=PointOn(body, (0.0, 0.0), body, span, True), b=None,
+                                      normal=sf.normal, restitution=None,
+                                      restitution_unknown=False, mode=Tangential.ROUGH,
+                                      mu=None, slip=None,
+                                      surface=None if surface == "ground" else surface))
+        return kept
+
+    def _geometric_normal(self, c: S.Contact, a: PointOn, b: PointOn,
+                          before: StateSpec) -> tuple[float, float]:
+        """The normal the shapes fix, from the positions given in the state before: the
+        line of centres of two round bodies, or from a round body's centre to the point
+        it touches (a rod's end)."""
+        round_ = [p.round_contact and bool(self.bodies[p.body].radius) for p in (a, b)]
+        if not any(round_):
+            raise ProblemError("a contact needs a normal: between two points the geometry "
+                               "fixes none; write `normal (x, y)` (the direction of the impulse "
+                               "on the first body), or give a body a radius", c.span,
+                               code="name")
+        pose, missing = {}, []
+        for p in (a, b):
+            g = before.givens
+            qtys = ("x", "y") + (("angle",) if p.offset != (0.0, 0.0) else ())
+            lack = [q for q in qtys if (p.body, q) not in g]
+            missing += [f"{p.body}.{q}" for q in lack]
+            if not lack:
+                pose[p.body] = (g[(p.body, "x")][0], g[(p.body, "y")][0],
+                                g[(p.body, "angle")][0] if "angle" in qtys else 0.0)
+        if missing:
+            raise ProblemError(f"the normal from the geometry needs {', '.join(missing)} in "
+                               f"state {before.id}; give them, or write `normal (x, y)`",
+                               c.span, code="name")
+        n, d = line_of_centres(centre(pose, a), centre(pose, b))
+        if n is None:
+            raise ProblemError("the two contact points coincide in state "
+                               f"{before.id}: the geometry fixes no normal; write "
+                               "`normal (x, y)`", c.span, code="name")
+        reach = sum(self.bodies[p.body].radius for p, r in zip((a, b), round_) if r)
+        if abs(d - reach) > 1e-6 * max(d, reach):
+            self.notes.warn(f"contact {a.name} with {b.name}: the bodies are {d:.6g} m apart in "
+                           f"state {before.id} but their radii reach {reach:.6g} m; the normal "
+                           "is along the line of centres", c.span)
+        else:
+            self.notes.note(f"contact {a.name} with {b.name}: normal ({n[0]:.4g}, {n[1]:.4g}) "
+                            f"on {a.name}, from the geometry in state {before.id}", c.span)
+        return n
 
     def _surface_named(self, name: str, span: Span) -> Surface:
         if name == "ground":
@@ -830,9 +982,9 @@ class _Builder:
                                                          "(0, 1)`"])
         return self.surfaces[name]
 
-    def _contact(self, c: S.Contact, kind: str) -> Contact:
-        a = self.point(c.a)
-        b = self.point(c.b) if c.b is not None else None
+    def _contact(self, c: S.Contact, kind: str, before: StateSpec | None = None) -> Contact:
+        a = self.fixed_point(c.a)
+        b = self.fixed_point(c.b) if c.b is not None else None
         surface = None
         if b is not None and b.body is None:
             surface = b.name
@@ -851,9 +1003,16 @@ class _Builder:
             normal = sf.normal
         elif kind == "simulate" and b is not None:
             normal = None  # two bodies: the simulation takes the normal from their shapes
+        elif b is not None and before is not None:
+            normal = self._geometric_normal(c, a, b, before)
+        elif self._plan_friction(c, kind, a, b, surface):
+            normal = None  # friction with the ground in plan view (elements.PlanFriction)
         else:
-            raise ProblemError("a contact needs a normal: `normal (0, 1)` (the direction of the "
-                               "impulse on the first body)", c.span, code="name")
+            where = f"declare `surface {surface} normal (0, 1)` or write " \
+                if surface not in (None, "ground") else "write "
+            raise ProblemError("a contact needs a normal: " + where + "`normal (0, 1)` (the "
+                               "direction of the impulse on the first body)", c.span,
+                               code="name")
         e = None
         e_unknown = False
         e_name = None
@@ -861,6 +1020,7 @@ class _Builder:
         mode = Tangential.SMOOTH
         mu = None
         slip = None
+        mu_static = None
         modes = []
         law, law_span = Restitution.NEWTON, None
         for p in c.props:
@@ -887,6 +1047,11 @@ class _Builder:
                                        p.value.span, code="number")
                 mode = Tangential.FRICTION
                 modes.append(p)
+            elif p.kind == Prop.STATIC:
+                mu_static = self.value(p.value, NONE, "a static friction coefficient")
+                if mu_static < 0:
+                    raise ProblemError("a friction coefficient cannot be negative; got "
+                                       f"{mu_static:g}", p.value.span, code="number")
             elif p.kind == Prop.SLIP:
                 slip = self.unit_vector(p.value, "a slip direction")
             elif p.kind == Prop.SEPARATION:
@@ -907,10 +1072,10 @@ class _Builder:
         if separation is not None and (e is not None or e_unknown):
             raise ProblemError("give either a restitution or a separation speed, not both",
                                c.span, code="name")
-        if kind == TransitionKind.INTERVAL and mode == Tangential.ROUGH:
-            raise ProblemError("in an interval a rough contact needs a friction coefficient "
-                               "(`friction 0.3`); rolling is `BODY rolls on SURFACE`",
-                               modes[0].span, code="name")
+        if mu_static is not None and mode not in (Tangential.ROUGH, Tangential.FRICTION):
+            raise ProblemError("`static MU` checks the friction a contact needs to hold: write "
+                               "`rough, static 0.4` or `friction 0.3 static 0.4`", c.span,
+                               code="name")
         if law is not Restitution.NEWTON:
             if kind != "impact":
                 raise ProblemError(f"the {law} restitution law resolves an impact; here write "
@@ -927,7 +1092,7 @@ class _Builder:
                        restitution_unknown=e_unknown, mode=Tangential(mode), mu=mu, slip=slip,
                        surface=surface, restitution_name=e_name, separation=separation,
                        law=Restitution.SEPARATION if separation is not None else law,
-                       law_span=law_span)
+                       law_span=law_span, mu_static=mu_static)
 
     def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
         self._states_exist(states, s.before, s.after, s.span)

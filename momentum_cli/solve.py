@@ -862,7 +862,9 @@ def _hint_checks(sol: Solution) -> None:
             continue
         jn = v[site.jn]
         jt = v.get(site.jt, 0.0) if site.jt else 0.0
-        if site.regime == "stick":
+        if site.regime == "no slip":  # a rough contact checked against `static MU`
+            status, detail = site.law.static_check(jt, jn)
+        elif site.regime == "stick":
             detail = (f"stick held: |J_t| = {fmt_num(abs(jt), 4)} <= mu*J_n = "
                       f"{fmt_num(site.mu * jn, 4)} N*s")
             status = "ok" if abs(jt) <= site.mu * jn * (1 + 1e-9) else "warning"

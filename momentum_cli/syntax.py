@@ -1072,7 +1072,7 @@ def _make_transformer():
                     rest = rest[:-1]
                 if kind == "pin" and rest:
                     kw["at"] = rest[0]
-                elif kind == "link":
+                elif kind in ("link", "slider"):
                     kw["along"] = rest[0]
                 elif kind == "spring":
                     kw["stiffness"] = rest[0]
@@ -1083,6 +1083,7 @@ def _make_transformer():
 
         pin_stmt, weld_stmt = _joint("pin"), _joint("weld")
         link_stmt, spring_stmt = _joint("link"), _joint("spring")
+        slider_stmt = _joint("slider")
 
         # -- states
         def qty_ref(self, meta, ch):
@@ -1157,7 +1158,10 @@ def _make_transformer():
             return Contact(_span(meta), label, a, b, normal, props)
 
         def contact_props(self, meta, ch):
-            return list(ch)
+            out = []  # `friction 0.3 static 0.4` is two props
+            for p in ch:
+                out.extend(p if isinstance(p, list) else [p])
+            return out
 
         def prop_restitution(self, meta, ch):
             value, law = ch[0], str(ch[1]) if len(ch) > 1 else None
@@ -1178,6 +1182,12 @@ def _make_transformer():
 
         def prop_friction(self, meta, ch):
             return Prop(_span(meta), "friction", ch[0])
+
+        def prop_friction_static(self, meta, ch):
+            return [Prop(_span(meta), "friction", ch[0]), Prop(_span(meta), "static", ch[1])]
+
+        def prop_static(self, meta, ch):
+            return Prop(_span(meta), "static", ch[0])
 
         def prop_slip(self, meta, ch):
             return Prop(_span(meta), "slip", ch[0])

@@ -85,8 +85,14 @@ def rename(text: str, mapping: dict[str, str]) -> str:
 
 
 def map_name(name: str, mapping: dict[str, str]) -> str:
-    """An answer's name (program output) with the renamed identifiers in it."""
-    return _TOP.sub(lambda m: mapping.get(m.group(0), m.group(0)), name)
+    """An answer's name (program output) with the renamed identifiers in it (also the
+    point of an angular momentum's name, `H_O[{rod,ball}]@2`)."""
+    def one(m):
+        word = m.group(0)
+        if word.startswith("H_") and word[2:] in mapping:
+            return "H_" + mapping[word[2:]]
+        return mapping.get(word, word)
+    return _TOP.sub(one, name)
 
 
 # ---- reordering ---------------------------------------------------------------------------

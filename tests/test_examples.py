@@ -476,6 +476,10 @@ CHECKS = {f.__name__: f for f in [
 from test_language_items import CHECKS as LANGUAGE_CHECKS  # noqa: E402 (issue 10's items)
 
 CHECKS.update(LANGUAGE_CHECKS)
+# the examples of the language items (issue 10), checked in test_language_items.py
+from test_language_elements import EXAMPLE_CHECKS  # noqa: E402
+
+CHECKS.update(EXAMPLE_CHECKS)
 
 # the open-system examples (flow_*) are checked against their closed forms in test_flows.py
 PROBLEMS = sorted(p.stem for p in EXAMPLES.glob("*.mom") if not p.stem.startswith("flow_"))

@@ -11,7 +11,7 @@ with `@restitution_law`; it may take over the tangential rows (`owns_tangential`
 from __future__ import annotations
 
 from ..diagnostics import ProblemError
-from ..expr import ZERO, Const, E, Known, V2, evaluate, mul, neg, variables
+from ..expr import ZERO, Const, E, Known, V2, add, evaluate, mul, neg, power, variables
 from ..records import record
 from ..units import IMPULSE, NONE
 from .base import Check, Element, FrictionSite, ImpulseSource, Phase, SimRow, registrar
@@ -184,6 +184,33 @@ class TangentialLaw:
         """The power of the tangential force of a persistent contact."""
         return 0.0
 
+    def friction_detail(self, jt: float, jn: float) -> str:
+        return f"|J_t| = {abs(jt):.6g} N*s"
+
+    def _static_site(self, rows: ContactRows, compiler, jt_name: str | None = None,
+                     then: str = "") -> None:
+        """With `static MU`: the friction a no-slip (or a hold) needs is checked against it."""
+        mu = getattr(self.c, "mu_static", None)
+        if mu is not None:
+            self.then = then
+            compiler.friction.append(FrictionSite(rows.site, self.c.label, rows.phase.key, mu,
+                                                  rows.jn.name, jt_name or rows.jt.name,
+                                                  Regime.NO_SLIP, None, self.c.span, True, self))
+
+    def static_check(self, jt: float, jn: float) -> tuple[str, str]:
+        """(status, detail) of the friction needed against the static coefficient."""
+        mu = self.c.mu_static
+        ok = not abs(jt) > mu * jn * (1 + STICK_SLACK) + 1e-300
+        need = f"{abs(jt) / jn:.6g}" if jn > 0 else "inf"
+        detail = f"{self.holding} needs mu >= |J_t|/J_n = {need}; static {mu:g}"
+        if ok:
+            return "ok", detail + ": it holds"
+        then = getattr(self, "then", "")
+        return ("ok" if then else "warning"), detail + ": it slips" + (
+            f" ({then})" if then else " (give `friction MU` for the sliding case)")
+
+    holding = "no slip"
+
     def describe(self) -> str:
         return str(self.kind)
 
@@ -203,6 +230,25 @@ class Rough(TangentialLaw):
     def stamp_impact(self, rows: ContactRows, compiler) -> None:
         compiler.eq(rows.vt2, ZERO, f"no slip at {self.c.label} (rough)", rows.phase.group,
                     self.c.span)
+        self._static_site(rows, compiler)
+
+    def stamp_interval(self, rows: ContactRows, compiler) -> None:
+        """No slip at either end: with constant forces the slip rate changes linearly, so
+        none throughout (rolling). The friction impulse J_t is what that needs."""
+        for sid, vt in ((rows.phase.before, rows.vt1), (rows.phase.after, rows.vt2)):
+            compiler.eq(vt, ZERO, f"no slip at {self.c.label} (rough: throughout)",
+                        f"state {sid}", self.c.span)
+        self._static_site(rows, compiler)
+
+    def stick_holds(self, jt: float, jn: float) -> bool:
+        mu = getattr(self.c, "mu_static", None)
+        return mu is None or not abs(jt) > mu * jn * (1 + STICK_SLACK) + 1e-300
+
+    def friction_detail(self, jt: float, jn: float) -> str:
+        mu = getattr(self.c, "mu_static", None)
+        if mu is None or jn <= 0:
+            return super().friction_detail(jt, jn)
+        return f"no slip needs mu >= |J_t|/J_n = {abs(jt) / jn:.6g}; static {mu:g}"
 
 
 @tangential_law(Tangential.FRICTION)
@@ -249,6 +295,31 @@ class Coulomb(TangentialLaw):
         compiler.friction.append(FrictionSite(rows.site, c.label, rows.phase.key, c.mu,
                                               rows.jn.name, rows.jt.name, regime, rows.vt1,
                                               c.span, decided, self))
+        self._hold_at_stop(rows, compiler)
+
+    holding = "at the stop, holding it"
+
+    def _hold_at_stop(self, rows: ContactRows, compiler) -> None:
+        """`friction MU static MUS` on a particle that stops at the interval's end: would
+        static friction hold it? With the interval's other forces still acting, holding
+        needs the tangential impulse J_hold = m (v2 - v1).t - J_t over the same time,
+        against mu_s J_n."""
+        c, phase = self.c, rows.phase
+        t = compiler.tspecs.get(phase.key)
+        body = c.a.body
+        if getattr(c, "mu_static", None) is None or t is None or \
+                body not in {b for b, _ in t.stops} or \
+                not compiler.scene.bodies[body].is_particle:
+            return
+        tg = V2(Const(-c.normal[1]), Const(c.normal[0]))
+        dv = compiler.vel(body, phase.after) - compiler.vel(body, phase.before)
+        key = impulse_key(Component.J_HOLD, c.label, phase.key)
+        hold = compiler.unknown(key, IMPULSE, KeyKind.DERIVED)
+        compiler.eq(hold, add(mul(compiler.mass(body, phase.before), dv.dot(tg)), neg(rows.jt)),
+                    f"friction that would hold {body} at the stop", phase.group, c.span)
+        later = [x for x in compiler.scene.transitions if x.before == phase.after]
+        self._static_site(rows, compiler, hold.name,
+                          f"transition {later[0].key} follows" if later else "")
 
     def next_regime(self, site: FrictionSite, values: dict) -> Regime | None:
         """The regime to try next after solving with `site.regime`, or None if it held:
@@ -346,7 +417,7 @@ class ContactElement(Element):
                 jt = values.get(impulse_key(Component.JT, self.label, k.transition), 0.0)
                 out.append(Check(f"friction at {self.label} ({k.transition})",
                                  self.tangential.stick_holds(jt, x),
-                                 f"|J_t| = {abs(jt):.6g} N*s"))
+                                 self.tangential.friction_detail(jt, x)))
         return out
 
     def describe(self) -> str:
@@ -409,3 +480,55 @@ class ContactElement(Element):
         vb = compiler.point_velocity(c.b, sid, c.normal, -1.0) if c.b is not None \
             else V2(ZERO, ZERO)
         return va - vb
+
+
+class PlanFriction(Element):
+    """Kinetic friction with the ground in plan view (`gravity ... into plane`): over an
+    interval the ground pushes against the body's velocity at the start with mu m g, at
+    its centre (no moment; the skid runs straight, so the direction holds throughout):
+    J = -mu m g t v1/|v1|, an impulse of its own, `J[LABEL]@1->2` in magnitude."""
+
+    def __init__(self, c):
+        self.c = c
+        self.label = c.label
+        self.span = c.span
+
+    def bodies(self) -> tuple[str | None, ...]:
+        return (self.c.a.body, None)
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        return [impulse_key(Component.JX, self.label, phase.key),
+                impulse_key(Component.JY, self.label, phase.key)]
+
+    def stamp(self, phase: Phase, compiler) -> None:
+        c, sc = self.c, compiler.scene
+        if phase.kind is not PhaseKind.INTERVAL:
+            raise ProblemError("friction with the ground in plan view acts over an interval; "
+                               "an impact needs a normal", c.span, code="name")
+        body = c.a.body
+        v = compiler.vel(body, phase.before)
+        speed = power(add(mul(v.x, v.x), mul(v.y, v.y)), 0.5)
+        if not variables(speed) and evaluate(speed, {}) == 0:
+            raise ProblemError(f"{body} is at rest in state {phase.before}: kinetic friction "
+                               "needs it to slide", c.span, code="name")
+        kx, ky = self.unknowns(phase)
+        J = V2(compiler.unknown(kx, IMPULSE, KeyKind.IMPULSE),
+               compiler.unknown(ky, IMPULSE, KeyKind.IMPULSE))
+        # along the velocity (J x v1 = 0) and against it with mu m g t: J . v1 = -mu m g t |v1|
+        m_g = mul(compiler.mass(body, phase.before), Known("g", sc.g))
+        compiler.eq(J.cross(v), ZERO, f"plan-view friction on {body}: along its velocity",
+                    phase.group, c.span)
+        compiler.eq(J.dot(v), neg(mul(mul(mul(Const(c.mu), m_g), phase.dur()), speed)),
+                    f"plan-view friction on {body}: mu m g t against its velocity (normal "
+                    "force: the weight)", phase.group, c.span)
+        phase.apply(c.a, J, None)  # at G: c.a is the body itself
+        phase.sources.append(ImpulseSource((body, None), body, None, False,
+                                           f"friction on {body}"))
+
+    def describe(self) -> str:
+        return f"contact {self.label}: plan-view friction {self.c.mu:g}"
+
+
+def contact_element(c) -> Element:
+    """The element for a contact record: plan-view friction when it has no normal."""
+    return PlanFriction(c) if c.normal is None else ContactElement(c)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from ..expr import ZERO, Const, E, V2, add, mul, neg, power
+from ..expr import ZERO, Const, E, V2, add, mul, neg, omega_cross, power, rotate
 from ..units import ANGULAR_IMPULSE, IMPULSE
 from .base import Element, ImpulseSource, Phase, SimRow, registrar
 from .keys import Key, impulse_key
@@ -25,8 +25,8 @@ joint_kind = registrar(JOINTS)  # @joint_kind(KIND) on a JointElement subclass
 
 
 def joint_element(jt, scene) -> "JointElement":
-    """The element for a scene Joint record."""
-    return JOINTS[JointKind(jt.kind)](jt, scene)
+    """The element for a scene Joint record (its class may choose a variant)."""
+    return JOINTS[JointKind(jt.kind)].element_for(jt, scene)
 
 
 class JointElement(Element):
@@ -43,8 +43,16 @@ class JointElement(Element):
         self.has_particle = any(p.body is not None and bodies[p.body].is_particle
                                 for p in (jt.a, jt.b))
 
+    @classmethod
+    def element_for(cls, jt, scene) -> "JointElement":
+        return cls(jt, scene)
+
     def bodies(self) -> tuple[str | None, ...]:
         return (self.a.body, self.b.body)
+
+    def quantity(self, member: str, sid: str, compiler):
+        """A quantity the joint defines (`pole.omega@2`), or None."""
+        return None
 
     def describe(self) -> str:
         return f"{self.kind} {self.label}"
@@ -165,6 +173,14 @@ class Weld(Pin):
 
     transmits_moment = True
 
+    @classmethod
+    def element_for(cls, jt, scene) -> "JointElement":
+        """Two particles welded together are one rigid body: a RigidPair."""
+        bodies = [scene.bodies[p.body] for p in (jt.a, jt.b) if p.body is not None]
+        if len(bodies) == 2 and all(b.is_particle for b in bodies):
+            return RigidPair(jt, scene)
+        return cls(jt, scene)
+
     def state_rows(self, phase: Phase, compiler) -> None:
         super().state_rows(phase, compiler)
         if not self.has_particle:
@@ -217,6 +233,154 @@ class Link(JointElement):
     def sim_reference(self, frame) -> float | None:
         dx, dy = self._gap(frame)
         return dx * self.along[0] + dy * self.along[1]
+
+    def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
+        return [self.sim_reference(frame) - ref[self.label]]
+
+
+class RigidPair(JointElement):
+    """Two particles welded at a distance (skaters holding a light pole): one rigid body.
+    The pole is a two-force member: one impulse along the line between them, and their
+    relative velocity has no part along it; the pair turns with
+    omega = (r_a - r_b) x (v_a - v_b) / |r_a - r_b|^2 (`LABEL.omega@S`)."""
+
+    kind = JointKind.WELD
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        return [impulse_key(Component.J, self.label, phase.key)]
+
+    def _line(self, compiler, sid: str) -> V2:
+        return compiler.point_position(self.a, sid) - compiler.point_position(self.b, sid)
+
+    def impulse(self, phase: Phase, compiler) -> None:
+        d = self._line(compiler, phase.before)
+        Jl = compiler.unknown(self.unknowns(phase)[0], IMPULSE, KeyKind.IMPULSE)
+        self._pair(d.scale(mul(Jl, power(d.dot(d), -0.5))), None, phase)
+        phase.sources.append(ImpulseSource(self.bodies(), self.a.name, None, False,
+                                           self.describe()))
+
+    def state_rows(self, phase: Phase, compiler) -> None:
+        sid = phase.before
+        va, vb = compiler.point_velocity(self.a, sid), compiler.point_velocity(self.b, sid)
+        compiler.eq((va - vb).dot(self._line(compiler, sid)), ZERO,
+                    f"weld {self.label}: the particles keep their distance (one rigid body)",
+                    phase.group, self.span)
+
+    def quantity(self, member: str, sid: str, compiler):
+        if member != "omega":
+            return None
+        d = self._line(compiler, sid)
+        rel = compiler.point_velocity(self.a, sid) - compiler.point_velocity(self.b, sid)
+        return mul(d.cross(rel), power(d.dot(d), -1.0))
+
+    def constraint(self, frame) -> list:
+        J, beta = self._pair_rows(frame)
+        dx, dy = self._gap(frame)
+        va = frame.point_velocity(self.a.body, (0.0, 0.0))
+        vb = frame.point_velocity(self.b.body, (0.0, 0.0))
+        rel2 = (va[0] - vb[0]) ** 2 + (va[1] - vb[1]) ** 2
+        d = math.hypot(dx, dy)  # a unit row: its multiplier is the force along the pole
+        return [SimRow(f"F[{self.label}]", (dx * J[0] + dy * J[1]) / d,
+                       (dx * beta[0] + dy * beta[1] + rel2) / d)]
+
+    def sim_reference(self, frame) -> float | None:
+        return math.hypot(*self._gap(frame))
+
+    def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
+        return [self.sim_reference(frame) - ref[self.label]]
+
+
+@joint_kind(JointKind.SLIDER)
+class Slider(JointElement):
+    """A collar on a body's line (a prismatic joint): free along it, held across it by one
+    impulse J across the line, applied on the body where the collar is (so it turns the
+    body); a rigid collar also turns with the body (a moment M). One velocity row across
+    the line at each state: the collar's velocity less the body's material point under it."""
+
+    def unknowns(self, phase: Phase) -> list[Key]:
+        out = [impulse_key(Component.J, self.label, phase.key)]
+        if not self.has_particle and self.b.body is not None:
+            out.append(impulse_key(Component.M, self.label, phase.key))
+        return out
+
+    def _across(self, compiler, sid: str) -> V2:
+        n = (-self.along[1], self.along[0])
+        if self.b.body is None or compiler.scene.bodies[self.b.body].is_particle:
+            return V2(Const(n[0]), Const(n[1]))
+        return rotate(n, compiler.sv(self.b.body, "angle", sid))
+
+    def _arm(self, compiler, sid: str) -> V2:
+        """From the body's centre to the collar: where the reaction acts on the body."""
+        return compiler.point_position(self.a, sid) - compiler.point_position(self.b, sid)
+
+    def impulse(self, phase: Phase, compiler) -> None:
+        sid, keys = phase.before, self.unknowns(phase)
+        J = self._across(compiler, sid).scale(compiler.unknown(keys[0], IMPULSE,
+                                                               KeyKind.IMPULSE))
+        M = compiler.unknown(keys[1], ANGULAR_IMPULSE, KeyKind.ANGULAR_IMPULSE) \
+            if len(keys) > 1 else None
+        phase.apply(self.a, J, M)
+        if self.b.body is not None:
+            torque = self._arm(compiler, sid).cross(-J)
+            phase.apply(self.b, -J, add(torque, neg(M)) if M is not None else torque)
+        phase.sources.append(ImpulseSource(self.bodies(), self.a.name, None, False,
+                                           self.describe()))
+
+    def state_rows(self, phase: Phase, compiler) -> None:
+        sid = phase.before
+        va = compiler.point_velocity(self.a, sid)
+        vb = V2(ZERO, ZERO)
+        if self.b.body is not None:
+            w = compiler.sv(self.b.body, "omega", sid)
+            vb = compiler.vel(self.b.body, sid) + omega_cross(w, self._arm(compiler, sid))
+        compiler.eq((va - vb).dot(self._across(compiler, sid)), ZERO,
+                    f"slider {self.label}: no relative velocity across the line", phase.group,
+                    self.span)
+        if len(self.unknowns(phase)) > 1:
+            compiler.eq(compiler.sv(self.a.body, "omega", sid),
+                        compiler.sv(self.b.body, "omega", sid),
+                        f"slider {self.label}: turns with {self.b.body}", phase.group,
+                        self.span)
+
+    # ---- simulate: g = n . (v_collar - v_m) = 0, m the body's material point under the
+    # collar; its rate adds w x n to n and w x (v_collar - v_G) to v_m (the point slides)
+    def _sim_across(self, frame) -> tuple[float, float]:
+        n = (-self.along[1], self.along[0])
+        if self.b.body is None:
+            return n
+        th = frame.pose[self.b.body][2]
+        c, s_ = math.cos(th), math.sin(th)
+        return (c * n[0] - s_ * n[1], s_ * n[0] + c * n[1])
+
+    def constraint(self, frame) -> list:
+        n = self._sim_across(frame)
+        Ja, ba = frame.point_jac(self.a.body, frame.offset(self.a.body, self.a.offset))
+        vc = frame.point_velocity(self.a.body, frame.offset(self.a.body, self.a.offset))
+        row, beta = n[0] * Ja[0] + n[1] * Ja[1], n[0] * ba[0] + n[1] * ba[1]
+        rows = []
+        if self.b.body is not None:
+            pc = frame.point(self.a.body, self.a.offset)
+            gx, gy, _ = frame.pose[self.b.body]
+            r = (pc[0] - gx, pc[1] - gy)
+            Jm, bm = frame.point_jac(self.b.body, r, centripetal=False)
+            vm = frame.point_velocity(self.b.body, r)
+            vgx, vgy, w = frame.twist[self.b.body]
+            rel = (vc[0] - vm[0], vc[1] - vm[1])
+            slide = (vc[0] - vgx, vc[1] - vgy)
+            ndot = (-w * n[1], w * n[0])
+            row = row - (n[0] * Jm[0] + n[1] * Jm[1])
+            beta += ndot[0] * rel[0] + ndot[1] * rel[1] - (n[0] * bm[0] + n[1] * bm[1]) \
+                - (n[0] * -w * slide[1] + n[1] * w * slide[0])
+            if not self.has_particle:
+                rows.append(SimRow(f"M[{self.label}]", frame.jac[self.a.body][2] -
+                                   frame.jac[self.b.body][2], 0.0, True))
+        return [SimRow(f"F[{self.label}]", row, beta)] + rows
+
+    def sim_reference(self, frame) -> float | None:
+        n = self._sim_across(frame)
+        pc = frame.point(self.a.body, self.a.offset)
+        pg = frame.point(self.b.body, (0.0, 0.0))
+        return (pc[0] - pg[0]) * n[0] + (pc[1] - pg[1]) * n[1]
 
     def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
         return [self.sim_reference(frame) - ref[self.label]]

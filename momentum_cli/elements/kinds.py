@@ -22,6 +22,7 @@ class JointKind(_Word):
     LINK = "link"
     SPRING = "spring"
     DAMPER = "damper"  # a simulation's dashpot: a force along its line, no impulse
+    SLIDER = "slider"  # a collar free along a body's line, held across it
 
 
 class Tangential(_Word):
@@ -48,6 +49,7 @@ class Regime(_Word):
     REST = "rest"  # simulate: a persistent contact with no tangential force (smooth)
     SLIDE_POS = "slide+"  # slipping along +t: friction along -t
     SLIDE_NEG = "slide-"
+    NO_SLIP = "no slip"  # a rough contact: no regime to choose; its friction is only checked
 
     @property
     def sign(self) -> float:
@@ -95,6 +97,7 @@ class Component(_Word):
     JY = "Jy"
     J = "J"  # along a link
     M = "M"  # a moment impulse (weld, bearing friction)
+    J_HOLD = "J_hold"  # the friction impulse that would hold a stopped body (a static check)
     E = "e"
     V_SEP = "v_sep"
 
@@ -123,6 +126,7 @@ class Prop(_Word):
     FRICTION = "friction"
     SLIP = "slip"
     SEPARATION = "separation"
+    STATIC = "static"  # the static coefficient a no-slip contact is checked against
 
 
 class EquationKind(_Word):

@@ -86,8 +86,8 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
     else:
         effects.append("no gravity (none declared)")
     for j in sc.joints:
-        what = {"pin": "pin", "weld": "weld", "link": "link (two-force member)",
-                "spring": "spring"}[j.kind]
+        what = {"link": "link (two-force member)",
+                "slider": "slider (free along the line)"}.get(j.kind, str(j.kind))
         other = j.b.name if j.b.body else "ground"
         effects.append(f"{what} {j.label}: {j.a.name} to {other}")
     knowns = []
@@ -140,7 +140,7 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                for n, v, u, si in sol.answers]
     regimes = [dict(contact=s.label, transition=s.transition,
                     regime="stick" if s.regime == "stick" else "slide")
-               for s in system.friction]
+               for s in system.friction if s.regime != "no slip"]  # static checks: in checks
     counts = dict(unknowns=len(system.unknowns), equations=len(system.equations),
                   blocks=len(st.blocks), solved_blocks=len(sol.blocks),
                   redundant=len(st.redundant) + len(st.constant_eqs),

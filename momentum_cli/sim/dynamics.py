@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from ..elements.geometry import line_of_centres
 from .model import Model, Watch, centre, rot
 
 
@@ -124,9 +125,8 @@ def contact_geometry(frame: Frame, w: Watch):
             n = w.normal
             gap = (pa[0] - pb[0]) * n[0] + (pa[1] - pb[1]) * n[1] - w.ra - w.rb - w.gap0
         else:
-            dx, dy = pa[0] - pb[0], pa[1] - pb[1]
-            d = math.hypot(dx, dy)
-            n = (dx / d, dy / d) if d > 0 else (0.0, 1.0)
+            n, d = line_of_centres(pa, pb)
+            n = n or (0.0, 1.0)
             gap = d - w.ra - w.rb - w.gap0
     c = (pa[0] - w.ra * n[0], pa[1] - w.ra * n[1])
     ga = frame.pose[w.a.body]

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 from ..diagnostics import ProblemError
 from ..elements.contacts import ContactElement
+from ..elements.geometry import centre, rot  # noqa: F401  (the simulation's names for them)
 from ..elements.joints import JointElement, joint_element
 from ..elements.kinds import JointKind
 from ..scene import Contact, PointOn, Scene
@@ -62,11 +63,6 @@ class Model:
     watches: list[Watch]
     length_scale: float = 1.0
     scene_joints: list[JointElement] = field(default_factory=list)  # every joint of the file
-
-
-def rot(theta: float, r: tuple[float, float]) -> tuple[float, float]:
-    c, s = math.cos(theta), math.sin(theta)
-    return (c * r[0] - s * r[1], s * r[0] + c * r[1])
 
 
 def build_model(scene: Scene, spec) -> Model:
@@ -142,15 +138,6 @@ def _radius(scene: Scene, p: PointOn) -> float:
     if p.body is None or not p.round_contact:
         return 0.0
     return scene.bodies[p.body].radius or 0.0
-
-
-def centre(frame_pose, p) -> tuple[float, float]:
-    """World position of point `p` from poses {body: (x, y, angle)}."""
-    if p.body is None:
-        return (p.offset[0], p.offset[1])
-    gx, gy, th = frame_pose[p.body]
-    rx, ry = rot(th, p.offset)
-    return (gx + rx, gy + ry)
 
 
 def raw_gap(model: Model, w: Watch, pose: dict) -> float:

@@ -53,7 +53,7 @@ def build_simulation(b, s: S.SimulateDecl, states) -> SimSpec:
         elif isinstance(c, S.Contact):
             spec.contacts.append(b.contact(c, "simulate"))
         elif isinstance(c, S.Joint):
-            a, p = b.point(c.a), b.point(c.b)
+            a, p = b.fixed_point(c.a), b.fixed_point(c.b)
             if a.body is None and p.body is not None:
                 a, p = p, a
             if a.body is None or a.body == p.body:
@@ -66,7 +66,8 @@ def build_simulation(b, s: S.SimulateDecl, states) -> SimSpec:
             label = c.label or (a.name if p.body is None else f"{a.name}-{p.name}")
             spec.dampers.append(b.damper(label, a, p, c.span, damping))
         elif c.kind == Clause.FORCE:
-            spec.forces.append((b.vector(c.value, FORCE, "a force"), b.point(c.point), c.span))
+            spec.forces.append((b.vector(c.value, FORCE, "a force"), b.fixed_point(c.point),
+                                c.span))
         elif c.kind == Clause.MOMENT:
             body = b.body_named(c.names[0], c.span)
             spec.moments.append((b.value(c.value, MOMENT, "a moment"), body.name, c.span))
