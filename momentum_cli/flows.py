@@ -14,6 +14,8 @@ rate mdot, gravity g) has the closed form of the rocket equation:
 """
 from __future__ import annotations
 
+import math
+
 from . import syntax as S
 from .diagnostics import ProblemError
 from .expr import (
@@ -31,6 +33,7 @@ from .expr import (
     variables,
 )
 from .records import record
+from .scene import unit_direction
 from .units import FORCE, LENGTH, MASS, MOMENT, NONE, TIME, VELOCITY, describe
 
 MASS_RATE = (1, 0, -1)
@@ -194,11 +197,7 @@ class FlowCompiler:
         if not (isinstance(d.x, Const) and isinstance(d.y, Const)):
             raise ProblemError("the exhaust direction must be a constant", b.direction.span,
                                code="type")
-        n = (d.x.value ** 2 + d.y.value ** 2) ** 0.5
-        if n == 0:
-            raise ProblemError("the exhaust direction must be non-zero", b.direction.span,
-                               code="number")
-        e = (d.x.value / n, d.y.value / n)
+        e = unit_direction(d.x.value, d.y.value, b.direction, "the exhaust direction")
         mdot = self._rate(b.rate, "the burn rate")
         if isinstance(mdot, Const) and mdot.value <= 0:
             raise ProblemError("the burn rate must be positive", b.rate.span, code="number")
@@ -257,9 +256,26 @@ class FlowCompiler:
                                code="number")
         from scipy.integrate import solve_ivp
 
+        def negative_at(tau: float) -> None:
+            """A located error where the rate or exhaust speed is negative (the body would
+            gain mass, or push itself backwards), or not finite, at burn time tau."""
+            env = {BURN_TIME: tau}
+            for what, ex_, node in (("rate", mdot, b.rate),
+                                    ("exhaust speed", speed, b.exhaust)):
+                v = evaluate(ex_, env)
+                if not math.isfinite(v) or v < 0:
+                    raise ProblemError(f"the burn's {what} is {v:g} at t = {tau:g} s of its "
+                                       f"{T_val:g} s: it must stay finite and not negative "
+                                       "during the burn", node.span, code="number")
+
+        for k in range(257):  # a grid first, so that a short dip is not stepped over
+            negative_at(T_val * k / 256)
+
         def rhs(tau, y):
             env = {BURN_TIME: tau}
             md, cc = evaluate(mdot, env), evaluate(speed, env)
+            if md < 0 or cc < 0:
+                negative_at(tau)
             return [md, cc * md / (m_start - y[0]), y[1]]
 
         def empty(tau, y):

@@ -112,12 +112,29 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         with _NoCyclicGC():
             scene = build(parse(source))
             sol = solve_scene(scene, solve_all, precision=precision)
+            _finite_answers(sol)
             rep = build_report(source.name, sol, sig)
         return FileResult(source.name, "solved", source, rep, list(sol.diagnostics))
     except ProblemError as exc:
         return FileResult(source.name, "error", source, None, list(exc.diagnostics))
     except RecursionError:  # `parse` bounds the depth; this is the last line of defence
         return _too_deep(source)
+
+
+def _finite_answers(sol) -> None:
+    """The last guard before anything is printed: an answer that is not a finite number
+    (an overflow, a 0/0 the earlier checks missed) is an error at its `find` item, never
+    a printed nan, inf or null."""
+    import math
+
+    spans = {f.name: f.span for f in sol.system.finds}
+    bad = [Diagnostic("error", "not-finite", f"{name} is not a finite number (got {si!r}): "
+                      "the data overflow or lose all precision in float64", spans.get(name),
+                      ("check the magnitudes and units of the data it depends on",))
+           for name, v, _u, si in sol.answers
+           if not (math.isfinite(v) and math.isfinite(si))]
+    if bad:
+        raise ProblemError.many(bad)
 
 
 def _too_deep(source: Source) -> FileResult:
@@ -154,7 +171,9 @@ def check_source(source: Source) -> FileResult:
         sev = "error" if missing else "note"
         msg = (f"under-determined: {', '.join(missing)} not determined" if missing else
                f"not determined (and not asked for): {shown}")
-        diags.append(Diagnostic(sev, "under-determined", msg))
+        where = next((f.span for f in system.finds if missing and
+                      variables(f.expr, set()) & set(missing)), None)
+        diags.append(Diagnostic(sev, "under-determined", msg, where))
     counts = dict(unknowns=len(system.unknowns), equations=len(system.equations),
                   blocks=len(st.blocks), redundant=len(st.redundant) + len(st.constant_eqs),
                   undetermined=len(st.under), undetermined_equations=len(st.under_eqs))

@@ -7,6 +7,7 @@ parallel-axis theorem. Weights become masses with the file's own g.
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import field
 
 from . import syntax as S
@@ -207,6 +208,44 @@ ARG_DIMS = {"mass": MASS, "weight": FORCE, "radius": LENGTH, "length": LENGTH, "
             "height": LENGTH, "inertia": INERTIA, "gyration": LENGTH}
 
 
+# Magnitudes past these (in SI units) are refused: below, a subnormal float has lost its
+# digits; above, the squares and products the laws form overflow float64 (1.8e308).
+TINY = sys.float_info.min
+HUGE = 1e150
+
+
+def _in_range(v: float, node, what: str) -> float:
+    """`v`, or a located error when it is subnormal or too large to square."""
+    if v != 0 and abs(v) < TINY:
+        raise ProblemError(f"{what} is {v:g}, below the smallest normal float ({TINY:.3g}): "
+                           "its digits are lost", node.span, code="number",
+                           notes=["use a larger unit, or a value that is not zero in effect"])
+    if abs(v) > HUGE:
+        raise ProblemError(f"{what} is {v:g}: too large for the products and squares the "
+                           f"laws form (at most {HUGE:g} in SI units)", node.span, code="number",
+                           notes=["use a unit that brings the value nearer 1"])
+    return v
+
+
+def unit_direction(x: float, y: float, node, what: str) -> tuple[float, float]:
+    """(x, y) normalised, scaled first so that neither overflow nor subnormal
+    components spoil it; a located error for a zero or non-finite direction."""
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ProblemError(f"{what} is not finite", node.span, code="number")
+    for c in (x, y):
+        if c != 0 and abs(c) < TINY:
+            raise ProblemError(f"{what} has a component of {c:g}, below the smallest normal "
+                               f"float ({TINY:.3g}): it cannot be normalised reliably",
+                               node.span, code="number",
+                               notes=["write the direction with components near 1"])
+    scale = max(abs(x), abs(y))
+    if scale == 0:
+        raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
+    x, y = x / scale, y / scale
+    n = math.hypot(x, y)
+    return (x / n, y / n)
+
+
 def build(doc: S.Document) -> Scene:
     """Resolve names, convert to SI and compute inertias; raise ProblemError on misuse."""
     return _Builder(doc).run()
@@ -254,6 +293,7 @@ class _Builder:
         v = constant(q, node)
         if not math.isfinite(v):
             raise ProblemError(f"{what} is not a finite number", node.span, code="number")
+        _in_range(v, node, what)
         return v
 
     def vector(self, node, dim: Dim, what: str) -> tuple[float, float]:
@@ -269,10 +309,7 @@ class _Builder:
 
     def unit_vector(self, node, what: str) -> tuple[float, float]:
         x, y = self.vector(node, NONE, what)
-        n = math.hypot(x, y)
-        if n == 0 or not math.isfinite(n):
-            raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
-        return (x / n, y / n)
+        return unit_direction(x, y, node, what)
 
     def _check_dim(self, q: Q, dim: Dim, node, what: str) -> None:
         if q.dim != dim:
@@ -301,6 +338,12 @@ class _Builder:
         for s in st:
             if isinstance(s, S.BodyDecl):
                 self._body(s)
+        for s in st:
+            if isinstance(s, S.Let) and s.name in self.bodies:
+                raise ProblemError(f"'{s.name}' is a body; a `let` constant needs another name",
+                                   s.span, code="name",
+                                   notes=[f"the body is declared at line "
+                                          f"{self.bodies[s.name].span.line}"])
         for s in st:
             if isinstance(s, S.SurfaceDecl):
                 self._surface(s)
@@ -331,7 +374,16 @@ class _Builder:
         transitions = []
         for s in st:
             if isinstance(s, S.Transition):
-                transitions.append(self._transition(s, states))
+                t = self._transition(s, states)
+                for other in transitions:
+                    if other.key == t.key:
+                        raise ProblemError(
+                            f"states {t.before} -> {t.after} have two transitions: this "
+                            f"{t.kind} (line {t.span.line}) and the {other.kind} at line "
+                            f"{other.span.line}", t.span, code="name",
+                            notes=["one transition joins two states; give the second its own "
+                                   "states"])
+                transitions.append(t)
         stated = []
         for s in st:
             if isinstance(s, S.ConserveMomentum):
@@ -427,6 +479,46 @@ class _Builder:
             if t.key == f"{s.before}->{s.after}":
                 raise ProblemError(f"states {s.before} -> {s.after} already have a transition",
                                    t.span, code="name")
+        self._burn_values(s)
+
+    def _known(self, node, dim: Dim, what: str) -> float | None:
+        """The value of a constant expression, or None where it depends on unknowns (the
+        later stages check those)."""
+        try:
+            q = self.ev(node, dim)
+            if q.is_vector or q.dim != dim:
+                return None
+            return constant(q, node)
+        except ProblemError:
+            return None
+
+    def _burn_values(self, s: S.BurnDecl) -> None:
+        """Constant burn data that no rocket has: a negative exhaust speed or burnt mass, a
+        duration that is not positive, a direction that cannot be normalised."""
+        speed = self._known(s.exhaust, VELOCITY, "the exhaust speed")
+        if speed is not None and _in_range(speed, s.exhaust, "the exhaust speed") < 0:
+            raise ProblemError(f"the exhaust speed cannot be negative; got {speed:g} m/s",
+                               s.exhaust.span, code="number",
+                               notes=["give the direction the exhaust leaves in with `along`"])
+        if s.direction is not None:
+            try:
+                q = self.ev(s.direction, NONE)
+                xy = constant_vector(q, s.direction) if q.is_vector else None
+            except ProblemError:
+                xy = None
+            if xy is not None:
+                unit_direction(xy[0], xy[1], s.direction, "the exhaust direction")
+        if s.burned is not None:
+            m = self._known(s.burned, MASS, "the mass burned")
+            if m is not None and _in_range(m, s.burned, "the mass burned") <= 0:
+                raise ProblemError(f"the mass burned must be positive; got {m:g} kg",
+                                   s.burned.span, code="number",
+                                   notes=["a body that gains mass is written `gain`"])
+        if s.duration is not None:
+            d = self._known(s.duration, TIME, "the burn's duration")
+            if d is not None and _in_range(d, s.duration, "the burn's duration") <= 0:
+                raise ProblemError(f"a burn's duration must be positive; got {d:g} s",
+                                   s.duration.span, code="number")
 
     def _gravity(self, s: S.Gravity) -> None:
         if self.g is not None:
@@ -483,7 +575,8 @@ class _Builder:
             if a.name in out:
                 raise ProblemError(f"'{a.name}' is given twice", a.span, code="name")
             v = self.value(a.value, ARG_DIMS[a.name], f"'{a.name}'")
-            if v <= 0 and not (a.name == "radius" and v == 0):
+            if v <= 0 and not (a.name == "radius" and v == 0 and shape.kind in
+                               ("particle", "rigid")):
                 raise ProblemError(f"'{a.name}' must be positive; got {v:g}", a.value.span,
                                    code="number")
             out[a.name] = (v, a.value.span)

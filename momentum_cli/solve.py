@@ -527,6 +527,16 @@ def _newton_from(F, J, names, values, x0):
     return (x, 100) if max(abs(v) for v in r) < 1e-9 * max(1.0, max(abs(v) for v in x)) else None
 
 
+def _transition_span(system: System, name: str):
+    """Where the transition (or burn, gain) of a duration `t@A->B` is declared."""
+    key = name.partition("@")[2]
+    sc = system.scene
+    for t in list(sc.transitions) + list(sc.burns) + list(sc.gains):
+        if f"{t.before}->{t.after}" == key:
+            return t.span
+    return None
+
+
 def _hint_checks(sol: Solution) -> None:
     """Physical sanity: contacts push, durations are positive, friction regimes hold."""
     sysm, v = sol.system, sol.values
@@ -535,7 +545,8 @@ def _hint_checks(sol: Solution) -> None:
             continue
         if u.kind == "duration" and v[name] <= 0:
             raise ProblemError(f"{name} = {fmt_num(v[name], 4)} s: the end condition is not "
-                               "reached forward in time", None, code="no-solution",
+                               "reached forward in time", _transition_span(sysm, name),
+                               code="no-solution",
                                notes=["check the signs of the given velocities and the slip "
                                       "direction"])
         if u.kind == "impulse" and name.startswith("J_n[") and v[name] < 0:
@@ -579,7 +590,8 @@ def _answers(system: System, values) -> list[tuple[str, float, str, float]]:
             raise ProblemError(f"{f.name} is not a finite number", f.span, code="number") \
                 from None
         # a value that is round-off against the size of its terms is exactly zero
-        if si != 0.0 and abs(si) <= 64 * 2.0**-53 * magnitude(f.expr, values):
+        if si != 0.0 and math.isfinite(si) and abs(si) <= 64 * 2.0**-53 * magnitude(f.expr,
+                                                                               values):
             si = 0.0
         out.append((f.name, si / f.factor, f.unit, si))
     return out

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..diagnostics import ProblemError
 from ..scene import Scene
+from ..source import Span
 from . import advance
 from .drift import drift_event, project, reference, tolerance
 from .dynamics import Frame, contact_geometry, gap_rate, relative_velocity
@@ -491,7 +492,7 @@ def simulate(scene: Scene, index: int = 0, rtol: float = 1e-9, dt: float | None 
              progress=None, closed_forms: bool = True) -> SimResult:
     if not scene.simulations:
         raise ProblemError("nothing to simulate: add a block `simulate from 1:` with a stop "
-                           "condition such as `until t = 2 s`", None, code="simulate",
+                           "condition such as `until t = 2 s`", Span(1, 1), code="simulate",
                            caret=False)
     return Simulator(scene, scene.simulations[index], rtol, dt, progress,
                      closed_forms=closed_forms).run()
