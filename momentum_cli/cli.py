@@ -191,20 +191,40 @@ def solve(
       momentum solve --json examples/*.mom
       cat problem.mom | momentum solve -q -
     """
-    from .run import solve_many, solve_source
+    from .run import solve_many
 
     mode = _pick_format(fmt, json_flag, plain)
     _safe_streams()
-    out, err = sys.stdout, sys.stderr
+    out = sys.stdout
     results = []
-    console = None
-    worst = ExitCode.OK
     many = len(files) > 1
     items = list(_read_all(files))
-    solved = iter(())
+    solved = (r for r in ())
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
                             precision.value)
+    try:
+        worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
+                            traceback_flag, results)
+    finally:
+        solved.close()  # ends any worker processes still running
+    if mode == "json":
+        from . import __version__
+        from .report.json_out import document
+
+        out.write(document(results, __version__, not _is_utf8(out)))
+    out.flush()
+    raise typer.Exit(int(worst))
+
+
+def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
+                traceback_flag, results) -> ExitCode:
+    """Print (or collect, for JSON) each file's result in order; the worst exit code."""
+    from .run import solve_source
+
+    out, err = sys.stdout, sys.stderr
+    console = None
+    worst = ExitCode.OK
     for i, (name, source, res) in enumerate(items):
         if res is None and not traceback_flag:
             res = next(solved)
@@ -234,13 +254,7 @@ def solve(
             out.write(render_quiet(res.report, digits))
         else:
             console = _render(res.report, mode, console, i, digits, simulation=False)
-    if mode == "json":
-        from . import __version__
-        from .report.json_out import document
-
-        out.write(document(results, __version__, not _is_utf8(out)))
-    out.flush()
-    raise typer.Exit(int(worst))
+    return worst
 
 
 @app.command()
@@ -537,11 +551,61 @@ def bench_simulate(
     sys.stdout.write("\n".join(text_table(HEADERS, table(rows))) + "\n")
 
 
+def _on_signal(signum, _frame) -> None:
+    """SIGTERM or SIGHUP: end the worker processes and this one now, with 128 + signal
+    (a pool waiting for its workers would not stop promptly)."""
+    mp = sys.modules.get("multiprocessing")
+    if mp is not None:
+        for child in mp.active_children():
+            try:
+                child.kill()
+            except OSError:
+                pass
+    os._exit(128 + signum)
+
+
+def _usable_environment() -> None:
+    """Terminal sizes that are not positive whole numbers (`COLUMNS=0`) are ignored, so
+    that rich does not draw into zero columns; signals end the run promptly."""
+    import signal
+
+    for var in ("COLUMNS", "LINES"):
+        v = os.environ.get(var)
+        if v is not None and not (v.strip().isdigit() and int(v) > 0):
+            del os.environ[var]
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            try:
+                signal.signal(getattr(signal, name), _on_signal)
+            except (ValueError, OSError):
+                pass
+
+
 def main() -> None:
-    """Entry point of the `momentum` command."""
+    """Entry point of the `momentum` command: exit codes for output that cannot be
+    written (a broken pipe ends quietly with 141, like other tools; a full disk or a
+    closed standard output is one line and 3), interrupts and signals."""
+    from .outputs import (GuardedStream, OutputFailed, OutputGone, silence_stdout,
+                          stdout_is_closed)
+
+    if stdout_is_closed():
+        sys.stderr.write("momentum: error: standard output is closed\n")
+        sys.exit(int(ExitCode.INTERNAL))
+    _usable_environment()
+    sys.stdout = GuardedStream(sys.stdout)
     try:
-        # a fixed name: usage lines and shell completion (`_MOMENTUM_COMPLETE`) say
-        # `momentum` also under `python -m momentum_cli`
-        app(prog_name="momentum")
+        try:
+            # a fixed name: usage lines and shell completion (`_MOMENTUM_COMPLETE`) say
+            # `momentum` also under `python -m momentum_cli`
+            app(prog_name="momentum")
+        finally:
+            sys.stdout.flush()
     except KeyboardInterrupt:
         sys.exit(int(ExitCode.INTERRUPTED))
+    except OutputGone:
+        silence_stdout()
+        sys.exit(141)
+    except OutputFailed as exc:
+        silence_stdout()
+        sys.stderr.write(f"momentum: error: cannot write to standard output: {exc.reason}\n")
+        sys.exit(int(ExitCode.INTERNAL))

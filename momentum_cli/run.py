@@ -5,6 +5,7 @@
 """
 from __future__ import annotations
 
+import sys
 from dataclasses import field
 
 from .diagnostics import Diagnostic, ExitCode, ProblemError
@@ -225,12 +226,63 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str):
     jobs = [(s, solve_all, sig, precision) for s in sources]
     done = 0
     if ctx is not None:
+        pool = None
         try:
-            with ProcessPoolExecutor(cores, mp_context=ctx) as pool:
-                for res in pool.map(_solve_job, jobs, chunksize=8):
-                    done += 1
-                    yield res
+            pool = ProcessPoolExecutor(cores, mp_context=ctx, initializer=_worker_init,
+                                       initargs=(os.getpid(),))
+            for res in pool.map(_solve_job, jobs, chunksize=8):
+                done += 1
+                yield res
         except (BrokenProcessPool, OSError, RuntimeError):
             pass  # no worker processes here: finish in this one
+        except BaseException:  # interrupted, or the reader went away: end the workers now
+            _end_workers(mp)
+            raise
+        finally:
+            if pool is not None:
+                pool.shutdown(wait=done == len(jobs), cancel_futures=True)
+                if done < len(jobs):
+                    _end_workers(mp)
     for job in jobs[done:]:
         yield _solve_job(job)
+
+
+def _end_workers(mp) -> None:
+    for child in mp.active_children():
+        try:
+            child.kill()
+        except OSError:
+            pass
+
+
+def _worker_init(parent: int) -> None:
+    """A worker ends with its parent however the parent dies: on Linux the kernel sends
+    it SIGKILL (prctl PR_SET_PDEATHSIG); elsewhere, and as a second guard, a thread
+    polls for a new parent. Ctrl-C is the parent's to handle."""
+    import os
+    import signal
+    import threading
+    import time
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:  # the parent died before prctl took effect
+        os._exit(1)
+
+    def watch():
+        while True:
+            time.sleep(0.5)
+            if os.getppid() != parent:
+                os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
