@@ -8,7 +8,7 @@ from ..source import Source
 
 
 def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
-                    progress=None, closed_forms: bool = True):
+                    progress=None, closed_forms: bool = True, **limits):
     """(FileResult with `report` = the simulation's report dict, SimResult or None)."""
     from ..scene import build
     from ..syntax import parse
@@ -18,7 +18,8 @@ def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
     try:
         with _NoCyclicGC():
             scene = build(parse(source))
-            res = simulate(scene, rtol=rtol, dt=dt, progress=progress, closed_forms=closed_forms)
+            res = simulate(scene, rtol=rtol, dt=dt, progress=progress, closed_forms=closed_forms,
+                           **limits)
             rep = build_report(source.name, res)
         return FileResult(source.name, "solved", source, rep, []), res
     except ProblemError as exc:
