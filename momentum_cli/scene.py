@@ -296,7 +296,7 @@ class _Builder:
         _in_range(v, node, what)
         return v
 
-    def vector(self, node, dim: Dim, what: str) -> tuple[float, float]:
+    def vector(self, node, dim: Dim, what: str, ranged: bool = True) -> tuple[float, float]:
         q = self.ev(node, dim)
         if not q.is_vector:
             raise ProblemError(f"{what} needs a vector such as (1, 0); got a scalar", node.span,
@@ -305,10 +305,12 @@ class _Builder:
         v = constant_vector(q, node)
         if not all(math.isfinite(c) for c in v):
             raise ProblemError(f"{what} is not finite", node.span, code="number")
+        for c in v if ranged else ():
+            _in_range(c, node, f"a component of {what}")
         return v
 
     def unit_vector(self, node, what: str) -> tuple[float, float]:
-        x, y = self.vector(node, NONE, what)
+        x, y = self.vector(node, NONE, what, ranged=False)  # only the direction counts
         return unit_direction(x, y, node, what)
 
     def _check_dim(self, q: Q, dim: Dim, node, what: str) -> None:

@@ -294,6 +294,10 @@ def _under_determined(system: System, structure: Structure, missing: list[str]) 
             if st is not None:
                 first_line = st.span
                 break
+    for m in missing if first_line is None else ():
+        first_line = _transition_span(system, m) if "->" in m else None  # t@1->2, dx@...
+        if first_line is not None:
+            break
     word = "is" if len(missing) == 1 else "are"
     return ProblemError(f"under-determined: {', '.join(shown)}{more} {word} not determined",
                         first_line, code="under-determined", notes=notes, caret=False)
