@@ -1,8 +1,8 @@
 """The command-line interface (typer): solve / check. No physics here.
 
 Parses flags, reads files, picks a renderer, and maps results to exit codes:
-0 solved, 1 a problem in a file, 2 usage or unreadable file, 3 internal error,
-130 interrupted. Heavy modules (rich, numpy) are imported only when needed.
+0 solved, 1 a problem in a file, 2 usage or unreadable file, 3 internal error (or
+standard output not writable), 130 interrupted, 141 broken pipe, 128+N signal N. Heavy modules (rich, numpy) are imported only when needed.
 """
 from __future__ import annotations
 
@@ -21,7 +21,8 @@ app = typer.Typer(
     help="Solve planar rigid-body impulse, momentum and impact problems written in the "
          "momentum problem language, and show the solution step by step.\n\n"
          "Exit codes: 0 solved, 1 a problem in a file (syntax, units, under-determined, "
-         "inconsistent), 2 usage error or unreadable file, 3 internal error, 130 interrupted.",
+         "inconsistent), 2 usage error or unreadable file, 3 internal error or standard output "
+         "not writable, 130 interrupted, 141 broken pipe, 128+N signal N.",
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
