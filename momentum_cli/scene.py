@@ -241,8 +241,10 @@ def unit_direction(x: float, y: float, node, what: str) -> tuple[float, float]:
     scale = max(abs(x), abs(y))
     if scale == 0:
         raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
-    x, y = x / scale, y / scale
     n = math.hypot(x, y)
+    if not (TINY < n < math.inf):  # scaled first only where the length itself would not be
+        x, y = x / scale, y / scale  # a normal float (as x / hypot rounds best elsewhere)
+        n = math.hypot(x, y)
     return (x / n, y / n)
 
 
