@@ -232,13 +232,12 @@ def unit_direction(x: float, y: float, node, what: str) -> tuple[float, float]:
     components spoil it; a located error for a zero or non-finite direction."""
     if not (math.isfinite(x) and math.isfinite(y)):
         raise ProblemError(f"{what} is not finite", node.span, code="number")
-    for c in (x, y):
-        if c != 0 and abs(c) < TINY:
-            raise ProblemError(f"{what} has a component of {c:g}, below the smallest normal "
-                               f"float ({TINY:.3g}): it cannot be normalised reliably",
-                               node.span, code="number",
-                               notes=["write the direction with components near 1"])
     scale = max(abs(x), abs(y))
+    if 0 < scale < TINY:
+        raise ProblemError(f"{what} has a length of {math.hypot(x, y):g}, below the smallest "
+                           f"normal float ({TINY:.3g}): its direction cannot be trusted",
+                           node.span, code="number",
+                           notes=["write the direction with components near 1"])
     if scale == 0:
         raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
     n = math.hypot(x, y)
@@ -307,8 +306,8 @@ class _Builder:
         v = constant_vector(q, node)
         if not all(math.isfinite(c) for c in v):
             raise ProblemError(f"{what} is not finite", node.span, code="number")
-        for c in v if ranged else ():
-            _in_range(c, node, f"a component of {what}")
+        if ranged:  # the vector's size; a component tiny beside the other is harmless
+            _in_range(max(v, key=abs), node, f"the largest component of {what}")
         return v
 
     def unit_vector(self, node, what: str) -> tuple[float, float]:
