@@ -728,6 +728,9 @@ def bench_simulate(
 def _on_signal(signum, _frame) -> None:
     """SIGTERM or SIGHUP: end the worker processes and this one now, with 128 + signal
     (a pool waiting for its workers would not stop promptly)."""
+    outputs = sys.modules.get("momentum_cli.outputs")
+    if outputs is not None:
+        outputs.remove_pending()  # no half-written temporary file is left behind
     mp = sys.modules.get("multiprocessing")
     if mp is not None:
         for child in mp.active_children():

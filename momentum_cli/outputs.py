@@ -14,6 +14,19 @@ import sys
 import tempfile
 
 
+# temporary files being filled now: a signal handler removes them before the process ends
+PENDING: set[str] = set()
+
+
+def remove_pending() -> None:
+    for tmp in list(PENDING):
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        PENDING.discard(tmp)
+
+
 class OutputError(Exception):
     """A path that cannot be written as asked; its message is one line."""
 
@@ -100,6 +113,7 @@ def _atomic(path: str, force: bool, option: str, fill) -> None:
         fd, tmp = tempfile.mkstemp(prefix=".momentum-", suffix=os.path.splitext(path)[1],
                                    dir=folder)
         os.close(fd)
+        PENDING.add(tmp)
     except OSError as exc:
         raise OutputError(f"{option} {path}: cannot write: {exc.strerror}") from None
     try:
@@ -120,6 +134,7 @@ def _atomic(path: str, force: bool, option: str, fill) -> None:
             os.unlink(tmp)
         except OSError:
             pass
+        PENDING.discard(tmp)
 
 
 # ---- standard output ------------------------------------------------------------------
