@@ -85,12 +85,14 @@ def write_drawing(path: str, draw, force: bool, option: str) -> None:
     if path == "-":
         fd, tmp = tempfile.mkstemp(suffix=".png")
         os.close(fd)
+        PENDING.add(tmp)
         try:
             draw(tmp)
             with open(tmp, "rb") as fh:
                 data = fh.read()
         finally:
             os.unlink(tmp)
+            PENDING.discard(tmp)
         sys.stdout.flush()
         sys.stdout.buffer.write(data)
         sys.stdout.buffer.flush()
