@@ -114,6 +114,7 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
             scene = build(parse(source))
             sol = solve_scene(scene, solve_all, precision=precision)
             _finite_answers(sol)
+            _instant_phases(sol)
             rep = build_report(source.name, sol, sig)
         return FileResult(source.name, "solved", source, rep, list(sol.diagnostics))
     except ProblemError as exc:
@@ -136,6 +137,24 @@ def _finite_answers(sol) -> None:
            if not (math.isfinite(v) and math.isfinite(si))]
     if bad:
         raise ProblemError.many(bad)
+
+
+def _instant_phases(sol) -> None:
+    """A phase whose duration comes out exactly 0 (its end condition already holds at
+    its start) is legal but odd: a warning at the phase says so."""
+    import re
+
+    sc = sol.system.scene
+    phases = list(sc.transitions) + list(sc.burns) + list(sc.gains)
+    named = dict(sol.values)
+    named.update((name, si) for name, _v, _u, si in sol.answers)
+    for name, v in sorted(named.items()):
+        m = re.fullmatch(r"t@(\S+)->(\S+)", name)
+        if m and v == 0:
+            span = next((p.span for p in phases if (p.before, p.after) == m.groups()), None)
+            sol.diagnostics.append(Diagnostic(
+                "warning", "instant-phase", f"{name} = 0 s: the phase's end condition already "
+                "holds at its start, so it takes no time and changes nothing", span))
 
 
 def _too_deep(source: Source) -> FileResult:

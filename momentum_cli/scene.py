@@ -859,7 +859,12 @@ class _Builder:
                 t.rolls.append((c.names[0], c.names[1], c.span))
             elif c.kind == "force":
                 f = self.vector(c.value, FORCE, "a force")
-                t.forces.append((f, self.point(c.point), c.span))
+                point = self.point(c.point)
+                if f == (0.0, 0.0):  # it has no direction, and adds nothing
+                    self.notes.warn("a zero force has no effect; it is left out", c.span,
+                                    code="zero-force")
+                    continue
+                t.forces.append((f, point, c.span))
             elif c.kind == "moment":
                 body = self._body_named(c.names[0], c.span)
                 t.moments.append((self.value(c.value, MOMENT, "a moment"), body.name, c.span))

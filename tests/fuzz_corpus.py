@@ -140,14 +140,16 @@ def _alarm(_signum, _frame):
 WHOLE_FILE = {"unreadable", "encoding", "too-large", "too-deep", "empty", "binary"}
 
 
-def _nonsense(report) -> str | None:
-    """A solved report that says something no physics allows: a duration that is not
-    positive, a mass that is not positive, a negative kinetic energy."""
+def _nonsense(report, diagnostics) -> str | None:
+    """A solved report that says something no physics allows, without a word: a negative
+    duration (a zero one only with a warning that names it), a mass that is not
+    positive, a negative kinetic energy."""
+    warned = " ".join(d.message for d in diagnostics if d.severity == "warning")
     for u in list(report.unknowns) + list(report.answers):
         name, v = u["name"], u["si_value"]
         if v is None or not math.isfinite(v):
             continue
-        if re.fullmatch(r"t@\S+->\S+", name) and v <= 0:
+        if re.fullmatch(r"t@\S+->\S+", name) and (v < 0 or v == 0 and name not in warned):
             return f"{name} = {v}"
         if (".mass@" in name or name.startswith("m_")) and v <= 0:
             return f"{name} = {v}"
@@ -209,6 +211,6 @@ def _classify(name: str, res, tally: Tally, solved: bool) -> None:
     if bad:
         tally.non_finite.append(f"{name}: {bad}")
         return
-    bad = _nonsense(res.report)
+    bad = _nonsense(res.report, res.diagnostics)
     if bad:
         tally.nonsense.append(f"{name}: {bad}")
