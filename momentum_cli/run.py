@@ -267,6 +267,11 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str):
 
 
 def _end_workers(mp) -> None:
+    """Kill the worker processes now (the run is ending: interrupted, or its output
+    gone); the pool's manager thread, which sees them die, is kept from printing."""
+    import threading
+
+    threading.excepthook = lambda _args: None
     for child in mp.active_children():
         try:
             child.kill()
