@@ -208,17 +208,23 @@ ARG_DIMS = {"mass": MASS, "weight": FORCE, "radius": LENGTH, "length": LENGTH, "
             "height": LENGTH, "inertia": INERTIA, "gyration": LENGTH}
 
 
-# Magnitudes past these (in SI units) are refused: below, a subnormal float has lost its
-# digits; above, the squares and products the laws form overflow float64 (1.8e308).
+MASS_RATE: Dim = (1, 0, -1)  # kg/s
+# Magnitudes past these (in SI units) are refused: the squares and products the laws
+# form underflow to 0 (below 1e-150; below TINY, a subnormal float has lost its digits
+# already) or overflow float64's 1.8e308 (above 1e150).
 TINY = sys.float_info.min
+SMALL = 1e-150
 HUGE = 1e150
 
 
-def _in_range(v: float, node, what: str) -> float:
-    """`v`, or a located error when it is subnormal or too large to square."""
-    if v != 0 and abs(v) < TINY:
-        raise ProblemError(f"{what} is {v:g}, below the smallest normal float ({TINY:.3g}): "
-                           "its digits are lost", node.span, code="number",
+def _in_range(v: float, node, what: str, small: float = TINY) -> float:
+    """`v`, or a located error when it is subnormal (below `small`: SMALL where the laws
+    square it, as for a mass rate) or too large to square."""
+    if v != 0 and abs(v) < small:
+        lost = (f"below the smallest normal float ({TINY:.3g}): its digits are lost" if
+                abs(v) < TINY else f"its square underflows to 0 (at least {SMALL:g} in SI "
+                "units, or 0)")
+        raise ProblemError(f"{what} is {v:g}, {lost}", node.span, code="number",
                            notes=["use a larger unit, or a value that is not zero in effect"])
     if abs(v) > HUGE:
         raise ProblemError(f"{what} is {v:g}: too large for the products and squares the "
@@ -456,6 +462,7 @@ class _Builder:
             raise ProblemError(f"a {'loss' if s.is_loss else 'gain'} needs `rate MASS_RATE` "
                                "(e.g. `rate 5 kg/s` or `rate 2 kg/m * chain.vy`)", s.span,
                                code="name")
+        self._rate_in_range(s.rate, "the rate")
         key = f"{s.before}->{s.after}"
         for t in transitions:
             if t.key == key:
@@ -495,9 +502,16 @@ class _Builder:
         except ProblemError:
             return None
 
+    def _rate_in_range(self, node, what: str) -> None:
+        """A constant mass rate (kg/s) that is subnormal or too large to square."""
+        v = self._known(node, MASS_RATE, what)
+        if v is not None:
+            _in_range(v, node, what, SMALL)  # the closed forms divide by its square
+
     def _burn_values(self, s: S.BurnDecl) -> None:
         """Constant burn data that no rocket has: a negative exhaust speed or burnt mass, a
         duration that is not positive, a direction that cannot be normalised."""
+        self._rate_in_range(s.rate, "the burn rate")
         speed = self._known(s.exhaust, VELOCITY, "the exhaust speed")
         if speed is not None and _in_range(speed, s.exhaust, "the exhaust speed") < 0:
             raise ProblemError(f"the exhaust speed cannot be negative; got {speed:g} m/s",
