@@ -1,11 +1,12 @@
 """The command-line interface (typer): solve / check. No physics here.
 
 Parses flags, reads files, picks a renderer, and maps results to exit codes:
-0 solved, 1 a problem in a file, 2 usage or unreadable file, 3 internal error,
-130 interrupted. Heavy modules (rich, numpy) are imported only when needed.
+0 solved, 1 a problem in a file, 2 usage or unreadable file, 3 internal error (or
+standard output not writable), 130 interrupted, 141 broken pipe, 128+N signal N. Heavy modules (rich, numpy) are imported only when needed.
 """
 from __future__ import annotations
 
+import math
 import os
 import sys
 from enum import Enum
@@ -20,7 +21,8 @@ app = typer.Typer(
     help="Solve planar rigid-body impulse, momentum and impact problems written in the "
          "momentum problem language, and show the solution step by step.\n\n"
          "Exit codes: 0 solved, 1 a problem in a file (syntax, units, under-determined, "
-         "inconsistent), 2 usage error or unreadable file, 3 internal error, 130 interrupted.",
+         "inconsistent), 2 usage error or unreadable file, 3 internal error or standard output "
+         "not writable, 130 interrupted, 141 broken pipe, 128+N signal N.",
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
@@ -58,7 +60,17 @@ def _root(
     """momentum: impulse, momentum and impact problems, solved step by step."""
 
 
+class Color(str, Enum):
+    auto = "auto"
+    always = "always"
+    never = "never"
+
+
 def _pick_format(fmt: Format, json_flag: bool, plain: bool) -> str:
+    asked = [n for n, on in (("--json", json_flag), ("--plain", plain),
+                             (f"--format {fmt.value}", fmt != Format.auto)) if on]
+    if len(asked) > 1:
+        raise typer.BadParameter(f"{' and '.join(asked)} ask for different outputs; give one")
     if json_flag:
         return "json"
     if plain:
@@ -73,6 +85,7 @@ def _read_all(files: List[str]):
     used, for each path; `-` (named `<stdin>`) is read once."""
     from .run import FileResult, SourceTextError, read_source
 
+    files = _expand(files)
     if files.count("-") > 1:
         raise typer.BadParameter("'-' (standard input) may be given only once")
     stdin_data = None
@@ -106,6 +119,87 @@ def _read_all(files: List[str]):
             yield name, source, None
 
 
+def _expand(files: List[str]) -> List[str]:
+    """A directory argument means the `*.mom` files under it (recursively, sorted)."""
+    from pathlib import Path
+
+    out: List[str] = []
+    for f in files:
+        if f != "-" and os.path.isdir(f):
+            found = sorted(str(p) for p in Path(f).rglob("*.mom") if p.is_file())
+            if not found:
+                raise typer.BadParameter(f"{f} is a directory with no .mom files in it")
+            out.extend(found)
+        else:
+            out.append(f)
+    return out
+
+
+def _use_color(color: Color, stream, deterministic: bool = False) -> bool:
+    """--color, else NO_COLOR (off), else FORCE_COLOR (on), else whether `stream` is a
+    terminal (and not TERM=dumb). `deterministic` (--plain, --json asked for): only
+    --color always colours."""
+    if color == Color.always:
+        return True
+    if deterministic or color == Color.never or os.environ.get("NO_COLOR"):
+        return False
+    if os.environ.get("FORCE_COLOR") not in (None, "", "0"):
+        return True
+    try:
+        return stream.isatty() and os.environ.get("TERM") != "dumb"
+    except (AttributeError, ValueError):
+        return False
+
+
+_SEVERITY_COLOR = {"error": "1;31", "warning": "1;35", "note": "1;36"}
+
+
+def _colored(line: str, severity: str, on: bool) -> str:
+    """`file:line:col: error: ...` with the location bold and the severity coloured."""
+    if not on:
+        return line
+    head, sep, rest = line.partition(f" {severity}: ")
+    if not sep:
+        return line
+    return (f"\x1b[1m{head}\x1b[0m \x1b[{_SEVERITY_COLOR.get(severity, '1')}m{severity}:"
+            f"\x1b[0m {rest}")
+
+
+def _strict(res, strict: bool):
+    """With --strict, a result's warnings (diagnostics and warning checks) become errors:
+    its exit code is 1 and each warning is shown as an error."""
+    if not strict or res.status not in ("solved", "checked"):
+        return res
+    checks = []
+    rep = res.report
+    if rep is not None:
+        raw = rep["checks"] if isinstance(rep, dict) else getattr(rep, "checks", [])
+        checks = [c for c in raw if (c["status"] if isinstance(c, dict) else c.status)
+                  == "warning"]
+    warned = [d for d in res.diagnostics if d.severity == "warning"]
+    if not warned and not checks:
+        return res
+    diags = [Diagnostic("error", d.code, d.message + " (--strict)", d.span, d.notes, d.caret)
+             if d.severity == "warning" else d for d in res.diagnostics]
+    for c in checks:
+        name, detail = (c["name"], c["detail"]) if isinstance(c, dict) else (c.name, c.detail)
+        diags.append(Diagnostic("error", "strict", f"check {name}: {detail} (--strict: a "
+                                "warning is an error)"))
+    res.diagnostics = diags
+    res.status = "error"
+    return res
+
+
+def _title_of(res):
+    """The file's `problem` title, also for a file with errors (from its text)."""
+    import re
+
+    if res.source is None:
+        return None
+    m = re.search(r'^[ \t]*problem[ \t]+"([^"\n]*)"', res.source.text, re.M)
+    return m.group(1) if m else None
+
+
 def _safe_streams() -> None:
     """Text from a problem file that stdout's encoding lacks (a title with '—' under an
     ASCII locale) prints as a \\u escape instead of failing."""
@@ -121,12 +215,14 @@ def _is_utf8(stream) -> bool:
         "_", "") in ("utf8", "utf8sig")
 
 
-def _print_diagnostics(res, err) -> None:
+def _print_diagnostics(res, err, color: bool = False) -> None:
     for d in res.diagnostics:
         if res.source is None:
-            err.write(f"{res.name}: {d.severity}: {d.message}\n")
+            text = f"{res.name}: {d.severity}: {d.message}"
         else:
-            err.write(d.format(res.source) + "\n")
+            text = d.format(res.source)
+        first, nl, rest = text.partition("\n")
+        err.write(_colored(first, d.severity, color) + nl + rest + "\n")
 
 
 def _internal(name: str, exc: BaseException, traceback_flag: bool):
@@ -139,14 +235,25 @@ def _internal(name: str, exc: BaseException, traceback_flag: bool):
         "momentum; rerun with --traceback and report it)")])
 
 
+def _console(mode: str, color: Color):
+    """The rich console for the rich format (None for the others), coloured as asked."""
+    if mode != "rich":
+        return None
+    from rich.console import Console
+
+    if color == Color.always:
+        return Console(force_terminal=True)
+    if color == Color.never:
+        return Console(no_color=True)
+    return Console()
+
+
 def _render(report, mode: str, console, index: int, digits: int, simulation: bool):
     """Print one file's report as rich tables or plain text; returns the rich console
     (made once, on first use)."""
     if mode == "rich":
         if console is None:
-            from rich.console import Console
-
-            console = Console()
+            console = _console(mode, Color.auto)
         if simulation:
             from .report.sim_rich import render
         else:
@@ -189,6 +296,11 @@ def solve(
     jsonl: bool = typer.Option(False, "--jsonl", help="Print one JSON object per file (a "
                                                       "result of --json) as soon as it is "
                                                       "solved."),
+    strict: bool = typer.Option(False, "--strict", help="Warnings (a stated principle that "
+                                "does not hold, a contact that would pull, precision lost) "
+                                "are errors: exit code 1."),
+    color: Color = typer.Option(Color.auto, "--color", help="Colour: auto (on a terminal, "
+                                "unless NO_COLOR; FORCE_COLOR forces it), always or never."),
 ) -> None:
     """Solve problem files and print the solution step by step.
 
@@ -198,21 +310,44 @@ def solve(
       momentum solve --json examples/*.mom
       cat problem.mom | momentum solve -q -
     """
-    from .run import solve_many, solve_source
+    from .run import solve_many
 
     mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
     _safe_streams()
-    out, err = sys.stdout, sys.stderr
+    out = sys.stdout
     results = []
-    console = None
-    worst = ExitCode.OK
     many = len(files) > 1
     items = list(_read_all(files))
     overrides = _overrides_for(sets, [s for _, s, _ in items])
-    solved = iter(())
+    solved = (r for r in ())
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
                             precision.value, overrides)
+    try:
+        worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
+                            traceback_flag, results, strict, color, plain or json_flag,
+                            overrides, jsonl)
+    finally:
+        solved.close()  # ends any worker processes still running
+    if mode == "json" and not jsonl:
+        from . import __version__
+        from .report.json_out import document
+
+        out.write(document(results, __version__, not _is_utf8(out)))
+    out.flush()
+    raise typer.Exit(int(worst))
+
+
+def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
+                traceback_flag, results, strict, color, deterministic, overrides=(),
+                jsonl=False) -> ExitCode:
+    """Print (or collect, for JSON) each file's result in order; the worst exit code."""
+    from .run import solve_source
+
+    out, err = sys.stdout, sys.stderr
+    console = _console(mode, color)
+    tint = _use_color(color, err, deterministic)
+    worst = ExitCode.OK
     for i, (name, source, res) in enumerate(items):
         if res is None and not traceback_flag:
             res = next(solved)
@@ -223,6 +358,7 @@ def solve(
                 raise
             except Exception as exc:  # --traceback: show the bug
                 res = _internal(name, exc, traceback_flag)
+        res = _strict(res, strict)
         code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
         worst = max(worst, code)
         if mode == "json":
@@ -230,6 +366,8 @@ def solve(
 
             d = result_dict(name, res.status if res.status != "internal" else "error",
                             res.report, res.diagnostics)
+            if d.get("title") is None:
+                d["title"] = _title_of(res)
             if res.expects and res.report is None:
                 from .report.model import expectation_dict
 
@@ -245,7 +383,7 @@ def solve(
             else:
                 results.append(d)
             continue
-        _print_diagnostics(res, err)
+        _print_diagnostics(res, err, tint)
         for c in res.expects if res.report is None else ():  # `expect` lines of a failed file
             err.write(f"{name}:{c.spec.span.line}: note: " + (
                 f"this error was expected (expect {c.spec.quantity})" if c.met and c.spec.error
@@ -260,13 +398,7 @@ def solve(
             out.write(render_quiet(res.report, digits))
         else:
             console = _render(res.report, mode, console, i, digits, simulation=False)
-    if mode == "json" and not jsonl:
-        from . import __version__
-        from .report.json_out import document
-
-        out.write(document(results, __version__, not _is_utf8(out)))
-    out.flush()
-    raise typer.Exit(int(worst))
+    return worst
 
 
 @app.command()
@@ -274,6 +406,11 @@ def check(
     files: List[str] = typer.Argument(..., metavar="FILE",
                                       help="Problem files (.mom); '-' reads standard input."),
     json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
+    strict: bool = typer.Option(False, "--strict", help="Warnings (a stated principle that "
+                                "does not hold, a contact that would pull, precision lost) "
+                                "are errors: exit code 1."),
+    color: Color = typer.Option(Color.auto, "--color", help="Colour: auto (on a terminal, "
+                                "unless NO_COLOR; FORCE_COLOR forces it), always or never."),
 ) -> None:
     """Parse, build and analyse problem files without solving them.
 
@@ -291,21 +428,25 @@ def check(
     out, err = sys.stdout, sys.stderr
     worst = ExitCode.OK
     results = []
+    tint = _use_color(color, err, json_flag)
     for name, source, res in _read_all(files):
         if res is None:
             try:
                 res = check_source(source)
             except Exception as exc:
                 res = _internal(name, exc, False)
+        res = _strict(res, strict)
         code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
         worst = max(worst, code)
         if json_flag:
             from .report.json_out import result_dict
 
-            results.append(result_dict(name, res.status if res.status != "internal" else "error",
-                                       None, res.diagnostics, res.counts))
+            d = result_dict(name, res.status if res.status != "internal" else "error",
+                            None, res.diagnostics, res.counts)
+            d["title"] = _title_of(res)
+            results.append(d)
             continue
-        _print_diagnostics(res, err)
+        _print_diagnostics(res, err, tint)
         if res.counts is not None:
             c = res.counts
             out.write(f"{name}: {'ok' if res.status == 'checked' else 'error'}: "
@@ -343,6 +484,16 @@ def simulate(
     plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE.png",
                                        help="Draw positions, velocities and energy against "
                                             "time (needs the `plot` extra: matplotlib)."),
+    force: bool = typer.Option(False, "--force", help="Let --csv and --plot overwrite an "
+                                                      "existing file."),
+    max_events: int = typer.Option(10000, "--max-events", min=1,
+                                   help="Stop with an error after this many events (impacts, "
+                                        "phase changes)."),
+    max_time: Optional[float] = typer.Option(None, "--max-time", metavar="SECONDS",
+                                             help="Stop with an error after this much "
+                                                  "computing time per file."),
+    timings: bool = typer.Option(False, "--timings", help="Put wall-clock times in the JSON "
+                                                          "(left out so that runs compare equal)."),
     digits: int = typer.Option(6, "--digits", "-p", min=1, max=17,
                                help="Significant figures in printed numbers."),
     traceback_flag: bool = typer.Option(False, "--traceback", help="Show Python tracebacks of "
@@ -350,6 +501,11 @@ def simulate(
     sets: Optional[List[str]] = typer.Option(None, "--set", metavar="NAME=VALUE",
                                              help="Override a `let` constant: NAME=VALUE with "
                                                   "its unit (repeatable)."),
+    strict: bool = typer.Option(False, "--strict", help="Warnings (a stated principle that "
+                                "does not hold, a contact that would pull, precision lost) "
+                                "are errors: exit code 1."),
+    color: Color = typer.Option(Color.auto, "--color", help="Colour: auto (on a terminal, "
+                                "unless NO_COLOR; FORCE_COLOR forces it), always or never."),
 ) -> None:
     """Simulate the motion of a scene over time, with only the effects it declares.
 
@@ -364,10 +520,18 @@ def simulate(
       momentum simulate --csv swing.csv --rtol 1e-12 examples/seed_pendulum_wall.mom
       momentum simulate --json examples/simulate/*.mom
     """
+    from .outputs import OutputError, check_path, write_drawing, write_text
     from .run import simulate_source
 
+    for opt, v in (("--rtol", rtol), ("--dt", dt), ("--max-time", max_time)):
+        if v is not None and not (math.isfinite(v) and v > 0):
+            raise typer.BadParameter(f"{opt} takes a finite positive number; got {v}")
     if (csv or plot) and len(files) > 1:
         raise typer.BadParameter("--csv and --plot take one problem file")
+    if csv and plot and csv == plot and csv != "-":
+        raise typer.BadParameter("--csv and --plot name the same file")
+    if csv == "-" and plot == "-":
+        raise typer.BadParameter("--csv and --plot cannot both write to standard output")
     if plot:
         try:
             import matplotlib  # noqa: F401
@@ -375,11 +539,26 @@ def simulate(
             raise typer.BadParameter("--plot needs matplotlib: pip install "
                                      "'momentum-cli[plot]'") from None
     mode = _pick_format(fmt, json_flag, plain)
+    if "-" in (csv, plot) and mode == "json":
+        raise typer.BadParameter("--json and --csv/--plot '-' both write to standard output")
+    try:  # before the run: a path that would lose data, or cannot be written, is refused
+        if csv:
+            check_path(csv, files, force, "--csv")
+        if plot:
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+            check_path(plot, files, force, "--plot",
+                       set(FigureCanvasAgg.get_supported_filetypes()))
+    except OutputError as exc:
+        sys.stderr.write(f"momentum: error: {exc}\n")
+        raise typer.Exit(int(ExitCode.USAGE)) from None
     _safe_streams()
     out, err = sys.stdout, sys.stderr
     worst = ExitCode.OK
     results = []
-    console = None
+    console = _console(mode, color)
+    tint = _use_color(color, err, plain or json_flag)
+    to_stdout = "-" in (csv, plot)
     items = list(_read_all(files))
     overrides = _overrides_for(sets, [s for _, s, _ in items])
     for i, (name, source, res) in enumerate(items):
@@ -387,7 +566,9 @@ def simulate(
         if res is None:
             progress = _ProgressBar(err) if err.isatty() and mode != "json" else None
             try:
-                res, sim = simulate_source(source, rtol, dt, progress, not integrate, overrides)
+                res, sim = simulate_source(source, rtol, dt, progress, not integrate,
+                                           overrides, max_events=max_events,
+                                           max_time=max_time)
             except (KeyboardInterrupt, typer.Exit):
                 raise
             except Exception as exc:
@@ -395,25 +576,34 @@ def simulate(
             finally:
                 if progress is not None:
                     progress.close()
+        res = _strict(res, strict)
         code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
         worst = max(worst, code)
-        if sim is not None and csv:
-            from .sim.output import csv_text
+        try:
+            if sim is not None and csv:
+                from .sim.output import csv_text
 
-            with open(csv, "w", encoding="utf-8") as fh:
-                fh.write(csv_text(sim))
-        if sim is not None and plot:
-            from .sim.output import plot as draw
+                write_text(csv, csv_text(sim), force, "--csv")
+            if sim is not None and plot:
+                from .sim.output import plot as draw
 
-            draw(sim, plot)
+                write_drawing(plot, lambda path: draw(sim, path), force, "--plot")
+        except OutputError as exc:
+            err.write(f"momentum: error: {exc}\n")
+            worst = max(worst, ExitCode.USAGE)
         if mode == "json":
             from .report.sim_json import json_result
 
-            results.append(json_result(res.report, name, res.status if res.status != "internal"
-                                       else "error", res.diagnostics))
+            d = json_result(res.report, name, res.status if res.status != "internal"
+                            else "error", res.diagnostics)
+            if not timings:
+                d.pop("seconds", None)
+            if d.get("title") is None and _title_of(res) is not None:
+                d["title"] = _title_of(res)
+            results.append(d)
             continue
-        _print_diagnostics(res, err)
-        if res.report is None:
+        _print_diagnostics(res, err, tint)
+        if res.report is None or to_stdout:
             continue
         console = _render(res.report, mode, console, i, digits, simulation=True)
     if mode == "json":
@@ -920,11 +1110,69 @@ def grade(
     raise typer.Exit(int(ExitCode.PROBLEM if result.key_errors else ExitCode.OK))
 
 
+def _on_signal(signum, _frame) -> None:
+    """SIGTERM or SIGHUP: end the worker processes and this one now, with 128 + signal
+    (a pool waiting for its workers would not stop promptly)."""
+    outputs = sys.modules.get("momentum_cli.outputs")
+    if outputs is not None:
+        outputs.remove_pending()  # no half-written temporary file is left behind
+    mp = sys.modules.get("multiprocessing")
+    if mp is not None:
+        for child in mp.active_children():
+            try:
+                child.kill()
+            except OSError:
+                pass
+    os._exit(128 + signum)
+
+
+def _usable_environment() -> None:
+    """Terminal sizes that are not positive whole numbers (`COLUMNS=0`) are ignored, so
+    that rich does not draw into zero columns; signals end the run promptly."""
+    import signal
+
+    for var in ("COLUMNS", "LINES"):
+        v = os.environ.get(var)
+        if v is not None and not (v.strip().isdigit() and int(v) > 0):
+            del os.environ[var]
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            try:
+                signal.signal(getattr(signal, name), _on_signal)
+            except (ValueError, OSError):
+                pass
+
+
 def main() -> None:
-    """Entry point of the `momentum` command."""
+    """Entry point of the `momentum` command: exit codes for output that cannot be
+    written (a broken pipe ends quietly with 141, like other tools; a full disk or a
+    closed standard output is one line and 3), interrupts and signals."""
+    from .outputs import (GuardedStream, OutputFailed, OutputGone, silence_stdout,
+                          stdout_is_closed)
+
+    if stdout_is_closed():
+        sys.stderr.write("momentum: error: standard output is closed\n")
+        sys.exit(int(ExitCode.INTERNAL))
+    _usable_environment()
+    import warnings
+
+    # scipy's and numpy's warnings (rtol clamped, overflow in a trial step) are not the
+    # user's business: what matters reaches them as located diagnostics
+    warnings.simplefilter("ignore")
+    sys.stdout = GuardedStream(sys.stdout)
     try:
-        # a fixed name: usage lines and shell completion (`_MOMENTUM_COMPLETE`) say
-        # `momentum` also under `python -m momentum_cli`
-        app(prog_name="momentum")
+        try:
+            # a fixed name: usage lines and shell completion (`_MOMENTUM_COMPLETE`) say
+            # `momentum` also under `python -m momentum_cli`
+            app(prog_name="momentum")
+        finally:
+            sys.stdout.flush()
     except KeyboardInterrupt:
         sys.exit(int(ExitCode.INTERRUPTED))
+    except OutputGone:
+        silence_stdout()
+        sys.exit(141)
+    except OutputFailed as exc:
+        silence_stdout()
+        sys.stderr.write(f"momentum: error: cannot write to standard output: {exc.reason}\n")
+        sys.exit(int(ExitCode.INTERNAL))

@@ -38,6 +38,7 @@ from .expr import (
 from .integration import Integration, emit
 from .massratio import burn_drift
 from .records import record
+from .scene import unit_direction
 from .units import FORCE, LENGTH, MASS, MOMENT, NONE, TIME, VELOCITY, describe
 
 MASS_RATE = (1, 0, -1)
@@ -200,11 +201,7 @@ class FlowCompiler:
         if not (isinstance(d.x, Const) and isinstance(d.y, Const)):
             raise ProblemError("the exhaust direction must be a constant", b.direction.span,
                                code="type")
-        n = (d.x.value ** 2 + d.y.value ** 2) ** 0.5
-        if n == 0:
-            raise ProblemError("the exhaust direction must be non-zero", b.direction.span,
-                               code="number")
-        e = (d.x.value / n, d.y.value / n)
+        e = unit_direction(d.x.value, d.y.value, b.direction, "the exhaust direction")
         if b.rate is None:
             return self._burn_no_rate(b, speed, e)
         mdot = self._rate(b.rate, "the burn rate")
@@ -331,6 +328,22 @@ class FlowCompiler:
         if T_val <= 0:
             raise ProblemError("a burn's duration must be positive", b.duration.span,
                                code="number")
+
+        def negative_at(tau: float) -> None:
+            """A located error where the rate or exhaust speed is negative (the body would
+            gain mass, or push itself backwards), or not finite, at burn time tau."""
+            env = {BURN_TIME: tau}
+            for what, ex_, node in (("rate", mdot, b.rate),
+                                    ("exhaust speed", speed, b.exhaust)):
+                v = evaluate(ex_, env)
+                if not math.isfinite(v) or v < 0:
+                    raise ProblemError(f"the burn's {what} is {v:g} at t = {tau:g} s of its "
+                                       f"{T_val:g} s: it must stay finite and not negative "
+                                       "during the burn", node.span, code="number")
+
+        for k in range(257):  # a grid first, so that a short dip is not stepped over
+            negative_at(T_val * k / 256)
+
         key = f"{b.before}->{b.after}"
         group = f"burn {b.body} {b.before} -> {b.after}"
         how = f"integrated numerically: scipy DOP853, rtol {RTOL:g}"

@@ -6,6 +6,7 @@ exception.
 """
 from __future__ import annotations
 
+import sys
 from dataclasses import field
 
 from .diagnostics import Diagnostic, ExitCode, ProblemError
@@ -127,6 +128,7 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         with _NoCyclicGC():
             scene = _build_scene(source, overrides)
             sol = solve_scene(scene, solve_all, precision=precision)
+            _instant_phases(sol)
             rep = build_report(source.name, sol, sig)
             checks = []
             if scene.expects:
@@ -152,23 +154,39 @@ def _failed(source: Source, diagnostics) -> FileResult:
                       expects=check_error(specs, diagnostics) if specs else [])
 
 
+def _instant_phases(sol) -> None:
+    """A phase whose duration comes out exactly 0 (its end condition already holds at
+    its start) is legal but odd: a warning at the phase says so."""
+
+    sc = sol.system.scene
+    phases = list(sc.transitions) + list(sc.burns) + list(sc.gains)
+    for name, v in sorted(sol.values.items()):
+        if getattr(name, "kind", None) == "duration" and v == 0:
+            span = next((p.span for p in phases
+                         if f"{p.before}->{p.after}" == name.transition), None)
+            sol.diagnostics.append(Diagnostic(
+                "warning", "instant-phase", f"{name} = 0 s: the phase's end condition already "
+                "holds at its start, so it takes no time and changes nothing", span))
+
+
 def _too_deep(source: Source) -> FileResult:
     return _failed(source, [Diagnostic("error", "too-deep", "expression too long or nested "
                                        "too deeply", None, ("split it into parts with `let`",))])
 
 
 def simulate_source(source: Source, rtol: float = 1e-9, dt: float | None = None,
-                    progress=None, closed_forms: bool = True, overrides=()):
+                    progress=None, closed_forms: bool = True, overrides=(), **limits):
     """One file through `simulate`: (FileResult with `report` = the simulation's report
     dict, SimResult or None); never raises for a bad file. `overrides`: `--set`
-    (name, value text) pairs for the file's `let`s."""
+    (name, value text) pairs for the file's `let`s; `limits`: `max_events`, `max_time`."""
     from .sim.integrate import simulate
     from .sim.output import build as build_report
 
     try:
         with _NoCyclicGC():
             scene = _build_scene(source, overrides)
-            res = simulate(scene, rtol=rtol, dt=dt, progress=progress, closed_forms=closed_forms)
+            res = simulate(scene, rtol=rtol, dt=dt, progress=progress, closed_forms=closed_forms,
+                           **limits)
             rep = build_report(source.name, res)
         return FileResult(source.name, "solved", source, rep, []), res
     except ProblemError as exc:
@@ -205,7 +223,9 @@ def check_source(source: Source) -> FileResult:
         sev = "error" if missing else "note"
         msg = (f"under-determined: {', '.join(missing)} not determined" if missing else
                f"not determined (and not asked for): {shown}")
-        diags.append(Diagnostic(sev, "under-determined", msg))
+        where = next((f.span for f in system.finds if missing and
+                      variables(f.expr, set()) & set(missing)), None)
+        diags.append(Diagnostic(sev, "under-determined", msg, where))
     counts = dict(unknowns=len(system.unknowns), equations=len(system.equations),
                   blocks=len(st.blocks), redundant=len(st.redundant) + len(st.constant_eqs),
                   undetermined=len(st.under), undetermined_equations=len(st.under_eqs))
@@ -257,12 +277,68 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=())
     jobs = [(s, solve_all, sig, precision, overrides) for s in sources]
     done = 0
     if ctx is not None:
+        pool = None
         try:
-            with ProcessPoolExecutor(cores, mp_context=ctx) as pool:
-                for res in pool.map(_solve_job, jobs, chunksize=8):
-                    done += 1
-                    yield res
+            pool = ProcessPoolExecutor(cores, mp_context=ctx, initializer=_worker_init,
+                                       initargs=(os.getpid(),))
+            for res in pool.map(_solve_job, jobs, chunksize=8):
+                done += 1
+                yield res
         except (BrokenProcessPool, OSError, RuntimeError):
             pass  # no worker processes here: finish in this one
+        except BaseException:  # interrupted, or the reader went away: end the workers now
+            _end_workers(mp)
+            raise
+        finally:
+            if pool is not None:
+                pool.shutdown(wait=done == len(jobs), cancel_futures=True)
+                if done < len(jobs):
+                    _end_workers(mp)
     for job in jobs[done:]:
         yield _solve_job(job)
+
+
+def _end_workers(mp) -> None:
+    """Kill the worker processes now (the run is ending: interrupted, or its output
+    gone); the pool's manager thread, which sees them die, is kept from printing."""
+    import threading
+
+    threading.excepthook = lambda _args: None
+    for child in mp.active_children():
+        try:
+            child.kill()
+        except OSError:
+            pass
+
+
+def _worker_init(parent: int) -> None:
+    """A worker ends with its parent however the parent dies: on Linux the kernel sends
+    it SIGKILL (prctl PR_SET_PDEATHSIG); elsewhere, and as a second guard, a thread
+    polls for a new parent. Ctrl-C is the parent's to handle."""
+    import os
+    import signal
+    import threading
+    import time
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:  # the parent died before prctl took effect
+        os._exit(1)
+
+    def watch():
+        while True:
+            time.sleep(0.5)
+            if os.getppid() != parent:
+                os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()

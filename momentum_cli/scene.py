@@ -7,6 +7,7 @@ parallel-axis theorem. Weights become masses with the file's own g.
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import field
 
 from . import syntax as S
@@ -232,6 +233,48 @@ ARG_DIMS = {"mass": MASS, "weight": FORCE, "radius": LENGTH, "length": LENGTH, "
             "height": LENGTH, "inertia": INERTIA, "gyration": LENGTH}
 
 
+MASS_RATE: Dim = (1, 0, -1)  # kg/s
+# Magnitudes past these (in SI units) are refused: a subnormal float (below TINY) has
+# lost its digits already; above 1e150 the squares and products the laws form overflow
+# float64's 1.8e308.
+TINY = sys.float_info.min
+HUGE = 1e150
+
+
+def _in_range(v: float, node, what: str, small: float = TINY) -> float:
+    """`v`, or a located error when it is subnormal (below `small`) or too large to
+    square."""
+    if v != 0 and abs(v) < small:
+        lost = f"below the smallest normal float ({TINY:.3g}): its digits are lost"
+        raise ProblemError(f"{what} is {v:g}, {lost}", node.span, code="number",
+                           notes=["use a larger unit, or a value that is not zero in effect"])
+    if abs(v) > HUGE:
+        raise ProblemError(f"{what} is {v:g}: too large for the products and squares the "
+                           f"laws form (at most {HUGE:g} in SI units)", node.span, code="number",
+                           notes=["use a unit that brings the value nearer 1"])
+    return v
+
+
+def unit_direction(x: float, y: float, node, what: str) -> tuple[float, float]:
+    """(x, y) normalised, scaled first so that neither overflow nor subnormal
+    components spoil it; a located error for a zero or non-finite direction."""
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ProblemError(f"{what} is not finite", node.span, code="number")
+    scale = max(abs(x), abs(y))
+    if 0 < scale < TINY:
+        raise ProblemError(f"{what} has a length of {math.hypot(x, y):g}, below the smallest "
+                           f"normal float ({TINY:.3g}): its direction cannot be trusted",
+                           node.span, code="number",
+                           notes=["write the direction with components near 1"])
+    if scale == 0:
+        raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
+    n = math.hypot(x, y)
+    if not (TINY < n < math.inf):  # scaled first only where the length itself would not be
+        x, y = x / scale, y / scale  # a normal float (as x / hypot rounds best elsewhere)
+        n = math.hypot(x, y)
+    return (x / n, y / n)
+
+
 def build(doc: S.Document) -> Scene:
     """Resolve names, convert to SI and compute inertias; raise ProblemError on misuse."""
     return _Builder(doc).run()
@@ -279,9 +322,10 @@ class _Builder:
         v = constant(q, node)
         if not math.isfinite(v):
             raise ProblemError(f"{what} is not a finite number", node.span, code="number")
+        _in_range(v, node, what)
         return v
 
-    def vector(self, node, dim: Dim, what: str) -> tuple[float, float]:
+    def vector(self, node, dim: Dim, what: str, ranged: bool = True) -> tuple[float, float]:
         q = self.ev(node, dim)
         if not q.is_vector:
             raise ProblemError(f"{what} needs a vector such as (1, 0); got a scalar", node.span,
@@ -290,14 +334,13 @@ class _Builder:
         v = constant_vector(q, node)
         if not all(math.isfinite(c) for c in v):
             raise ProblemError(f"{what} is not finite", node.span, code="number")
+        if ranged:  # the vector's size; a component tiny beside the other is harmless
+            _in_range(max(v, key=abs), node, f"the largest component of {what}")
         return v
 
     def unit_vector(self, node, what: str) -> tuple[float, float]:
-        x, y = self.vector(node, NONE, what)
-        n = math.hypot(x, y)
-        if n == 0 or not math.isfinite(n):
-            raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
-        return (x / n, y / n)
+        x, y = self.vector(node, NONE, what, ranged=False)  # only the direction counts
+        return unit_direction(x, y, node, what)
 
     def _names_unknowns(self, node) -> bool:
         """Whether an expression names something other than a constant (an `unknown`, a
@@ -345,6 +388,12 @@ class _Builder:
             if isinstance(s, S.BodyDecl):
                 self._body(s)
         for s in st:
+            if isinstance(s, S.Let) and s.name in self.bodies:
+                raise ProblemError(f"'{s.name}' is a body; a `let` constant needs another name",
+                                   s.span, code="name",
+                                   notes=[f"the body is declared at line "
+                                          f"{self.bodies[s.name].span.line}"])
+        for s in st:
             if isinstance(s, S.SurfaceDecl):
                 self._surface(s)
         for s in st:
@@ -374,7 +423,16 @@ class _Builder:
         transitions = []
         for s in st:
             if isinstance(s, S.Transition):
-                transitions.append(self._transition(s, states))
+                t = self._transition(s, states)
+                for other in transitions:
+                    if other.key == t.key:
+                        raise ProblemError(
+                            f"states {t.before} -> {t.after} have two transitions: this "
+                            f"{t.kind} (line {t.span.line}) and the {other.kind} at line "
+                            f"{other.span.line}", t.span, code="name",
+                            notes=["one transition joins two states; give the second its own "
+                                   "states"])
+                transitions.append(t)
         stated = []
         for s in st:
             if isinstance(s, S.ConserveMomentum):
@@ -454,6 +512,7 @@ class _Builder:
             raise ProblemError(f"a {'loss' if s.is_loss else 'gain'} needs `rate MASS_RATE` "
                                "(e.g. `rate 5 kg/s` or `rate 2 kg/m * chain.vy`)", s.span,
                                code="name")
+        self._rate_in_range(s.rate, "the rate")
         key = f"{s.before}->{s.after}"
         for t in transitions:
             if t.key == key:
@@ -482,6 +541,55 @@ class _Builder:
             if t.key == f"{s.before}->{s.after}":
                 raise ProblemError(f"states {s.before} -> {s.after} already have a transition",
                                    t.span, code="name")
+        self._burn_values(s)
+
+    def _known(self, node, dim: Dim, what: str) -> float | None:
+        """The value of a constant expression, or None where it depends on unknowns (the
+        later stages check those)."""
+        try:
+            q = self.ev(node, dim)
+            if q.is_vector or q.dim != dim:
+                return None
+            return constant(q, node)
+        except ProblemError:
+            return None
+
+    def _rate_in_range(self, node, what: str) -> None:
+        """A constant mass rate (kg/s) that is subnormal or too large to square (the closed
+        forms use ln(1 + x)/x and its series in x = rate t / m, massratio.py, so a tiny
+        normal rate is exact, not an underflow)."""
+        v = self._known(node, MASS_RATE, what)
+        if v is not None:
+            _in_range(v, node, what)
+
+    def _burn_values(self, s: S.BurnDecl) -> None:
+        """Constant burn data that no rocket has: a negative exhaust speed or burnt mass, a
+        duration that is not positive, a direction that cannot be normalised."""
+        self._rate_in_range(s.rate, "the burn rate")
+        speed = self._known(s.exhaust, VELOCITY, "the exhaust speed")
+        if speed is not None and _in_range(speed, s.exhaust, "the exhaust speed") < 0:
+            raise ProblemError(f"the exhaust speed cannot be negative; got {speed:g} m/s",
+                               s.exhaust.span, code="number",
+                               notes=["give the direction the exhaust leaves in with `along`"])
+        if s.direction is not None:
+            try:
+                q = self.ev(s.direction, NONE)
+                xy = constant_vector(q, s.direction) if q.is_vector else None
+            except ProblemError:
+                xy = None
+            if xy is not None:
+                unit_direction(xy[0], xy[1], s.direction, "the exhaust direction")
+        if s.burned is not None:
+            m = self._known(s.burned, MASS, "the mass burned")
+            if m is not None and _in_range(m, s.burned, "the mass burned") <= 0:
+                raise ProblemError(f"the mass burned must be positive; got {m:g} kg",
+                                   s.burned.span, code="number",
+                                   notes=["a body that gains mass is written `gain`"])
+        if s.duration is not None:
+            d = self._known(s.duration, TIME, "the burn's duration")
+            if d is not None and _in_range(d, s.duration, "the burn's duration") <= 0:
+                raise ProblemError(f"a burn's duration must be positive; got {d:g} s",
+                                   s.duration.span, code="number")
 
     def _gravity(self, s: S.Gravity) -> None:
         if self.g is not None:
@@ -538,8 +646,9 @@ class _Builder:
             if a.name in out:
                 raise ProblemError(f"'{a.name}' is given twice", a.span, code="name")
             v = self.value(a.value, ARG_DIMS[a.name], f"'{a.name}'")
-            zero_ok = a.name == "radius" or (a.name == "inertia" and shape.kind == "rigid")
-            if v <= 0 and not (zero_ok and v == 0):  # rigid(inertia = 0): a point mass
+            zero_ok = (a.name == "radius" and shape.kind in ("particle", "rigid")) or \
+                (a.name == "inertia" and shape.kind == "rigid")  # rigid(inertia = 0): a point
+            if v <= 0 and not (zero_ok and v == 0):
                 raise ProblemError(f"'{a.name}' must be positive; got {v:g}", a.value.span,
                                    code="number")
             out[a.name] = (v, a.value.span)
@@ -845,7 +954,12 @@ class _Builder:
                 t.rolls.append((c.names[0], c.names[1], c.span))
             elif c.kind == Clause.FORCE:
                 f = self.effect(c.value, FORCE, "a force", True)
-                t.forces.append((f, self.point(c.point), c.span))
+                point = self.point(c.point)
+                if f == (0.0, 0.0):  # it has no direction, and adds nothing
+                    self.notes.warn("a zero force has no effect; it is left out", c.span,
+                                    code="zero-force")
+                    continue
+                t.forces.append((f, point, c.span))
             elif c.kind == Clause.MOMENT:
                 body = self._body_named(c.names[0], c.span)
                 t.moments.append((self.effect(c.value, MOMENT, "a moment", False), body.name,

@@ -100,7 +100,22 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
     sol.regimes = dict(regimes)
     _hint_checks(sol)
     _law_checks(sol, results)
+    _finite_answers(sol)
     return sol
+
+
+def _finite_answers(sol: Solution) -> None:
+    """The last guard before anything is printed: an answer that is not a finite number
+    (an overflow, a 0/0 the earlier checks missed) is an error at its `find` item, never
+    a printed nan, inf or null."""
+    spans = {f.name: f.span for f in sol.system.finds}
+    bad = [Diagnostic("error", "not-finite", f"{name} is not a finite number (got {si!r}): "
+                      "the data overflow or lose all precision in float64", spans.get(name),
+                      ("check the magnitudes and units of the data it depends on",))
+           for name, v, _u, si in sol.answers
+           if not (math.isfinite(v) and math.isfinite(si))]
+    if bad:
+        raise ProblemError.many(bad)
 
 
 def _solve_only(system: System, structure: Structure, names: set[str], after: set[str],
@@ -594,6 +609,10 @@ def _under_determined(system: System, structure: Structure, missing: list[str]) 
             if st is not None:
                 first_line = st.span
                 break
+    for m in missing if first_line is None else ():
+        first_line = _transition_span(system, m) if "->" in m else None  # t@1->2, dx@...
+        if first_line is not None:
+            break
     word = "is" if len(missing) == 1 else "are"
     return ProblemError(f"under-determined: {', '.join(shown)}{more} {word} not determined",
                         first_line, code="under-determined", notes=notes, caret=False)
@@ -834,6 +853,16 @@ def _newton_from(F, J, names, values, x0):
     return (x, 100) if max(abs(v) for v in r) < 1e-9 * max(1.0, max(abs(v) for v in x)) else None
 
 
+def _transition_span(system: System, name: str):
+    """Where the transition (or burn, gain) of a duration `t@A->B` is declared."""
+    key = name.partition("@")[2]
+    sc = system.scene
+    for t in list(sc.transitions) + list(sc.burns) + list(sc.gains):
+        if f"{t.before}->{t.after}" == key:
+            return t.span
+    return None
+
+
 def _hint_checks(sol: Solution) -> None:
     """Physical sanity: contacts push, durations are positive, friction regimes hold."""
     sysm, v = sol.system, sol.values
@@ -842,7 +871,8 @@ def _hint_checks(sol: Solution) -> None:
             continue
         if u.kind == "duration" and v[name] <= 0:
             raise ProblemError(f"{name} = {fmt_num(v[name], 4)} s: the end condition is not "
-                               "reached forward in time", None, code="no-solution",
+                               "reached forward in time", _transition_span(sysm, name),
+                               code="no-solution",
                                notes=["check the signs of the given velocities and the slip "
                                       "direction"])
         if getattr(name, "comp", None) == Component.JN and v[name] < 0:
@@ -888,7 +918,8 @@ def _answers(system: System, values) -> list[tuple[str, float, str, float]]:
             raise ProblemError(f"{f.name} is not a finite number", f.span, code="number") \
                 from None
         # a value that is round-off against the size of its terms is exactly zero
-        if si != 0.0 and abs(si) <= 64 * 2.0**-53 * magnitude(f.expr, values):
+        if si != 0.0 and math.isfinite(si) and abs(si) <= 64 * 2.0**-53 * magnitude(f.expr,
+                                                                               values):
             si = 0.0
         out.append((f.name, si / f.factor, f.unit, si))
     return out

@@ -434,22 +434,94 @@ def grammar_text() -> str:
     )
 
 
-def _cache_path(text: str) -> str | bool:
+def _cache_dir() -> str | None:
+    """The cache folder: $MOMENTUM_CACHE_DIR, else $XDG_CACHE_HOME/momentum (only when
+    absolute, as the XDG spec says), else ~/.cache/momentum; created private (0700)."""
+    base = os.environ.get("MOMENTUM_CACHE_DIR")
+    if not base:
+        xdg = os.environ.get("XDG_CACHE_HOME", "")
+        root = xdg if os.path.isabs(xdg) else os.path.join(os.path.expanduser("~"), ".cache")
+        base = os.path.join(root, "momentum")
+    if not os.path.isabs(base):
+        base = os.path.abspath(base)
+    try:
+        os.makedirs(base, mode=0o700, exist_ok=True)
+    except OSError:
+        return None
+    return base
+
+
+def _cache_key(text: str) -> str:
+    import sys
+
     import lark
 
-    key = hashlib.sha256((text + lark.__version__).encode()).hexdigest()[:16]
-    base = os.environ.get("MOMENTUM_CACHE_DIR") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
-        "momentum",
-    )
+    return hashlib.sha256((text + lark.__version__ + sys.version).encode()).hexdigest()[:16]
+
+
+def _note(message: str) -> None:
+    import sys
+
     try:
-        os.makedirs(base, exist_ok=True)
-        probe = os.path.join(base, f"grammar-{key}.lark-cache")
-        if os.access(base, os.W_OK) or os.path.exists(probe):
-            return probe
-    except OSError:
+        sys.stderr.write(f"momentum: note: {message}\n")
+    except (OSError, ValueError):
         pass
-    return False
+
+
+def _read_cache(path: str) -> bytes | None:
+    """The cache file's bytes, only when it is a regular file owned by this user and
+    writable by nobody else: a pickle runs code when loaded. A symlink, FIFO or device
+    is never opened for reading (O_NOFOLLOW, O_NONBLOCK, then fstat)."""
+    import stat
+
+    flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
+    try:
+        fd = os.open(path, flags)
+    except FileNotFoundError:
+        return None
+    except OSError:  # a symlink (ELOOP), no permission...
+        _note(f"parser cache {path} is not a plain file of yours; not used")
+        return None
+    try:
+        st = os.fstat(fd)
+        owner = os.getuid() if hasattr(os, "getuid") else st.st_uid
+        if not stat.S_ISREG(st.st_mode) or st.st_uid != owner or \
+                st.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+            _note(f"parser cache {path} is not a private file of yours (owner, mode or type); "
+                  "not loaded, the parser is built in memory")
+            return None
+        chunks = []
+        while True:
+            chunk = os.read(fd, 1 << 20)
+            if not chunk:
+                break
+            chunks.append(chunk)
+        return b"".join(chunks)
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
+
+
+def _write_cache(path: str, data: bytes) -> None:
+    """Write atomically: a private temporary file in the same folder, then rename, so
+    that a concurrent start reads the old file or the new one, never half of one."""
+    import tempfile
+
+    folder = os.path.dirname(path)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".grammar-", suffix=".tmp", dir=folder)
+    except OSError:
+        return
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except OSError:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
 
 
 @functools.lru_cache(maxsize=1)
@@ -482,13 +554,29 @@ def parser():
     text = grammar_text()
     kw = dict(parser="lalr", postlex=_Indenter(), propagate_positions=True,
               maybe_placeholders=False)
-    cache = _cache_path(text)
-    if cache:
+    folder = _cache_dir()
+    path = os.path.join(folder, f"grammar-{_cache_key(text)}.lark-cache") if folder else None
+    data = _read_cache(path) if path else None
+    if data:
+        import io
+
         try:
-            return Lark(text, cache=cache, **kw)
-        except Exception:  # an unreadable or stale cache must not stop the user
+            inst = Lark.__new__(Lark)
+            return inst._load(io.BytesIO(data), postlex=kw["postlex"],
+                              propagate_positions=True)
+        except Exception:  # a stale or damaged cache must not stop the user: rebuild
             pass
-    return Lark(text, **kw)
+    built = Lark(text, **kw)
+    if path:
+        import io
+
+        buf = io.BytesIO()
+        try:
+            built.save(buf, exclude_options=("postlex",))
+        except Exception:
+            return built
+        _write_cache(path, buf.getvalue())
+    return built
 
 
 def parse(source: Source) -> Document:

@@ -88,7 +88,7 @@ def dim_pow(a: Dim, p: float) -> Dim | None:
     out = []
     for x in a:
         y = x * p
-        if abs(y - round(y)) > 1e-12:
+        if not math.isfinite(y) or abs(y) > 1e6 or abs(y - round(y)) > 1e-12:
             return None
         out.append(int(round(y)))
     return (out[0], out[1], out[2])

@@ -13,6 +13,7 @@ EXAMPLES = ROOT / "examples"
 def pytest_addoption(parser):
     parser.addoption("--update-golden", action="store_true", default=False,
                      help="rewrite examples/*.out and *.json from the current output")
+    _fuzz_options(parser)
     parser.addoption("--gen-count", type=int, default=200,
                      help="scenes in the generated-problem test (tests/test_generated.py); "
                           "the large run: -m generated --gen-count 10000")
@@ -23,6 +24,8 @@ def pytest_addoption(parser):
 def pytest_configure(config):
     config.addinivalue_line("markers", "generated: the generated-problem property test "
                             "(random scenes against an independent dense solve)")
+    config.addinivalue_line("markers", "fuzz: the large hostile-corpus run; selected only "
+                                       "with -m fuzz (see tests/test_fuzz_corpus.py)")
 
 
 @pytest.fixture
@@ -33,6 +36,25 @@ def gen_count(request) -> int:
 @pytest.fixture
 def gen_start(request) -> int:
     return request.config.getoption("--gen-start")
+
+
+
+# ---- the hostile corpus (tests/fuzz_corpus.py): a large run only with `-m fuzz` ----------
+def _fuzz_options(parser):
+    parser.addoption("--fuzz-count", type=int, default=100000,
+                     help="files in the large fuzz corpus run (`-m fuzz`)")
+    parser.addoption("--fuzz-seed", type=int, default=2026,
+                     help="seed of the large fuzz corpus run")
+
+
+def pytest_collection_modifyitems(config, items):
+    if "fuzz" in (config.getoption("-m") or ""):
+        return
+    skip = pytest.mark.skip(reason="the large fuzz run needs -m fuzz")
+    for item in items:
+        if "fuzz" in item.keywords and item.get_closest_marker("fuzz") is not None:
+            item.add_marker(skip)
+# ---- end of the fuzz corpus options ------------------------------------------------------
 
 
 @pytest.fixture

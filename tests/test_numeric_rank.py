@@ -126,17 +126,16 @@ def test_inconsistent_restitution_speed_names_every_statement():
         assert lines == {11, 12, 14, 15}, note
 
 
-def test_inconsistent_restitution_speed_golden(update_golden):
+def test_inconsistent_restitution_speed_golden():
+    """The error as the golden `.err` (written by test_bad_values.py, which owns every
+    bad_* file's golden) shows it: the diagnostic comes first, then the `expect` note."""
     path = EXAMPLES / "hard" / "bad_inconsistent_restitution_speed.mom"
     source = Source(f"examples/hard/{path.name}", path.read_text())
     try:
         solve_scene(build(parse(source)))
     except ProblemError as exc:
         got = exc.diagnostics[0].format(source) + "\n"
-    golden = path.with_suffix(".err")
-    if update_golden or not golden.exists():
-        golden.write_text(got, encoding="utf-8")
-    assert got == golden.read_text(encoding="utf-8")
+    assert path.with_suffix(".err").read_text(encoding="utf-8").startswith(got)
 
 
 # ---- the rank tool ----------------------------------------------------------------------------

@@ -210,7 +210,8 @@ def integrate(sim, evs) -> Segment:
         horizon = t0 + 1e6 * max(1.0, t0)
     kw = dict(method="DOP853", events=fns, rtol=sim.rtol, atol=sim.rtol * atol_scale(sim))
     if sim.dt is not None:
-        kw.update(first_step=sim.dt, max_step=sim.dt, rtol=1e3, atol=1e300)
+        # a step longer than the phase's span is clamped to it (scipy refuses it)
+        kw.update(first_step=min(sim.dt, horizon - t0), max_step=sim.dt, rtol=1e3, atol=1e300)
     if sim.lift_off:
         kw["first_step"] = min(1e3 * sim.lift_off, kw.get("first_step", math.inf),
                                horizon - t0)

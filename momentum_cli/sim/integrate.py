@@ -19,6 +19,7 @@ import numpy as np
 from ..diagnostics import ProblemError
 from ..elements.kinds import JointKind, Regime, Tangential
 from ..scene import Scene
+from ..source import Span
 from . import advance
 from .drift import drift_event, project, reference, tolerance
 from .dynamics import Frame, contact_geometry, gap_rate, relative_velocity
@@ -132,10 +133,15 @@ class Simulator:
     """One run: the state, the phase that holds, and what has happened so far."""
 
     def __init__(self, scene: Scene, spec, rtol: float = 1e-9, dt: float | None = None,
-                 progress=None, closed_forms: bool = True):
+                 progress=None, closed_forms: bool = True, max_events: int = MAX_EVENTS,
+                 max_time: float | None = None):
         self.scene, self.spec, self.rtol, self.dt = scene, spec, rtol, dt
         self.closed_forms = closed_forms
-        self.progress = progress
+        self.max_events = max_events
+        self.deadline = None if max_time is None else time.perf_counter() + max_time
+        self.max_time = max_time
+        self.shown = progress
+        self.progress = self._tick  # called now and then by every phase that takes steps
         self.model = model = build_model(scene, spec)
         start = state_values(scene, spec.start, True, spec.span)
         _watches(model, scene, spec)
@@ -190,6 +196,17 @@ class Simulator:
         n = self.model.n
         return Frame(self.model, y[:n], y[n:2 * n])
 
+    def _tick(self, t: float, t_end: float = math.inf) -> None:
+        """Now and then during a run: the limit on computing time, then the progress bar."""
+        if self.deadline is not None and time.perf_counter() > self.deadline:
+            raise ProblemError(f"the run takes longer than --max-time {self.max_time:g} s of "
+                               f"computing (stopped at t = {t:.6g} s of simulated time, after "
+                               f"{self.impacts} impacts)", self.spec.span, code="simulate",
+                               notes=["bound the run with `until t = ...`, or raise "
+                                      "--max-time"])
+        if self.shown is not None:
+            self.shown(t, t_end)
+
     # ---- the loop
     def run(self) -> SimResult:
         began = time.perf_counter()
@@ -197,7 +214,8 @@ class Simulator:
                                     _velocities(self.frame(), self.model)))
         stop = None
         still, last_t = 0, -1.0
-        for _ in range(MAX_EVENTS):
+        for _ in range(self.max_events):
+            self._tick(self.t, self.t_end)
             still = still + 1 if self.t == last_t else 0
             last_t = self.t
             if still > 100:
@@ -217,10 +235,11 @@ class Simulator:
             if stop:
                 break
         else:
-            raise ProblemError(f"the stop condition is not reached in {MAX_EVENTS:,} events "
-                               f"(at t = {self.t:.6g} s, after {self.impacts} impacts)",
+            raise ProblemError(f"the stop condition is not reached in {self.max_events:,} "
+                               f"events (at t = {self.t:.6g} s, after {self.impacts} impacts)",
                                self.spec.span, code="simulate",
-                               notes=["bound the run with `until t = ...` or fewer impacts"])
+                               notes=["bound the run with `until t = ...` or fewer impacts, "
+                                      "or raise --max-events"])
         self.events.append(EventRow(self.t, "stop", _stop_text(stop, self), {},
                                     _velocities(self.frame(), self.model)))
         return SimResult(self.model, self.events, self.phases, self.times, self.states, stop,
@@ -437,8 +456,7 @@ class Simulator:
             # too coarse (huge angles or positions) for the tolerance; loosen it
             self.drift *= 10
             self.drift_raised = True
-        if self.progress is not None:
-            self.progress(self.t, self.t_end)
+        self.progress(self.t, self.t_end)
         return self._after(seg.hit)
 
     def _drift(self, ys) -> float:
@@ -479,10 +497,19 @@ def _stop_text(stop: str, sim: Simulator) -> str:
 
 
 def simulate(scene: Scene, index: int = 0, rtol: float = 1e-9, dt: float | None = None,
-             progress=None, closed_forms: bool = True) -> SimResult:
+             progress=None, closed_forms: bool = True, max_events: int = MAX_EVENTS,
+             max_time: float | None = None) -> SimResult:
+    """Run the scene's simulation. The options must be finite and positive (ValueError
+    otherwise: the command line refuses them first)."""
+    for name, v in (("rtol", rtol), ("dt", dt), ("max_time", max_time)):
+        if v is not None and not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be a finite positive number; got {v!r}")
+    if max_events < 1:
+        raise ValueError(f"max_events must be at least 1; got {max_events!r}")
     if not scene.simulations:
         raise ProblemError("nothing to simulate: add a block `simulate from 1:` with a stop "
-                           "condition such as `until t = 2 s`", None, code="simulate",
+                           "condition such as `until t = 2 s`", Span(1, 1), code="simulate",
                            caret=False)
     return Simulator(scene, scene.simulations[index], rtol, dt, progress,
-                     closed_forms=closed_forms).run()
+                     closed_forms=closed_forms, max_events=max_events,
+                     max_time=max_time).run()

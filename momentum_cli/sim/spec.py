@@ -96,7 +96,7 @@ def _until(b, c: S.Until) -> Until:
             return Until("apex", c.span)
         if isinstance(left, S.Num) and left.unit in ("impact", "impacts"):
             n = left.value
-            if n < 1 or n != int(n):
+            if not n < 2**53 or n < 1 or n != int(n):  # inf and nan too
                 raise ProblemError("the number of impacts must be a whole number, at least 1",
                                    left.span, code="number")
             return Until("impacts", c.span, float(n))
