@@ -9,11 +9,23 @@ Friction contacts are solved as stick first and switched to sliding where
 from __future__ import annotations
 
 import math
+from collections import ChainMap
 
 from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
-from .expr import E, NonLinear, affine, diff, evaluate, magnitude, to_text
+from .bounds import ROUNDOFF, error_of, propagate, size_of, slopes
+from .expr import (
+    E,
+    NonLinear,
+    affine,
+    affine_exact,
+    diff,
+    evaluate,
+    evaluate_exact,
+    magnitude,
+    to_text,
+)
 from .numbers import fmt_num, fmt_tiny
 from .records import record
 from .scene import Scene
@@ -55,6 +67,11 @@ class Solution:
     answers: list[tuple[str, float, str, float]]  # name, display value, unit, SI value
     solved_all: bool = False
     precision: str = "float"
+    size: dict | None = None  # each solved unknown's size (bounds.propagate)
+    errors: dict | None = None  # each solved unknown's absolute error bound
+    exact: dict | None = None  # exact mode: the linear blocks' values as rationals
+    answer_errors: dict | None = None  # each answer's absolute error bound (SI)
+    deferred: list | None = None  # inconsistencies found in a friction regime on trial
 
 
 def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
@@ -73,6 +90,8 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
             break
         tried.add(key)
     assert sol is not None
+    if sol.deferred:  # a check failed in the regime that held (earlier rounds were trials)
+        raise sol.deferred[0]
     sol.regimes = dict(regimes)
     _hint_checks(sol)
     return sol
@@ -149,24 +168,29 @@ def _solve(system: System, structure: Structure, solve_all: bool,
         raise _under_determined(system, structure, missing)
     blocks_needed = structure.needed_blocks([n for n in needed if n not in structure.under])
     reports = []
+    exact: dict | None = {} if precision == "exact" else None
     for b in blocks_needed:
         try:
             reports.append(_solve_block(system, structure, structure.blocks[b], values,
-                                        precision))
+                                        precision, exact))
         except ProblemError as exc:
             if exc.diagnostics[0].code == "singular":
                 _blame_downstream(system, structure, b, values, exc)
             raise
-    bounds: dict[str, float] = {}
-    for rep in reports:
-        comps = rep.quality.components if rep.quality is not None else None
-        for j, name in enumerate(rep.unknowns):
-            # Newton blocks converge to ~1e-14 of their terms; allow for their conditioning
-            bounds[name] = comps[j] if comps else max(rep.residual * 100, 1e-12)
+    size, err = propagate(system, reports, values, exact is not None)
+    deferred: list[ProblemError] = []
     for k in structure.redundant:
         e = eqs[k]
         if all(v in values for v in structure.incidence[k]):
-            _check_equation(e, values, checks, system, structure, bounds=bounds)
+            try:
+                _check_equation(e, values, checks, system, structure, size=size, err=err,
+                                exact=exact)
+            except ProblemError as exc:
+                # with friction, this round's regime may be a trial: decide after it holds
+                if not system.friction:
+                    raise
+                deferred.append(exc)
+    _snap_roundoff(values, size, err, checks, exact)
     for k, e in enumerate(eqs):
         if e.kind in ("stated", "user") and (k in structure.redundant or k in structure.under_eqs):
             missing = sorted(v for v in structure.incidence[k] if v not in values)
@@ -179,40 +203,61 @@ def _solve(system: System, structure: Structure, solve_all: bool,
                                           "determined"))
     sol = Solution(system, structure, values, reports, checks, diags, {}, [], solve_all)
     sol.precision = precision
-    sol.answers = _answers(system, values)
+    sol.size, sol.errors, sol.exact = size, err, exact
+    sol.deferred = deferred
+    sol.answers = _answers(system, values, sol)
     return sol
 
 
-def _scale(e: Equation, values: dict[str, float]) -> float:
-    try:
-        return magnitude(e.residual, values)
-    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
-        return 0.0
+def _snap_roundoff(values, size, err, checks, exact) -> None:
+    """A solved value within its error bound of zero, and round-off against the size of
+    the terms that determine it, is zero: goldens show 0, not a platform's 1e-16."""
+    snapped = []
+    for name, x in values.items():
+        if x != 0.0 and name in err and abs(x) <= min(err[name], ROUNDOFF * size[name]):
+            values[name] = 0.0
+            if exact is not None and name in exact:
+                exact[name] = 0
+            snapped.append(name)
+    if snapped:
+        checks.append(CheckReport(
+            "round-off", "info", f"{', '.join(sorted(snapped))}: within "
+            f"{'its' if len(snapped) == 1 else 'their'} error bound of zero, so 0"))
 
 
-ROUNDOFF = 64 * 2.0**-53  # evaluating a residual from exact values: a few ulps per term
+DECIDE = 1e-6  # a check whose error bound exceeds this fraction of its size cannot decide
 
 
 def _check_equation(e: Equation, values, checks, system, structure, constant=False,
-                    bounds: dict[str, float] | None = None) -> None:
+                    size: dict[str, float] | None = None, err: dict[str, float] | None = None,
+                    exact: dict | None = None) -> None:
     """A redundant equation must hold to within what the solve can promise.
 
-    The tolerance is the residual's own uncertainty: round-off in evaluating it,
-    plus the error bound of each solved unknown it uses (not a fixed fraction, so a
-    badly scaled inconsistency cannot hide behind large cancelling terms).
+    It is judged against the size of the quantities in it (the terms that determine
+    each unknown, not only its own value, which can be round-off around zero) and the
+    error bound of each unknown it uses. In exact mode the residual is evaluated in
+    rationals and only the rounding of the data remains. Where the bound is too wide
+    to tell a real inconsistency from round-off, the check says so (a warning).
     """
+    slope = slopes(e.residual, values)
     try:
-        r = evaluate(e.residual, values)
-    except (ValueError, ZeroDivisionError, OverflowError):
+        r = float(evaluate_exact(e.residual, ChainMap(exact, values))) if exact is not None \
+            else evaluate(e.residual, values)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
         r = math.nan
-    scale = _scale(e, values)
-    err = max((bounds or {}).get(v, 0.0) for v in structure.incidence[e.index]) \
-        if structure.incidence[e.index] else 0.0
-    tol = (ROUNDOFF + min(err, 1.0)) * scale
+    scale = size_of(e.residual, values, size or {}, slope)
+    bound = error_of(slope, err or {})
+    tol = ROUNDOFF * scale + bound
     ok = math.isfinite(r) and abs(r) <= tol or (scale == 0 and r == 0)
     where = f"line {e.span.line}" if e.span else "the scene"
     if ok:
-        if e.kind in ("stated", "user", "consistency") or not constant:
+        if bound > DECIDE * scale:
+            checks.append(CheckReport(
+                f"{e.principle}", "warning",
+                f"cannot decide ({where}): residual {fmt_num(r, 3)} is within the error "
+                f"bound {fmt_num(bound, 3)} of a {fmt_num(scale, 3)}-sized equation; "
+                "solve with `--precision exact` to tell", r))
+        elif e.kind in ("stated", "user", "consistency") or not constant:
             checks.append(CheckReport(f"{e.principle}", "ok",
                                       f"holds (redundant; {where}; residual {fmt_tiny(r)})", r))
         return
@@ -300,7 +345,7 @@ def _under_determined(system: System, structure: Structure, missing: list[str]) 
 
 
 def _solve_block(system: System, structure: Structure, block, values,
-                 precision: str = "float") -> BlockReport:
+                 precision: str = "float", exact: dict | None = None) -> BlockReport:
     eqs = [system.equations[k] for k in block.equations]
     names = block.unknowns
     bset = set(names)
@@ -308,7 +353,9 @@ def _solve_block(system: System, structure: Structure, block, values,
     rows, rhs = [], []
     try:
         for e in eqs:
-            coef, const = affine(e.residual, bset, values)
+            # exact mode forms the rows in rationals too (no cancellation in the rhs)
+            coef, const = affine(e.residual, bset, values) if exact is None else \
+                affine_exact(e.residual, bset, ChainMap(exact, values))
             rows.append({col[n]: v for n, v in coef.items() if v != 0.0})
             rhs.append(-const)
     except NonLinear:
@@ -319,10 +366,13 @@ def _solve_block(system: System, structure: Structure, block, values,
     x, quality = solve_linear(rows, rhs, eqs, names, precision)
     for n, v in zip(names, x):
         values[n] = v
+    if exact is not None and quality.exact is not None:
+        exact.update(zip(names, quality.exact))
     n = len(names)
-    matrix = [[row.get(j, 0.0) for j in range(n)] for row in rows] if n <= 12 else None
+    matrix = [[float(row.get(j, 0.0)) for j in range(n)] for row in rows] if n <= 12 else None
     return BlockReport(block.index, names, block.equations, "linear", quality.cond, 0, 0.0,
-                       matrix, rhs if matrix is not None else None, quality)
+                       matrix, [float(v) for v in rhs] if matrix is not None else None,
+                       quality)
 
 
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
@@ -567,21 +617,41 @@ def _hint_checks(sol: Solution) -> None:
                                       detail))
 
 
-def _answers(system: System, values) -> list[tuple[str, float, str, float]]:
-    out = []
+def _answers(system: System, values, sol: Solution | None = None) -> list[tuple]:
+    """The `find` values, in the solve's precision (rationals in exact mode: a derived
+    difference keeps its digits), each with an absolute error bound that covers what is
+    printed; a value within its bound of zero is zero (the checks say so)."""
+    exact = sol.exact if sol is not None else None
+    size = sol.size if sol is not None and sol.size is not None else {}
+    err = sol.errors if sol is not None and sol.errors is not None else {}
+    out, bounds = [], {}
     for f in system.finds:
         try:
-            si = evaluate(f.expr, values)
+            if exact is not None:
+                si = float(evaluate_exact(f.expr, ChainMap(exact, values)))
+            else:
+                si = evaluate(f.expr, values)
         except KeyError as exc:
             raise ProblemError(f"{f.name} could not be computed: {exc.args[0]} is not solved",
                                f.span, code="internal") from None
         except (ValueError, ZeroDivisionError, OverflowError):
             raise ProblemError(f"{f.name} is not a finite number", f.span, code="number") \
                 from None
-        # a value that is round-off against the size of its terms is exactly zero
-        if si != 0.0 and abs(si) <= 64 * 2.0**-53 * magnitude(f.expr, values):
+        slope = slopes(f.expr, values)
+        bound = error_of(slope, err)
+        # rounding: of the final value in exact mode, of every term in float
+        bound += 2 * 2.0**-53 * abs(si) if exact is not None else \
+            ROUNDOFF * size_of(f.expr, values, size, slope)
+        if si != 0.0 and abs(si) <= min(bound, ROUNDOFF * size_of(f.expr, values, size, slope)):
+            if sol is not None:
+                sol.checks.append(CheckReport(
+                    f"{f.name}", "info", "round-off: within its error bound of zero, so it is "
+                    "0 (the digits are not significant)"))
             si = 0.0
+        bounds[f.name] = bound
         out.append((f.name, si / f.factor, f.unit, si))
+    if sol is not None:
+        sol.answer_errors = bounds
     return out
 
 

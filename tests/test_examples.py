@@ -402,7 +402,21 @@ def disk_climbs_curb():
     check(a, {"v_min": v, "wheel.omega@2": w2, "lost": 1 - m * g * h / T1})
 
 
+def _crash(a, vA_kmh, vB_kmh, mA=1500.0, mB=1000.0, mu=0.7, g=9.81):
+    """Two cars lock (momentum), the wreck skids to rest: t = V/(mu g), v^2 = 2 mu g d."""
+    vA, vB = vA_kmh / 3.6, vB_kmh / 3.6
+    Vx, Vy = mA * vA / (mA + mB), mB * vB / (mA + mB)
+    V = math.hypot(Vx, Vy)
+    check(a, {"A.vx@2": Vx, "A.vy@2": Vy, "wreck_speed": V, "t@2->3": V / (mu * g),
+              "d": V * V / (2 * mu * g)})
+
+
+def crash_cars_lock_skid():
+    _crash(got("crash_cars_lock_skid"), 50, 30)
+
+
 CHECKS = {f.__name__: f for f in [
+    crash_cars_lock_skid,
     seed_billiards_elastic, seed_billiards_find_e, seed_disk_wall, seed_oblique_particles,
     seed_pendulum_wall, seed_plastic_collision, seed_rod_disk_bearing, seed_rod_drop_rough,
     seed_rod_drop_smooth,
