@@ -45,6 +45,7 @@ class BlockReport:
     matrix: list[list[float]] | None = None
     rhs: list[float] | None = None
     quality: object = None  # linalg.Quality of a linear block
+    rejected: list | None = None  # Newton: roots the physics rejected, with the reasons
 
 
 @record
@@ -190,6 +191,10 @@ def _solve(system: System, structure: Structure, solve_all: bool,
                 if not system.friction:
                     raise
                 deferred.append(exc)
+    for rep in reports:
+        for text in rep.rejected or []:
+            checks.append(CheckReport(f"root rejected, block {', '.join(rep.unknowns[:3])}",
+                                      "info", text))
     _snap_roundoff(values, size, err, checks, exact)
     for k, e in enumerate(eqs):
         if e.kind in ("stated", "user") and (k in structure.redundant or k in structure.under_eqs):
@@ -359,7 +364,7 @@ def _solve_block(system: System, structure: Structure, block, values,
             rows.append({col[n]: v for n, v in coef.items() if v != 0.0})
             rhs.append(-const)
     except NonLinear:
-        return _newton(system, block, eqs, names, values)
+        return _newton(system, block, eqs, names, values, structure)
     except (KeyError, ValueError, ZeroDivisionError, OverflowError) as exc:
         raise ProblemError(f"cannot evaluate {eqs[0].principle}: {exc}", eqs[0].span,
                            code="number") from None
@@ -447,8 +452,29 @@ def _singular(eqs, names, cond=None, exact=False) -> ProblemError:
                                "another"])
 
 
-def _starts(system: System, names: list[str], values) -> list[list[float]]:
-    """Starting points for Newton: from the hints, then a few spread guesses."""
+SPREAD = (0.7, -0.7, 2.0, -2.0, 0.3, -1.3, 1.1, -0.4)
+
+
+def _starts(system: System, names: list[str], values, eqs=()) -> list[list[float]]:
+    """Starting points for Newton: from the hints, then guesses spread in sign and size
+    (scaled by the given speeds: a root far from 1 is found too)."""
+    from .expr import Known, Add, Mul, Pow, Fn
+
+    S = 1.0
+    todo = [e.residual for e in eqs]
+    while todo:
+        x = todo.pop()
+        t = type(x)
+        if t is Known and "@" in x.name:
+            S = max(S, abs(x.value))
+        elif t is Add:
+            todo.extend(x.terms)
+        elif t is Mul:
+            todo.extend(x.factors)
+        elif t is Pow:
+            todo.append(x.base)
+        elif t is Fn:
+            todo.append(x.arg)
     base = []
     for n in names:
         u = system.unknowns[n]
@@ -463,8 +489,13 @@ def _starts(system: System, names: list[str], values) -> list[list[float]]:
             w = max(abs(hi), 1.0)
             base.append([hi - 0.5 * w, hi - 2 * w, hi - 0.05 * w])
         else:
-            base.append([0.7, -0.7, 2.0])
-    return [[b[min(k, len(b) - 1)] for b in base] for k in range(3)]
+            base.append(None)
+    starts = [[b[min(k, len(b) - 1)] if b else SPREAD[k] for b in base] for k in range(3)]
+    if S > 1.0 or len(names) > 1:  # sign patterns that differ between unknowns, at scale S
+        for k in range(len(SPREAD)):
+            starts.append([b[0] if b else S * SPREAD[(k + 3 * i) % len(SPREAD)]
+                           for i, b in enumerate(base)])
+    return starts
 
 
 def _satisfies(system: System, names, x) -> bool:
@@ -483,11 +514,15 @@ def _close(x, y) -> bool:
     return all(abs(a - b) <= 1e-7 * max(abs(a), abs(b)) + 1e-9 for a, b in zip(x, y))
 
 
-def _newton(system: System, block, eqs: list[Equation], names: list[str], values) -> BlockReport:
+def _newton(system: System, block, eqs: list[Equation], names: list[str], values,
+            structure: Structure | None = None) -> BlockReport:
+    """Every root from a spread of starts; the hints and the physics choose among them."""
+    from .roots import problems, separating_hint
+
     F = [e.residual for e in eqs]
     J = [[diff(f, n) for n in names] for f in F]
     roots = []
-    for x0 in _starts(system, names, values):
+    for x0 in _starts(system, names, values, eqs):
         r = _newton_from(F, J, names, values, x0)
         if r is None:
             continue
@@ -501,31 +536,53 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
                            "be satisfied", eqs[0].span, code="no-solution",
                            notes=[f"from {where}; check the given energies and heights (e.g. not "
                                   "enough energy to reach the given position)"])
+    roots.sort(key=lambda r: r[0])  # the order of the starts must not matter
     hinted = [r for r in roots if _satisfies(system, names, r[0])]
     has_hint = any(system.unknowns[n].hints and system.unknowns[n].kind not in
                    ("impulse", "duration") for n in names)
 
-    def listing():
-        return "; ".join(", ".join(f"{n} = {fmt_num(v, 4)}" for n, v in zip(names, x))
-                         for x, _ in roots)
+    def show(x):
+        big = max(abs(v) for v in x)  # round-off around zero prints as 0 (stable goldens)
+        return ", ".join(f"{n} = {fmt_num(v if abs(v) > 1e-12 * big else 0.0, 4)}"
+                         for n, v in zip(names, x))
+
+    def listing(rs):
+        return "; ".join(show(x) for x, _ in rs)
 
     if not hinted:
         raise ProblemError(f"no solution of {eqs[0].principle} satisfies the hints", eqs[0].span,
-                           code="no-solution", notes=[f"solutions found: {listing()}"])
-    if len(hinted) > 1 or (len(roots) > 1 and not has_hint):
-        u = system.unknowns[names[0]]
-        where_hint = f" in state {u.state}" if u.state else ""
-        qty = f"{u.body}.{u.qty}" if u.body else names[0]
+                           code="no-solution", notes=[f"solutions found: {listing(roots)}"])
+    why: list[list[str]] = []
+    if structure is not None and (len(hinted) > 1 or len(roots) > 1):
+        def trial(blk, env):
+            _solve_block(system, structure, blk, env)
+
+        why = [problems(system, structure, block, names, x, values, trial) for x, _ in hinted]
+    else:
+        why = [[] for _ in hinted]
+    physical = [r for r, w in zip(hinted, why) if not w]
+    rejected = [f"{show(r[0])}: {'; '.join(w)}" for r, w in zip(hinted, why) if w]
+    if not physical and len(hinted) > 1:
+        raise ProblemError(f"no physical solution for {', '.join(names)}", eqs[0].span,
+                           code="no-solution", notes=[f"rejected: {x}" for x in rejected])
+    chosen = physical if physical else hinted
+    if len(chosen) > 1 or (len(roots) > 1 and not has_hint and not rejected):
+        hint = separating_hint(system, names, [x for x, _ in chosen])
+        notes = [f"solutions: {listing(chosen)}"]
+        if rejected:
+            notes.append("rejected: " + " | ".join(rejected))
+        if hint:
+            notes.append(f"choose one with a hint: {hint}")
         raise ProblemError(f"more than one solution for {', '.join(names)}", eqs[0].span,
-                           code="ambiguous",
-                           notes=[f"solutions: {listing()}",
-                                  f"choose one with a hint such as `{qty} < 0`{where_hint}"])
-    x, iters = hinted[0]
+                           code="ambiguous", notes=notes)
+    x, iters = chosen[0]
     for n, v in zip(names, x):
         values[n] = float(v)
     # the residual relative to the size of each equation's terms
     res = max(abs(evaluate(f, values)) / max(magnitude(f, values), 1e-300) for f in F)
-    return BlockReport(block.index, names, block.equations, "newton", None, iters, res)
+    rep = BlockReport(block.index, names, block.equations, "newton", None, iters, res)
+    rep.rejected = rejected if physical else []
+    return rep
 
 
 def _newton_from(F, J, names, values, x0):

@@ -151,3 +151,69 @@ def test_roundoff_values_are_zero_and_said_so():
         assert sol.values[name] == 0.0, (name, sol.values[name])
     notes = [c for c in sol.checks if c.name == "round-off"]
     assert notes and "bullet.vy@2" in notes[0].detail
+
+
+# ---- roots of nonlinear blocks: the physics chooses, the hint separates ----------------------
+
+def _text(name: str) -> str:
+    return (EXAMPLES / f"{name}.mom").read_text(encoding="utf-8")
+
+
+def test_redundant_equation_rejects_spurious_root():
+    """Energy stated with e = 1 on a pinned rod: the root 'rod at rest, ball bounced
+    straight back' breaks the ball's impulse-momentum balance and is rejected."""
+    sol = solve(_text("rod_pinned_struck_energy"))
+    rejected = [c for c in sol.checks if c.name.startswith("root rejected")]
+    assert len(rejected) == 1 and "impulse-momentum" in rejected[0].detail
+    assert "ball.vx@2 = -6" in rejected[0].detail  # the ball bounced straight back
+
+
+def test_unphysical_root_is_rejected_with_its_reason():
+    """e unknown and no energy lost: e = -1 (zero impulse, the bodies pass through each
+    other) is rejected, e = 1 is the answer."""
+    sol = solve(_text("find_e_no_energy_lost"))
+    assert answers(sol)["e[hit]"] == pytest.approx(1.0, rel=1e-12)
+    rejected = [c.detail for c in sol.checks if c.name.startswith("root rejected")]
+    assert rejected and "outside [0, 1]" in rejected[0]
+
+
+def test_root_before_impact_must_approach():
+    """Without its hint `ball.vy < 0`, the ball's speed just before the bounce has two
+    roots; the one moving up (separating before the impact) is rejected."""
+    text = _text("ball_bounce_rebound").replace(", ball.vy < 0", "")
+    assert text != _text("ball_bounce_rebound")
+    sol = solve(text)
+    assert sol.values["ball.vy@2"] < 0
+    rejected = [c.detail for c in sol.checks if c.name.startswith("root rejected")]
+    assert rejected and "separate before the impact" in rejected[0]
+
+
+def _hint_note(text: str) -> str:
+    with pytest.raises(ProblemError) as exc:
+        solve(text)
+    d = exc.value.diagnostics[0]
+    assert d.code == "ambiguous"
+    notes = [n for n in d.notes if n.startswith("choose one with a hint")]
+    assert notes, d.notes
+    return notes[0]
+
+
+@pytest.mark.parametrize("written", ["", ", wheel.vx > -100 m/s"])
+def test_suggested_hint_separates_the_roots(written):
+    """Both roots satisfy the hint already written (or there is none): the suggestion
+    is a different one that keeps exactly one root, and applying it solves the file."""
+    base = _text("disk_rolls_down_ramp")
+    text = base.replace(", wheel.vx > 0", written)
+    note = _hint_note(text)
+    hint = note.split("`")[1]
+    assert hint not in written
+    qty, rest = hint.split(" ", 1)
+    state = note.split("in state ")[1].split(" ")[0]
+    lines = text.split("\n")
+    k = next(i for i, line in enumerate(lines) if line.startswith(f"state {state} "))
+    lines[k] += f", {qty.split('.', 1)[0]}.{qty.split('.', 1)[1]} {rest}"
+    kept = solve("\n".join(lines))
+    want = answers(solve(base))
+    got = answers(kept)
+    # the hint keeps one root: either the example's own, or its mirror image
+    assert all(abs(abs(got[k]) - abs(v)) <= 1e-9 * max(1.0, abs(v)) for k, v in want.items())
