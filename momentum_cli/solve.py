@@ -46,6 +46,7 @@ class BlockReport:
     rhs: list[float] | None = None
     quality: object = None  # linalg.Quality of a linear block
     rejected: list | None = None  # Newton: roots the physics rejected, with the reasons
+    unphysical: list | None = None  # Newton: why the only root found is not physical
 
 
 @record
@@ -73,6 +74,7 @@ class Solution:
     exact: dict | None = None  # exact mode: the linear blocks' values as rationals
     answer_errors: dict | None = None  # each answer's absolute error bound (SI)
     deferred: list | None = None  # inconsistencies found in a friction regime on trial
+    snapped: set | None = None  # solved values that were round-off around zero, now 0
 
 
 def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
@@ -195,7 +197,10 @@ def _solve(system: System, structure: Structure, solve_all: bool,
         for text in rep.rejected or []:
             checks.append(CheckReport(f"root rejected, block {', '.join(rep.unknowns[:3])}",
                                       "info", text))
-    _snap_roundoff(values, size, err, checks, exact)
+        if rep.unphysical:
+            checks.append(CheckReport(f"only root, block {', '.join(rep.unknowns[:3])}",
+                                      "warning", "not physical: " + "; ".join(rep.unphysical)))
+    snapped = _snap_roundoff(values, size, err, checks, exact)
     for k, e in enumerate(eqs):
         if e.kind in ("stated", "user") and (k in structure.redundant or k in structure.under_eqs):
             missing = sorted(v for v in structure.incidence[k] if v not in values)
@@ -210,11 +215,12 @@ def _solve(system: System, structure: Structure, solve_all: bool,
     sol.precision = precision
     sol.size, sol.errors, sol.exact = size, err, exact
     sol.deferred = deferred
+    sol.snapped = snapped
     sol.answers = _answers(system, values, sol)
     return sol
 
 
-def _snap_roundoff(values, size, err, checks, exact) -> None:
+def _snap_roundoff(values, size, err, checks, exact) -> set[str]:
     """A solved value within its error bound of zero, and round-off against the size of
     the terms that determine it, is zero: goldens show 0, not a platform's 1e-16."""
     snapped = []
@@ -228,6 +234,7 @@ def _snap_roundoff(values, size, err, checks, exact) -> None:
         checks.append(CheckReport(
             "round-off", "info", f"{', '.join(sorted(snapped))}: within "
             f"{'its' if len(snapped) == 1 else 'their'} error bound of zero, so 0"))
+    return set(snapped)
 
 
 DECIDE = 1e-6  # a check whose error bound exceeds this fraction of its size cannot decide
@@ -478,6 +485,9 @@ def _starts(system: System, names: list[str], values, eqs=()) -> list[list[float
     base = []
     for n in names:
         u = system.unknowns[n]
+        if u.kind == "restitution" and not u.hints:
+            base.append([0.5, 0.9, 0.2])
+            continue
         lo = max((v for rel, v, _ in u.hints if rel == ">"), default=None)
         hi = min((v for rel, v, _ in u.hints if rel == "<"), default=None)
         if lo is not None and hi is not None:
@@ -553,7 +563,7 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
         raise ProblemError(f"no solution of {eqs[0].principle} satisfies the hints", eqs[0].span,
                            code="no-solution", notes=[f"solutions found: {listing(roots)}"])
     why: list[list[str]] = []
-    if structure is not None and (len(hinted) > 1 or len(roots) > 1):
+    if structure is not None:
         def trial(blk, env):
             _solve_block(system, structure, blk, env)
 
@@ -582,6 +592,7 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
     res = max(abs(evaluate(f, values)) / max(magnitude(f, values), 1e-300) for f in F)
     rep = BlockReport(block.index, names, block.equations, "newton", None, iters, res)
     rep.rejected = rejected if physical else []
+    rep.unphysical = [] if physical else why[0]
     return rep
 
 
@@ -677,29 +688,27 @@ def _hint_checks(sol: Solution) -> None:
 def _answers(system: System, values, sol: Solution | None = None) -> list[tuple]:
     """The `find` values, in the solve's precision (rationals in exact mode: a derived
     difference keeps its digits), each with an absolute error bound that covers what is
-    printed; a value within its bound of zero is zero (the checks say so)."""
+    printed; of two forms of a quantity (T_lost) the one with the smaller bound is shown;
+    a value within its bound of zero is zero (the checks say so)."""
     exact = sol.exact if sol is not None else None
-    size = sol.size if sol is not None and sol.size is not None else {}
-    err = sol.errors if sol is not None and sol.errors is not None else {}
     out, bounds = [], {}
     for f in system.finds:
         try:
-            if exact is not None:
-                si = float(evaluate_exact(f.expr, ChainMap(exact, values)))
-            else:
-                si = evaluate(f.expr, values)
+            si, bound, small = _value(f.expr, values, sol)
         except KeyError as exc:
             raise ProblemError(f"{f.name} could not be computed: {exc.args[0]} is not solved",
                                f.span, code="internal") from None
         except (ValueError, ZeroDivisionError, OverflowError):
             raise ProblemError(f"{f.name} is not a finite number", f.span, code="number") \
                 from None
-        slope = slopes(f.expr, values)
-        bound = error_of(slope, err)
-        # rounding: of the final value in exact mode, of every term in float
-        bound += 2 * 2.0**-53 * abs(si) if exact is not None else \
-            ROUNDOFF * size_of(f.expr, values, size, slope)
-        if si != 0.0 and abs(si) <= min(bound, ROUNDOFF * size_of(f.expr, values, size, slope)):
+        if f.alt is not None and exact is None:
+            try:
+                other = _value(f.alt, values, sol)
+                if other[1] < bound:
+                    si, bound, small = other
+            except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+                pass
+        if si != 0.0 and abs(si) <= min(bound, small):
             if sol is not None:
                 sol.checks.append(CheckReport(
                     f"{f.name}", "info", "round-off: within its error bound of zero, so it is "
@@ -710,6 +719,20 @@ def _answers(system: System, values, sol: Solution | None = None) -> list[tuple]
     if sol is not None:
         sol.answer_errors = bounds
     return out
+
+
+def _value(expr: E, values, sol: Solution | None) -> tuple[float, float, float]:
+    """(value, absolute error bound, round-off level) of a derived expression."""
+    exact = sol.exact if sol is not None else None
+    size = sol.size if sol is not None and sol.size is not None else {}
+    err = sol.errors if sol is not None and sol.errors is not None else {}
+    si = float(evaluate_exact(expr, ChainMap(exact, values))) if exact is not None else \
+        evaluate(expr, values)
+    slope = slopes(expr, values)
+    small = ROUNDOFF * size_of(expr, values, size, slope)
+    # rounding: of the final value in exact mode, of every term in float
+    bound = error_of(slope, err) + (2 * 2.0**-53 * abs(si) if exact is not None else small)
+    return si, bound, small
 
 
 __all__ = ["solve_scene", "Solution", "analyse", "to_text", "E"]
