@@ -219,3 +219,13 @@ def test_suggested_hint_separates_the_roots(written):
     got = answers(kept)
     # the hint keeps one root: either the example's own, or its mirror image
     assert all(abs(abs(got[k]) - abs(v)) <= 1e-9 * max(1.0, abs(v)) for k, v in want.items())
+
+
+def test_only_root_left_by_a_hint_is_said_not_physical():
+    """A hint that keeps only the unphysical root (the ball moving up just before it
+    bounces): the file's choice is kept, and a warning says why it is not physical."""
+    text = _text("ball_bounce_rebound").replace("ball.vy < 0", "ball.vy > 0")
+    assert text != _text("ball_bounce_rebound")
+    sol = solve(text)
+    warn = [c for c in sol.checks if c.name.startswith("only root")]
+    assert warn and warn[0].status == "warning" and "separate before the impact" in warn[0].detail
