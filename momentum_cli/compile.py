@@ -166,6 +166,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self.invalid: list[tuple[Span, str]] = []
         self.transitions: list[TransitionInfo] = []
         self.sources: dict[str, list[ImpulseSource]] = {}
+        self.losses: dict[str, list[E]] = {}  # impact -> each contact's energy loss (impulses)
         self._alias: dict[tuple[str, str, str], tuple[str, str, str]] = {}
         self._into: dict[str, list[TransitionSpec]] = {}
         self._out: dict[str, list[TransitionSpec]] = {}
@@ -622,6 +623,12 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         return V
 
     def _energy(self, t: TransitionSpec) -> None:
+        # beside an impact (or interval) between the same states the balance is a statement
+        # the student makes: the impact's rows decide, and it is checked (true for e = 1),
+        # or it finds what they leave open (an unknown e)
+        kind = EquationKind.STATED if any(
+            tr.kind != TransitionKind.ENERGY and (tr.before, tr.after) == (t.before, t.after)
+            for tr in self.scene.transitions) else EquationKind.AUTO
         i, j = t.before, t.after
         group = f"energy {i} -> {j}"
         groups = energy_groups(self.scene, self.joints, self.holds_at, t)
@@ -641,7 +648,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             lhs = add(add(self._kinetic(i, bodies), self._potential(i, bodies)), U)
             rhs = add(self._kinetic(j, bodies), self._potential(j, bodies))
             of = "" if whole else f" of {{{', '.join(bodies)}}}"
-            self.eq(lhs, rhs, f"work-energy{of}: T1 + V1 + U12 = T2 + V2", group, t.span)
+            self.eq(lhs, rhs, f"work-energy{of}: T1 + V1 + U12 = T2 + V2", group, t.span,
+                    kind)
         for body, surface, span in t.rolls:
             self._rolling(body, surface, j, group, span, None)
         why = ["energy is conserved except for the work U12 of the declared forces and moments"]
@@ -706,3 +714,4 @@ def _unit(v) -> tuple[float, float]:
 def _f(x: float) -> str:
     s = f"{x:.4g}"
     return "0" if s in ("-0", "0") else s
+

@@ -2,7 +2,8 @@
 
 In: the scene, its joint elements and the phase. Out: groups of body names, one balance
 each. `of {rod}, {ball}` names them; otherwise bodies fall into groups that nothing ties
-together during the phase (a joint, a spring, a user equation between their states), and
+together during the phase (a joint, a spring, a user equation between their states, a
+contact of an impact between the same two states), and
 `free ball` puts a body in a group of its own.
 """
 from __future__ import annotations
@@ -33,6 +34,10 @@ def energy_groups(scene, joints, holds_at, t) -> list[tuple[str, ...]]:
             tie(jt.bodies())
     for ue in scene.equations:
         tie(_bodies_at(scene, (ue.left, ue.right), {t.before, t.after}))
+    for tr in scene.transitions:  # an impact (or interval) between the same two states:
+        if (tr.before, tr.after) == (t.before, t.after) and tr is not t:  # its contacts tie
+            for c in tr.contacts:
+                tie([c.a.body] + ([c.b.body] if c.b is not None else []))
     groups: dict[str, list[str]] = {}
     for b in names:
         groups.setdefault(root(b), []).append(b)

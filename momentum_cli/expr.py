@@ -9,6 +9,7 @@ linear in a block, and its derivatives for Newton's method.
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 from .numbers import fmt_num
 from .records import record
@@ -245,6 +246,86 @@ def evaluate(e: E, values: dict[str, float]) -> float:
     if t is Pow:
         return evaluate(e.base, values) ** e.exp
     return float(FUNCS[e.name](evaluate(e.arg, values)))
+
+
+def _q(x) -> Fraction:
+    """A number as the exact rational it is (a float is exactly one)."""
+    return x if type(x) is Fraction else Fraction(x)
+
+
+def _qpow(b: Fraction, p: float) -> Fraction:
+    """b**p exactly for an integer p; otherwise the float power, taken as exact."""
+    if p == int(p) and abs(p) <= 64 and (b != 0 or p > 0):
+        return b ** int(p)
+    return Fraction(float(b) ** p)
+
+
+def evaluate_exact(e: E, values: dict) -> Fraction:
+    """The value of `e` in rationals: sums and products of the data as given are exact
+    (no cancellation); functions and non-integer powers round once, to float64."""
+    t = type(e)
+    if t is Const or t is Known:
+        return _q(e.value)
+    if t is Var:
+        return _q(values[e.name])
+    if t is Add:
+        return sum((evaluate_exact(x, values) for x in e.terms), Fraction(0))
+    if t is Mul:
+        fs = e.factors
+        for f in fs:
+            if (type(f) is Known or type(f) is Const) and f.value == 0.0:
+                return Fraction(0)
+        r = Fraction(1)
+        for f in fs:
+            r *= evaluate_exact(f, values)
+        return r
+    if t is Pow:
+        return _qpow(evaluate_exact(e.base, values), e.exp)
+    return Fraction(float(FUNCS[e.name](float(evaluate_exact(e.arg, values)))))
+
+
+def affine_exact(e: E, block: set[str], values: dict) -> tuple[dict[str, Fraction], Fraction]:
+    """`affine` in rationals: the block's rows formed without rounding."""
+    t = type(e)
+    if t is Const or t is Known:
+        return {}, _q(e.value)
+    if t is Var:
+        if e.name in block:
+            return {e.name: Fraction(1)}, Fraction(0)
+        return {}, _q(values[e.name])
+    if t is Add:
+        coef: dict = {}
+        const = Fraction(0)
+        for x in e.terms:
+            c, k = affine_exact(x, block, values)
+            const += k
+            for n, v in c.items():
+                coef[n] = coef.get(n, 0) + v
+        return coef, const
+    if t is Mul:
+        if any(is_zero(f) for f in e.factors):
+            return {}, Fraction(0)
+        coef, const = {}, Fraction(1)
+        for f in e.factors:
+            c, k = affine_exact(f, block, values)
+            if c and coef:
+                raise NonLinear()
+            if c:
+                coef = {n: v * const for n, v in c.items()}
+                const = k * const
+            else:
+                coef = {n: v * k for n, v in coef.items()}
+                const *= k
+        return coef, const
+    if t is Pow:
+        c, k = affine_exact(e.base, block, values)
+        if c:
+            raise NonLinear()
+        return {}, _qpow(k, e.exp)
+    c, k = affine_exact(e.arg, block, values)
+    if c:
+        raise NonLinear()
+    return {}, Fraction(float(FUNCS[e.name](float(k))))
 
 
 def variables(e: E, out: set | None = None) -> set[str]:

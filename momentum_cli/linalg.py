@@ -51,6 +51,7 @@ class Quality:
     bound: float  # estimated relative forward error of x (largest over components)
     iterations: int = 0
     components: list | None = None  # the estimate for each unknown, relative to itself
+    exact: list | None = None  # exact mode: the solution as rationals (for derived answers)
 
 
 def _pow2(x: float) -> float:
@@ -80,12 +81,14 @@ def equilibrate(rows: Rows, b: list[float], n: int):
 
 def solve(rows: Rows, b: list[float], n: int, precision: str = "float"):
     """x with A x = b (A given by sparse rows), and the Quality of the solve."""
-    A, bs, r, c = equilibrate(rows, b, n)
     if precision == "exact":
-        y = _exact(A, bs, n)
-        cond = _cond(A, n)
-        x = [float(v / Fraction(c[j])) for j, v in enumerate(y)]
-        return x, Quality("exact", "exact", cond, 0.0, 0.0, 0, [0.0] * n)
+        # rows may hold rationals (formed exactly): eliminate them as they are
+        q = _exact(rows, b, n)
+        A = equilibrate([{j: float(v) for j, v in row.items()} for row in rows],
+                        [float(v) for v in b], n)[0]
+        return [float(v) for v in q], Quality("exact", "exact", _cond(A, n), 0.0, 0.0, 0,
+                                              [0.0] * n, q)
+    A, bs, r, c = equilibrate(rows, b, n)
     y, cond, method = _float_solve(A, bs, n)
     if precision == "float":
         y = snap_roundoff(A, bs, y)

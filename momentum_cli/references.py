@@ -43,6 +43,7 @@ class FindSpec:
     unit: str  # display unit label
     factor: float  # SI value / factor = display value
     span: Span
+    alt: E | None = None  # the same quantity in another form (solve keeps the better bound)
 
 
 class ReferencesMixin:
@@ -172,6 +173,19 @@ class ReferencesMixin:
                            did_you_mean(name, list(sc.points) + list(sc.bodies)), ref.span,
                            code="name")
 
+    def _impact_loss(self, tr: TransitionSpec) -> E | None:
+        """T_lost of an impact from its contact impulses (cancellation-free), when the
+        contacts are its only impulses that work: joints that hold on both sides of the
+        impact do none; one that forms in it, or a bearing's friction torque, does."""
+        losses = self.losses.get(tr.key)
+        if tr.kind != "impact" or not losses or tr.bearing_friction:
+            return None
+        for jt in self.joints:
+            if jt.impulsive and self.holds_at(jt.from_state, tr.after) != \
+                    self.holds_at(jt.from_state, tr.before):
+                return None
+        return add_all(losses)
+
     def _state_exists(self, sid: str, ref: S.Ref) -> None:
         if sid not in self.scene.states:
             raise ProblemError(f"state {sid} is not declared" +
@@ -298,8 +312,17 @@ class ReferencesMixin:
                 out.append(FindSpec(names[0], v.x, q.dim, unit, factor, item.span))
                 out.append(FindSpec(names[1], v.y, q.dim, unit, factor, item.span))
             else:
-                out.append(FindSpec(base, q.value, q.dim, unit, factor, item.span))
+                out.append(FindSpec(base, q.value, q.dim, unit, factor, item.span,
+                                    self._loss_form(item.expr)))
         return out
+
+    def _loss_form(self, node) -> E | None:
+        """`T_lost@i->j` of an impact, from its contact impulses: T1 - T2 cancels every
+        digit when little is lost; the impulse form cancels when large impulses oppose."""
+        if not (isinstance(node, S.Ref) and node.name == "T_lost" and len(node.at) == 2
+                and node.member is None and node.index is None):
+            return None
+        return self._impact_loss(self.tspecs["->".join(node.at)])
 
 
 def _display_unit(unknowns, item, q: Q) -> tuple[str, float]:

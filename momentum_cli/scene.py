@@ -425,7 +425,9 @@ class _Builder:
             if isinstance(s, S.Transition):
                 t = self._transition(s, states)
                 for other in transitions:
-                    if other.key == t.key:
+                    # an energy statement beside an impact is a redundant statement to
+                    # check (true for e = 1); two impacts or intervals contradict
+                    if other.key == t.key and TransitionKind.ENERGY not in (t.kind, other.kind):
                         raise ProblemError(
                             f"states {t.before} -> {t.after} have two transitions: this "
                             f"{t.kind} (line {t.span.line}) and the {other.kind} at line "

@@ -9,12 +9,24 @@ Friction contacts are solved as stick first and switched to sliding where
 from __future__ import annotations
 
 import math
+from collections import ChainMap
 
 from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
 from .elements.kinds import Component, KeyKind
-from .expr import E, NonLinear, affine, diff, evaluate, magnitude, to_text
+from .bounds import ROUNDOFF, error_of, propagate, size_of, slopes
+from .expr import (
+    E,
+    NonLinear,
+    affine,
+    affine_exact,
+    diff,
+    evaluate,
+    evaluate_exact,
+    magnitude,
+    to_text,
+)
 from .numbers import fmt_num, fmt_tiny
 from .records import record
 from .scene import Scene
@@ -34,6 +46,8 @@ class BlockReport:
     matrix: list[list[float]] | None = None
     rhs: list[float] | None = None
     quality: object = None  # linalg.Quality of a linear block
+    rejected: list | None = None  # Newton: roots the physics rejected, with the reasons
+    unphysical: list | None = None  # Newton: why the only root found is not physical
 
 
 @record
@@ -56,9 +70,12 @@ class Solution:
     answers: list[tuple[str, float, str, float]]  # name, display value, unit, SI value
     solved_all: bool = False
     precision: str = "float"
-    # an inconsistency found while friction regimes are still being chosen: raised only
-    # if it survives the regime that finally holds (a wrong stick guess is no conflict)
-    pending: ProblemError | None = None
+    size: dict | None = None  # each solved unknown's size (bounds.propagate)
+    errors: dict | None = None  # each solved unknown's absolute error bound
+    exact: dict | None = None  # exact mode: the linear blocks' values as rationals
+    answer_errors: dict | None = None  # each answer's absolute error bound (SI)
+    deferred: list | None = None  # inconsistencies found in a friction regime on trial
+    snapped: set | None = None  # solved values that were round-off around zero, now 0
 
 
 def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
@@ -95,8 +112,8 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
         if impulses:  # another contact's regime may change the state before an impact
             impulses, results = {}, {}
     assert sol is not None
-    if sol.pending is not None:
-        raise sol.pending
+    if sol.deferred:  # a check failed in the regime that held (earlier rounds were trials)
+        raise sol.deferred[0]
     sol.regimes = dict(regimes)
     _hint_checks(sol)
     _law_checks(sol, results)
@@ -220,7 +237,9 @@ def _solve(system: System, structure: Structure, solve_all: bool,
     wanted = sorted(find_vars) if system.finds and not solve_all else []
     reports: list[BlockReport] = []
     bounds: dict[str, float] = {}
+    exact: dict | None = {} if precision == "exact" else None  # rationals of exact mode
     state = _Rounds()
+    state.reports, state.exact = reports, exact
     # rounds: solve the structure's blocks; where a block is numerically singular, or
     # the structurally under-determined part determines some unknowns numerically,
     # re-analyse with what is known and the dependent rows left out, and go on
@@ -232,7 +251,7 @@ def _solve(system: System, structure: Structure, solve_all: bool,
                 _check_conflict(eqs[k], values, checks, system, structure, state, bounds,
                                 constant=not structure.incidence[k])
         if not _solve_round(system, structure, solve_all, precision, values, reports, bounds,
-                            state, wanted):
+                            state, wanted, exact):
             break
         structure = analyse(system, state.excluded, values)
     _check_under_part(system, structure, values, precision, state.used)
@@ -244,16 +263,27 @@ def _solve(system: System, structure: Structure, solve_all: bool,
                         missing, exact=True)
     if missing:
         raise _under_determined(system, structure, missing)
-    pending = None
+    size, err = propagate(system, reports, values, exact is not None)
+    deferred: list[ProblemError] = []
     for k in structure.redundant:
         e = eqs[k]
         if all(v in values for v in structure.incidence[k]):
             try:
-                _check_conflict(e, values, checks, system, structure, state, bounds)
+                _check_conflict(e, values, checks, system, structure, state,
+                                size=size, err=err, exact=exact)
             except ProblemError as exc:
+                # with friction, this round's regime may be a trial: decide after it holds
                 if not defer or exc.diagnostics[0].code != "inconsistent":
                     raise
-                pending = pending or exc
+                deferred.append(exc)
+    for rep in reports:
+        for text in rep.rejected or []:
+            checks.append(CheckReport(f"root rejected, block {', '.join(rep.unknowns[:3])}",
+                                      "info", text))
+        if rep.unphysical:
+            checks.append(CheckReport(f"only root, block {', '.join(rep.unknowns[:3])}",
+                                      "warning", "not physical: " + "; ".join(rep.unphysical)))
+    snapped = _snap_roundoff(values, size, err, checks, exact)
     for k, e in enumerate(eqs):
         if e.kind in ("stated", "user") and (k in structure.redundant or k in structure.under_eqs):
             missing = sorted(v for v in structure.incidence[k] if v not in values)
@@ -266,10 +296,29 @@ def _solve(system: System, structure: Structure, solve_all: bool,
                                           "determined"))
     sol = Solution(system, structure, values, reports, checks, diags, {}, [], solve_all)
     sol.precision = precision
-    sol.pending = pending
-    if pending is None:
-        sol.answers = _answers(system, values)
+    sol.size, sol.errors, sol.exact = size, err, exact
+    sol.deferred = deferred
+    sol.snapped = snapped
+    if not deferred:
+        sol.answers = _answers(system, values, sol)
     return sol
+
+
+def _snap_roundoff(values, size, err, checks, exact) -> set[str]:
+    """A solved value within its error bound of zero, and round-off against the size of
+    the terms that determine it, is zero: goldens show 0, not a platform's 1e-16."""
+    snapped = []
+    for name, x in values.items():
+        if x != 0.0 and name in err and abs(x) <= min(err[name], ROUNDOFF * size[name]):
+            values[name] = 0.0
+            if exact is not None and name in exact:
+                exact[name] = 0
+            snapped.append(name)
+    if snapped:
+        checks.append(CheckReport(
+            "round-off", "info", f"{', '.join(sorted(snapped))}: within "
+            f"{'its' if len(snapped) == 1 else 'their'} error bound of zero, so 0"))
+    return set(snapped)
 
 
 class _Rounds:
@@ -282,10 +331,13 @@ class _Rounds:
         self.split_tried: set[tuple] = set()
         self.support: set[int] = set()  # rows of the numeric dependencies found
         self.free: set[str] = set()  # unknowns a numeric rank test left undetermined
+        self.reports: list = []  # the blocks solved so far (their sizes judge the checks)
+        self.exact: dict | None = None
 
 
 def _solve_round(system: System, structure: Structure, solve_all: bool, precision: str,
-                 values, reports, bounds, state: _Rounds, wanted) -> bool:
+                 values, reports, bounds, state: _Rounds, wanted,
+                 exact: dict | None = None) -> bool:
     """Solve the blocks this structure needs. True if the system must be re-analysed:
     a block was singular (its dependent rows are now left out) or the under-determined
     part determined some unknowns numerically."""
@@ -302,7 +354,7 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
     for b in structure.needed_blocks(names):
         block = structure.blocks[b]
         try:
-            rep = _solve_block(system, structure, block, values, precision)
+            rep = _solve_block(system, structure, block, values, precision, exact)
         except ProblemError as exc:
             if exc.diagnostics[0].code == "singular":
                 bad = inconsistent_rows(system, block.equations, block.unknowns, values,
@@ -448,13 +500,21 @@ def _split_under(system: System, structure: Structure, precision: str, values, r
     return True
 
 
-def _check_conflict(e: Equation, values, checks, system, structure, state: _Rounds, bounds,
-                    constant: bool = False) -> None:
+def _check_conflict(e: Equation, values, checks, system, structure, state: _Rounds,
+                    bounds: dict[str, float] | None = None, constant: bool = False,
+                    size: dict | None = None, err: dict | None = None,
+                    exact: dict | None = None) -> None:
     """`_check_equation`, and if the equation does not hold, name every statement of the
-    smallest conflict it is part of (the rows a left null vector involves)."""
+    smallest conflict it is part of (the rows a left null vector involves). Within the
+    solve rounds (no propagated sizes yet) the blocks' relative `bounds` give the
+    unknowns' absolute error bounds."""
+    if size is None and state.reports:  # within the rounds: the sizes of what is solved
+        size, err = propagate(system, state.reports, values, state.exact is not None)
+    if err is None and bounds:
+        err = {n: b * abs(values[n]) for n, b in bounds.items() if n in values}
     try:
         _check_equation(e, values, checks, system, structure, constant=constant,
-                        bounds=bounds)
+                        size=size, err=err, exact=exact)
     except ProblemError as exc:
         d = exc.diagnostics[0]
         if d.code != "inconsistent":
@@ -499,29 +559,61 @@ def _scale(e: Equation, values: dict[str, float]) -> float:
         return 0.0
 
 
-ROUNDOFF = 64 * 2.0**-53  # evaluating a residual from exact values: a few ulps per term
+_UNIT_SCALES: list = [None, None]  # (values dict, its scales): one pass per solve
+
+
+def _unit_scales(system: System, values: dict) -> dict[str, float]:
+    """The largest magnitude among the solved values of each unit (m/s, rad/s, N*s)."""
+    if _UNIT_SCALES[0] is values and _UNIT_SCALES[1][0] == len(values):
+        return _UNIT_SCALES[1][1]
+    out: dict[str, float] = {}
+    for n, x in values.items():
+        u = system.unknowns.get(n)
+        if u is not None and isinstance(x, float) and math.isfinite(x):
+            out[u.unit] = max(out.get(u.unit, 0.0), abs(x))
+    _UNIT_SCALES[0], _UNIT_SCALES[1] = values, (len(values), out)
+    return out
+
+
+DECIDE = 1e-6  # a check whose error bound exceeds this fraction of its size cannot decide
 
 
 def _check_equation(e: Equation, values, checks, system, structure, constant=False,
-                    bounds: dict[str, float] | None = None) -> None:
+                    size: dict[str, float] | None = None, err: dict[str, float] | None = None,
+                    exact: dict | None = None) -> None:
     """A redundant equation must hold to within what the solve can promise.
 
-    The tolerance is the residual's own uncertainty: round-off in evaluating it,
-    plus the error bound of each solved unknown it uses (not a fixed fraction, so a
-    badly scaled inconsistency cannot hide behind large cancelling terms).
+    It is judged against the size of the quantities in it (the terms that determine
+    each unknown, not only its own value, which can be round-off around zero) and the
+    error bound of each unknown it uses. In exact mode the residual is evaluated in
+    rationals and only the rounding of the data remains. Where the bound is too wide
+    to tell a real inconsistency from round-off, the check says so (a warning).
     """
+    slope = slopes(e.residual, values)
     try:
-        r = evaluate(e.residual, values)
-    except (ValueError, ZeroDivisionError, OverflowError):
+        r = float(evaluate_exact(e.residual, ChainMap(exact, values))) if exact is not None \
+            else evaluate(e.residual, values)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
         r = math.nan
-    scale = _scale(e, values)
-    err = max((bounds or {}).get(v, 0.0) for v in structure.incidence[e.index]) \
-        if structure.incidence[e.index] else 0.0
-    tol = (ROUNDOFF + min(err, 1.0)) * scale
+    scale = size_of(e.residual, values, size or {}, slope)
+    # the size of the quantities involved: an unknown that comes out exactly 0 (e = 0
+    # against a wall) is still a velocity of a scene whose velocities are metres per
+    # second, and a statement of it is read against that
+    units = _unit_scales(system, values)
+    scale = max(scale, sum(sl * units.get(system.unknowns[v].unit, 0.0)
+                           for v, sl in slope.items() if v in system.unknowns))
+    bound = error_of(slope, err or {})
+    tol = ROUNDOFF * scale + bound
     ok = math.isfinite(r) and abs(r) <= tol or (scale == 0 and r == 0)
     where = f"line {e.span.line}" if e.span else "the scene"
     if ok:
-        if e.kind in ("stated", "user", "consistency") or not constant:
+        if bound > DECIDE * scale:
+            checks.append(CheckReport(
+                f"{e.principle}", "warning",
+                f"cannot decide ({where}): residual {fmt_num(r, 3)} is within the error "
+                f"bound {fmt_num(bound, 3)} of a {fmt_num(scale, 3)}-sized equation; "
+                "solve with `--precision exact` to tell", r))
+        elif e.kind in ("stated", "user", "consistency") or not constant:
             checks.append(CheckReport(f"{e.principle}", "ok",
                                       f"holds (redundant; {where}; residual {fmt_tiny(r)})", r))
         return
@@ -619,7 +711,7 @@ def _under_determined(system: System, structure: Structure, missing: list[str]) 
 
 
 def _solve_block(system: System, structure: Structure, block, values,
-                 precision: str = "float") -> BlockReport:
+                 precision: str = "float", exact: dict | None = None) -> BlockReport:
     if system.integrations:  # a phase integrated numerically (integration.py)
         from .integration import solve_integration
 
@@ -634,21 +726,26 @@ def _solve_block(system: System, structure: Structure, block, values,
     rows, rhs = [], []
     try:
         for e in eqs:
-            coef, const = affine(e.residual, bset, values)
+            # exact mode forms the rows in rationals too (no cancellation in the rhs)
+            coef, const = affine(e.residual, bset, values) if exact is None else \
+                affine_exact(e.residual, bset, ChainMap(exact, values))
             rows.append({col[n]: v for n, v in coef.items() if v != 0.0})
             rhs.append(-const)
     except NonLinear:
-        return _newton(system, block, eqs, names, values)
+        return _newton(system, block, eqs, names, values, structure)
     except (KeyError, ValueError, ZeroDivisionError, OverflowError) as exc:
         raise ProblemError(f"cannot evaluate {eqs[0].principle}: {exc}", eqs[0].span,
                            code="number") from None
     x, quality = solve_linear(rows, rhs, eqs, names, precision)
     for n, v in zip(names, x):
         values[n] = v
+    if exact is not None and quality.exact is not None:
+        exact.update(zip(names, quality.exact))
     n = len(names)
-    matrix = [[row.get(j, 0.0) for j in range(n)] for row in rows] if n <= 12 else None
+    matrix = [[float(row.get(j, 0.0)) for j in range(n)] for row in rows] if n <= 12 else None
     return BlockReport(block.index, names, block.equations, "linear", quality.cond, 0, 0.0,
-                       matrix, rhs if matrix is not None else None, quality)
+                       matrix, [float(v) for v in rhs] if matrix is not None else None,
+                       quality)
 
 
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
@@ -723,11 +820,35 @@ def _singular(eqs, names, cond=None, exact=False) -> ProblemError:
                                "another"])
 
 
-def _starts(system: System, names: list[str], values) -> list[list[float]]:
-    """Starting points for Newton: from the hints, then a few spread guesses."""
+SPREAD = (0.7, -0.7, 2.0, -2.0, 0.3, -1.3, 1.1, -0.4)
+
+
+def _starts(system: System, names: list[str], values, eqs=()) -> list[list[float]]:
+    """Starting points for Newton: from the hints, then guesses spread in sign and size
+    (scaled by the given speeds: a root far from 1 is found too)."""
+    from .expr import Known, Add, Mul, Pow, Fn
+
+    S = 1.0
+    todo = [e.residual for e in eqs]
+    while todo:
+        x = todo.pop()
+        t = type(x)
+        if t is Known and getattr(x.name, "kind", None) == KeyKind.STATE:
+            S = max(S, abs(x.value))
+        elif t is Add:
+            todo.extend(x.terms)
+        elif t is Mul:
+            todo.extend(x.factors)
+        elif t is Pow:
+            todo.append(x.base)
+        elif t is Fn:
+            todo.append(x.arg)
     base = []
     for n in names:
         u = system.unknowns[n]
+        if u.kind == "restitution" and not u.hints:
+            base.append([0.5, 0.9, 0.2])
+            continue
         lo = max((v for rel, v, _ in u.hints if rel == ">"), default=None)
         hi = min((v for rel, v, _ in u.hints if rel == "<"), default=None)
         if lo is not None and hi is not None:
@@ -739,8 +860,13 @@ def _starts(system: System, names: list[str], values) -> list[list[float]]:
             w = max(abs(hi), 1.0)
             base.append([hi - 0.5 * w, hi - 2 * w, hi - 0.05 * w])
         else:
-            base.append([0.7, -0.7, 2.0])
-    return [[b[min(k, len(b) - 1)] for b in base] for k in range(3)]
+            base.append(None)
+    starts = [[b[min(k, len(b) - 1)] if b else SPREAD[k] for b in base] for k in range(3)]
+    if S > 1.0 or len(names) > 1:  # sign patterns that differ between unknowns, at scale S
+        for k in range(len(SPREAD)):
+            starts.append([b[0] if b else S * SPREAD[(k + 3 * i) % len(SPREAD)]
+                           for i, b in enumerate(base)])
+    return starts
 
 
 def _satisfies(system: System, names, x) -> bool:
@@ -759,11 +885,15 @@ def _close(x, y) -> bool:
     return all(abs(a - b) <= 1e-7 * max(abs(a), abs(b)) + 1e-9 for a, b in zip(x, y))
 
 
-def _newton(system: System, block, eqs: list[Equation], names: list[str], values) -> BlockReport:
+def _newton(system: System, block, eqs: list[Equation], names: list[str], values,
+            structure: Structure | None = None) -> BlockReport:
+    """Every root from a spread of starts; the hints and the physics choose among them."""
+    from .roots import problems, separating_hint
+
     F = [e.residual for e in eqs]
     J = [[diff(f, n) for n in names] for f in F]
     roots = []
-    for x0 in _starts(system, names, values):
+    for x0 in _starts(system, names, values, eqs):
         r = _newton_from(F, J, names, values, x0)
         if r is None:
             continue
@@ -777,31 +907,54 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
                            "be satisfied", eqs[0].span, code="no-solution",
                            notes=[f"from {where}; check the given energies and heights (e.g. not "
                                   "enough energy to reach the given position)"])
+    roots.sort(key=lambda r: r[0])  # the order of the starts must not matter
     hinted = [r for r in roots if _satisfies(system, names, r[0])]
     has_hint = any(system.unknowns[n].hints and system.unknowns[n].kind not in
                    ("impulse", "duration") for n in names)
 
-    def listing():
-        return "; ".join(", ".join(f"{n} = {fmt_num(v, 4)}" for n, v in zip(names, x))
-                         for x, _ in roots)
+    def show(x):
+        big = max(abs(v) for v in x)  # round-off around zero prints as 0 (stable goldens)
+        return ", ".join(f"{n} = {fmt_num(v if abs(v) > 1e-12 * big else 0.0, 4)}"
+                         for n, v in zip(names, x))
+
+    def listing(rs):
+        return "; ".join(show(x) for x, _ in rs)
 
     if not hinted:
         raise ProblemError(f"no solution of {eqs[0].principle} satisfies the hints", eqs[0].span,
-                           code="no-solution", notes=[f"solutions found: {listing()}"])
-    if len(hinted) > 1 or (len(roots) > 1 and not has_hint):
-        u = system.unknowns[names[0]]
-        where_hint = f" in state {u.state}" if u.state else ""
-        qty = f"{u.body}.{u.qty}" if u.body else names[0]
+                           code="no-solution", notes=[f"solutions found: {listing(roots)}"])
+    why: list[list[str]] = []
+    if structure is not None:
+        def trial(blk, env):
+            _solve_block(system, structure, blk, env)
+
+        why = [problems(system, structure, block, names, x, values, trial) for x, _ in hinted]
+    else:
+        why = [[] for _ in hinted]
+    physical = [r for r, w in zip(hinted, why) if not w]
+    rejected = [f"{show(r[0])}: {'; '.join(w)}" for r, w in zip(hinted, why) if w]
+    if not physical and len(hinted) > 1:
+        raise ProblemError(f"no physical solution for {', '.join(names)}", eqs[0].span,
+                           code="no-solution", notes=[f"rejected: {x}" for x in rejected])
+    chosen = physical if physical else hinted
+    if len(chosen) > 1 or (len(roots) > 1 and not has_hint and not rejected):
+        hint = separating_hint(system, names, [x for x, _ in chosen])
+        notes = [f"solutions: {listing(chosen)}"]
+        if rejected:
+            notes.append("rejected: " + " | ".join(rejected))
+        if hint:
+            notes.append(f"choose one with a hint: {hint}")
         raise ProblemError(f"more than one solution for {', '.join(names)}", eqs[0].span,
-                           code="ambiguous",
-                           notes=[f"solutions: {listing()}",
-                                  f"choose one with a hint such as `{qty} < 0`{where_hint}"])
-    x, iters = hinted[0]
+                           code="ambiguous", notes=notes)
+    x, iters = chosen[0]
     for n, v in zip(names, x):
         values[n] = float(v)
     # the residual relative to the size of each equation's terms
     res = max(abs(evaluate(f, values)) / max(magnitude(f, values), 1e-300) for f in F)
-    return BlockReport(block.index, names, block.equations, "newton", None, iters, res)
+    rep = BlockReport(block.index, names, block.equations, "newton", None, iters, res)
+    rep.rejected = rejected if physical else []
+    rep.unphysical = [] if physical else why[0]
+    return rep
 
 
 def _newton_from(F, J, names, values, x0):
@@ -906,23 +1059,54 @@ def _hint_checks(sol: Solution) -> None:
                                       detail))
 
 
-def _answers(system: System, values) -> list[tuple[str, float, str, float]]:
-    out = []
+def _answers(system: System, values, sol: Solution | None = None) -> list[tuple]:
+    """The `find` values, in the solve's precision (rationals in exact mode: a derived
+    difference keeps its digits), each with an absolute error bound that covers what is
+    printed; of two forms of a quantity (T_lost) the one with the smaller bound is shown;
+    a value within its bound of zero is zero (the checks say so)."""
+    exact = sol.exact if sol is not None else None
+    out, bounds = [], {}
     for f in system.finds:
         try:
-            si = evaluate(f.expr, values)
+            si, bound, small = _value(f.expr, values, sol)
         except KeyError as exc:
             raise ProblemError(f"{f.name} could not be computed: {exc.args[0]} is not solved",
                                f.span, code="internal") from None
         except (ValueError, ZeroDivisionError, OverflowError):
             raise ProblemError(f"{f.name} is not a finite number", f.span, code="number") \
                 from None
-        # a value that is round-off against the size of its terms is exactly zero
-        if si != 0.0 and math.isfinite(si) and abs(si) <= 64 * 2.0**-53 * magnitude(f.expr,
-                                                                               values):
+        if f.alt is not None and exact is None:
+            try:
+                other = _value(f.alt, values, sol)
+                if other[1] < bound:
+                    si, bound, small = other
+            except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+                pass
+        if si != 0.0 and math.isfinite(si) and abs(si) <= min(bound, small):
+            if sol is not None:
+                sol.checks.append(CheckReport(
+                    f"{f.name}", "info", "round-off: within its error bound of zero, so it is "
+                    "0 (the digits are not significant)"))
             si = 0.0
+        bounds[f.name] = bound
         out.append((f.name, si / f.factor, f.unit, si))
+    if sol is not None:
+        sol.answer_errors = bounds
     return out
+
+
+def _value(expr: E, values, sol: Solution | None) -> tuple[float, float, float]:
+    """(value, absolute error bound, round-off level) of a derived expression."""
+    exact = sol.exact if sol is not None else None
+    size = sol.size if sol is not None and sol.size is not None else {}
+    err = sol.errors if sol is not None and sol.errors is not None else {}
+    si = float(evaluate_exact(expr, ChainMap(exact, values))) if exact is not None else \
+        evaluate(expr, values)
+    slope = slopes(expr, values)
+    small = ROUNDOFF * size_of(expr, values, size, slope)
+    # rounding: of the final value in exact mode, of every term in float
+    bound = error_of(slope, err) + (2 * 2.0**-53 * abs(si) if exact is not None else small)
+    return si, bound, small
 
 
 __all__ = ["solve_scene", "Solution", "analyse", "to_text", "E"]

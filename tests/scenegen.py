@@ -52,7 +52,7 @@ SLIDE_SIGN_FIXED = False
 # the check's tolerance scales with the residual's own terms, not the problem's quantities
 # (issue 9, reproduction 2; solve.py's checks fix it). Until then values are solved
 # exactly, a round-off 0 is written as 0, and no `equation` stands beside an angular one.
-CHECK_TOLERANCE_FIXED = False
+CHECK_TOLERANCE_FIXED = True
 # `restitution ?` together with a redundant stated principle (`conserve momentum ...`):
 # the structural matching takes the stated row and leaves a numerically singular block
 # ("rank-deficient" / "singular in float64") (issue 9, "structure and numbers agree";

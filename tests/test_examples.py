@@ -460,7 +460,37 @@ def rod_rough_floor_energetic():
     _rod_rough_floor("energetic")
 
 
+def _crash(a, vA_kmh, vB_kmh, mA=1500.0, mB=1000.0, mu=0.7, g=9.81):
+    """Two cars lock (momentum), the wreck skids to rest: t = V/(mu g), v^2 = 2 mu g d."""
+    vA, vB = vA_kmh / 3.6, vB_kmh / 3.6
+    Vx, Vy = mA * vA / (mA + mB), mB * vB / (mA + mB)
+    V = math.hypot(Vx, Vy)
+    check(a, {"A.vx@2": Vx, "A.vy@2": Vy, "wreck_speed": V, "t@2->3": V / (mu * g),
+              "d": V * V / (2 * mu * g)})
+
+
+def crash_cars_lock_skid():
+    _crash(got("crash_cars_lock_skid"), 50, 30)
+
+
+def rod_pinned_struck_energy():
+    """e = 1 on a pinned rod: effective mass I_O/d^2 at the struck point."""
+    a = got("rod_pinned_struck_energy")
+    m, M, L, d, u = 0.5, 4.0, 1.2, 0.9, 6.0
+    mP = M * L * L / 3 / d**2
+    check(a, {"ball.vx@2": (m - mP) / (m + mP) * u, "rod.omega@2": 2 * m * u / ((m + mP) * d),
+              "J_n[hit]@1->2": 2 * m * mP / (m + mP) * u})
+
+
+def find_e_no_energy_lost():
+    a = got("find_e_no_energy_lost")
+    ma, mb, u = 2.0, 3.0, 5.0
+    check(a, {"e[hit]": 1.0, "a.vx@2": (ma - mb) / (ma + mb) * u, "b.vx@2": 2 * ma * u / (ma + mb),
+              "J_n[hit]@1->2": 2 * ma * mb / (ma + mb) * u})
+
+
 CHECKS = {f.__name__: f for f in [
+    crash_cars_lock_skid, rod_pinned_struck_energy, find_e_no_energy_lost,
     seed_billiards_elastic, seed_billiards_find_e, seed_disk_wall, seed_oblique_particles,
     seed_pendulum_wall, seed_plastic_collision, seed_rod_disk_bearing, seed_rod_drop_rough,
     seed_rod_drop_smooth,

@@ -393,9 +393,6 @@ def test_grazing_wall_with_friction_slides():
             assert rel <= allowed, f"[{p}] {k}: relative error {rel:.3g} > {allowed:.3g}"
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: --precision exact forms the block's constants "
-                   "(m u, e * u.n) in float64, so a grazing impact's impulses are ~1e-12 off "
-                   "the exact answer instead of correctly rounded")
 def test_grazing_wall_exact_impulses_are_correctly_rounded():
     want, *_ = _grazing_wall()
     check(solved("grazing_wall", "exact"),

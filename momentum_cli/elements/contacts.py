@@ -56,6 +56,10 @@ class RestitutionLaw:
     def stamp_impact(self, rows: ContactRows, compiler) -> None:
         raise NotImplementedError
 
+    def normal_loss(self, rows: ContactRows, compiler) -> E:
+        """J_n (v_n- + v_n+): twice the work the normal impulse takes."""
+        return mul(rows.jn, add(rows.vn1, rows.vn2))
+
     def sim_restitution(self) -> float:
         """The coefficient a simulation applies at each impact of this contact."""
         c = self.c
@@ -79,6 +83,13 @@ class NewtonRestitution(RestitutionLaw):
                 else parameter_key(Component.E, c.label)
             return compiler.unknown(key, NONE, KeyKind.RESTITUTION, "")
         return Known(parameter_key(Component.E, c.label), c.restitution)
+
+    def normal_loss(self, rows: ContactRows, compiler) -> E:
+        """Newton's law makes v_n- + v_n+ = (1 - e) v_n-, and 1 - e is exact near e = 1."""
+        c = self.c
+        one_minus_e = add(Const(1.0), neg(self.coefficient(compiler))) if c.restitution_unknown \
+            else Const(1.0 - c.restitution)
+        return mul(rows.jn, mul(one_minus_e, rows.vn1))
 
     def stamp_impact(self, rows: ContactRows, compiler) -> None:
         e = self.coefficient(compiler)
@@ -163,6 +174,10 @@ class TangentialLaw:
     def stamp_interval(self, rows: ContactRows, compiler) -> None:
         pass
 
+    def loss(self, rows: ContactRows) -> E | None:
+        """J_t (v_t- + v_t+): twice the work the tangential impulse takes (None: none)."""
+        return mul(rows.jt, add(rows.vt1, rows.vt2)) if self.has_impulse else None
+
     def regimes(self) -> tuple[Regime, ...]:
         return ()
 
@@ -226,6 +241,10 @@ class Smooth(TangentialLaw):
 @tangential_law(Tangential.ROUGH)
 class Rough(TangentialLaw):
     """No slip after the impact (enough friction to stop it)."""
+
+    def loss(self, rows: ContactRows) -> E | None:
+        return mul(rows.jt, rows.vt1) if rows.phase.kind is PhaseKind.IMPACT else \
+            super().loss(rows)  # v_t+ = 0 in an impact: drop it
 
     def stamp_impact(self, rows: ContactRows, compiler) -> None:
         compiler.eq(rows.vt2, ZERO, f"no slip at {self.c.label} (rough)", rows.phase.group,
@@ -449,6 +468,7 @@ class ContactElement(Element):
             self.relative_velocity(phase.after, compiler)
         rows = ContactRows(self, phase, Jn, Jt, r1.dot(nv), r2.dot(nv), r1.dot(tv), r2.dot(tv))
         if phase.kind is PhaseKind.IMPACT:
+            compiler.losses.setdefault(phase.key, []).append(self.energy_loss(rows, compiler))
             self.restitution.stamp_impact(rows, compiler)
             phase.contacts.append((c.label, rows.vn1, rows.vn2))
             if not self.restitution.owns_tangential:
@@ -459,6 +479,16 @@ class ContactElement(Element):
                 compiler.eq(vn, ZERO, f"contact {c.label} persists (no normal velocity)",
                             f"state {sid}", c.span)
             self.tangential.stamp_interval(rows, compiler)
+
+    def energy_loss(self, rows: ContactRows, compiler) -> E:
+        """The kinetic energy the contact takes in an impact, -J.(v- + v+)/2 along its
+        impulse, in the form each law makes free of cancellation (T1 - T2 loses every
+        digit when little is lost)."""
+        normal = self.restitution.normal_loss(rows, compiler)
+        tangent = self.tangential.loss(rows)
+        if self.restitution.owns_tangential and tangent is not None:  # its own tangential rows
+            tangent = mul(rows.jt, add(rows.vt1, rows.vt2))
+        return mul(Const(-0.5), normal if tangent is None else add(normal, tangent))
 
     def constraint(self, frame, watch, geometry, regime) -> list[SimRow]:
         """Simulate: a persistent contact's normal row (its column carries a sliding
