@@ -67,8 +67,8 @@ class ReferencesMixin:
                 if name in self.unknowns:
                     return Q(Var(name), self.unknowns[name].dim)
             if ref.about is not None and (name != "H" or idx is None):
-                raise ProblemError(f"'about' belongs to an angular momentum: write "
-                                   f"`H[{{BODY, ...}}]@S about POINT`", ref.span, code="name")
+                raise ProblemError("'about' belongs to an angular momentum: write "
+                                   "`H[{BODY, ...}]@S about POINT`", ref.span, code="name")
             if name in _OF_BODIES and idx is not None and member is None and len(at) == 1:
                 return self._of_bodies(ref)
             if member and len(at) == 1 and name in self._by_label:  # a joint's `pole.omega@2`

@@ -100,7 +100,7 @@ def refreshed(text: str, res, digits: int = DEFAULT_DIGITS) -> str:
         m = _LINE.match(lines[i].rstrip("\r\n"))
         if not m:
             continue
-        indent, body, comment = m.group(1), m.group(2), m.group(3)
+        indent, comment = m.group(1), m.group(3)
         end = lines[i][len(lines[i].rstrip("\r\n")):]
         new_body = None
         if spec.error is not None:

@@ -642,18 +642,25 @@ def _check_equation(e: Equation, values, checks, system, structure, constant=Fal
 
 def _given_lines(e: Equation, system: System) -> list[tuple[str, int]]:
     """The given state values an equation uses, with the lines that give them."""
+    found: dict[str, int] = {}
+    for x in _given_states([e.lhs, e.rhs]):
+        st = system.scene.states.get(x.name.state)
+        g = st.givens.get((x.name.body, x.name.qty)) if st else None
+        if g is not None:
+            found[x.name] = g[1].line
+    return sorted(found.items(), key=lambda kv: (kv[1], kv[0]))
+
+
+def _given_states(exprs):
+    """The given state quantities (`Known` nodes named by a state key) in expressions."""
     from .expr import Add, Fn, Known, Mul, Pow
 
-    found: dict[str, int] = {}
-    todo = [e.lhs, e.rhs]
+    todo = list(exprs)
     while todo:
         x = todo.pop()
         t = type(x)
         if t is Known and getattr(x.name, "kind", None) == KeyKind.STATE:
-            st = system.scene.states.get(x.name.state)
-            g = st.givens.get((x.name.body, x.name.qty)) if st else None
-            if g is not None:
-                found[x.name] = g[1].line
+            yield x
         elif t is Add:
             todo.extend(x.terms)
         elif t is Mul:
@@ -662,7 +669,6 @@ def _given_lines(e: Equation, system: System) -> list[tuple[str, int]]:
             todo.append(x.base)
         elif t is Fn:
             todo.append(x.arg)
-    return sorted(found.items(), key=lambda kv: (kv[1], kv[0]))
 
 
 def _under_determined(system: System, structure: Structure, missing: list[str]) -> ProblemError:
@@ -826,23 +832,9 @@ SPREAD = (0.7, -0.7, 2.0, -2.0, 0.3, -1.3, 1.1, -0.4)
 def _starts(system: System, names: list[str], values, eqs=()) -> list[list[float]]:
     """Starting points for Newton: from the hints, then guesses spread in sign and size
     (scaled by the given speeds: a root far from 1 is found too)."""
-    from .expr import Known, Add, Mul, Pow, Fn
-
     S = 1.0
-    todo = [e.residual for e in eqs]
-    while todo:
-        x = todo.pop()
-        t = type(x)
-        if t is Known and getattr(x.name, "kind", None) == KeyKind.STATE:
-            S = max(S, abs(x.value))
-        elif t is Add:
-            todo.extend(x.terms)
-        elif t is Mul:
-            todo.extend(x.factors)
-        elif t is Pow:
-            todo.append(x.base)
-        elif t is Fn:
-            todo.append(x.arg)
+    for x in _given_states(e.residual for e in eqs):  # the given speeds' scale
+        S = max(S, abs(x.value))
     base = []
     for n in names:
         u = system.unknowns[n]
