@@ -141,17 +141,37 @@ def _chronological(phases: list) -> list:
     """Phases ordered so that one starting at state S comes after every phase ending at
     S (a burn's start mass is what they left; the unknowns of a state are made by the
     phase that ends there, so the structure never depends on the order of the file's
-    statements); else file order."""
-    ends = {p.after for p in phases}
-    done: list = []
-    left = list(phases)
-    while left:
-        ready = [p for p in left if p.before not in ends or
-                 all(q in done for q in phases if q.after == p.before)]
-        nxt = ready[0] if ready else left[0]  # a cycle of states: file order
-        done.append(nxt)
-        left.remove(nxt)
-    return done
+    statements); else file order. Kahn's topological sort, O(N log N)."""
+    import heapq
+
+    pending: dict = defaultdict(int)  # state -> phases ending there, not yet placed
+    starting: dict = defaultdict(list)  # state -> phases starting there (file indices)
+    for k, p in enumerate(phases):
+        pending[p.after] += 1
+        starting[p.before].append(k)
+    ready = [k for k, p in enumerate(phases) if pending[p.before] == 0]
+    heapq.heapify(ready)
+    placed = [False] * len(phases)
+    out: list = []
+    rest = 0  # the first index not yet placed, for a cycle of states (file order)
+    while len(out) < len(phases):
+        if ready:
+            k = heapq.heappop(ready)
+            if placed[k]:
+                continue
+        else:
+            while placed[rest]:
+                rest += 1
+            k = rest
+        placed[k] = True
+        out.append(phases[k])
+        after = phases[k].after
+        pending[after] -= 1
+        if pending[after] == 0:
+            for q in starting[after]:
+                if not placed[q]:
+                    heapq.heappush(ready, q)
+    return out
 
 
 class _Compiler(ReferencesMixin, PrinciplesMixin):
