@@ -217,12 +217,7 @@ class FlowCompiler:
         else:
             t = self._q(b.duration, TIME, "the burn's duration", False)
             dm = mul(mdot, t)
-        m_before = evaluate(m0, {}) if not variables(m0) else None
-        if isinstance(dm, Const) and m_before is not None and dm.value >= m_before:
-            raise ProblemError(f"the burn takes {dm.value:g} kg out of a body of {m_before:g} "
-                               "kg: no mass would be left", b.span, code="number")
-        m1 = add_all([m0, neg(dm)])
-        self.masses[(b.body, b.after)] = m1
+        m1 = self._burn_out(b, m0, dm)
         self.durations[key] = t
         if not (variables(m0) or variables(dm) or variables(t)):
             return self._burn_numbers(b, speed, e, evaluate(m0, {}), evaluate(dm, {}), t)
@@ -249,6 +244,17 @@ class FlowCompiler:
                  f"position {comp} at the end of the burn (closed form): r1 = r0 + v0 t + g t^2/2"
                  " - e c (t - (m1/mdot) ln(m0/m1))", group, span)
 
+    def _burn_out(self, b, m0: E, dm: E) -> E:
+        """The body's mass after a burn takes dm out of m0 (what later phases see); a
+        located error when nothing would be left."""
+        m_before = evaluate(m0, {}) if not variables(m0) else None
+        if isinstance(dm, Const) and m_before is not None and dm.value >= m_before:
+            raise ProblemError(f"the burn takes {dm.value:g} kg out of a body of {m_before:g} "
+                               "kg: no mass would be left", b.span, code="number")
+        m1 = add_all([m0, neg(dm)])
+        self.masses[(b.body, b.after)] = m1
+        return m1
+
     def _burn_no_rate(self, b: S.BurnDecl, speed: E, e) -> None:
         """A burn given by the mass it burns alone: the rocket equation's change of velocity
         does not depend on the rate; the time (and so the path and gravity's share) does,
@@ -257,12 +263,7 @@ class FlowCompiler:
         group = f"burn {b.body} {b.before} -> {b.after}"
         m0 = c.mass(b.body, b.before)
         dm = self._q(b.burned, MASS, "the mass burned", False)
-        m_before = evaluate(m0, {}) if not variables(m0) else None
-        if isinstance(dm, Const) and m_before is not None and dm.value >= m_before:
-            raise ProblemError(f"the burn takes {dm.value:g} kg out of a body of {m_before:g} "
-                               "kg: no mass would be left", b.span, code="number")
-        m1 = add_all([m0, neg(dm)])
-        self.masses[(b.body, b.after)] = m1
+        m1 = self._burn_out(b, m0, dm)
         key = f"{b.before}->{b.after}"
         if b.duration is not None:
             t = self._q(b.duration, TIME, "the burn's duration", False)
