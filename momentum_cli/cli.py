@@ -270,6 +270,26 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
     return console
 
 
+# ---- options several commands share (a fresh OptionInfo for each command) -------------
+SET_HELP = "Override a `let` constant: NAME=VALUE with its unit, e.g. --set v0='5 m/s' " \
+           "(repeatable)."
+
+
+def _set_option():
+    return typer.Option(None, "--set", metavar="NAME=VALUE", help=SET_HELP)
+
+
+def _strict_option():
+    return typer.Option(False, "--strict", help="Warnings (a stated principle that does not "
+                        "hold, a contact that would pull, precision lost) are errors: exit "
+                        "code 1.")
+
+
+def _color_option():
+    return typer.Option(Color.auto, "--color", help="Colour: auto (on a terminal, unless "
+                        "NO_COLOR; FORCE_COLOR forces it), always or never.")
+
+
 @app.command()
 def solve(
     files: List[str] = typer.Argument(..., metavar="FILE",
@@ -289,18 +309,12 @@ def solve(
                                              "exact residuals, or exact rationals."),
     traceback_flag: bool = typer.Option(False, "--traceback", help="Show Python tracebacks of "
                                                                    "internal errors."),
-    sets: Optional[List[str]] = typer.Option(None, "--set", metavar="NAME=VALUE",
-                                             help="Override a `let` constant: NAME=VALUE with "
-                                                  "its unit, e.g. --set v0='5 m/s' "
-                                                  "(repeatable)."),
+    sets: Optional[List[str]] = _set_option(),
     jsonl: bool = typer.Option(False, "--jsonl", help="Print one JSON object per file (a "
                                                       "result of --json) as soon as it is "
                                                       "solved."),
-    strict: bool = typer.Option(False, "--strict", help="Warnings (a stated principle that "
-                                "does not hold, a contact that would pull, precision lost) "
-                                "are errors: exit code 1."),
-    color: Color = typer.Option(Color.auto, "--color", help="Colour: auto (on a terminal, "
-                                "unless NO_COLOR; FORCE_COLOR forces it), always or never."),
+    strict: bool = _strict_option(),
+    color: Color = _color_option(),
 ) -> None:
     """Solve problem files and print the solution step by step.
 
@@ -406,11 +420,8 @@ def check(
     files: List[str] = typer.Argument(..., metavar="FILE",
                                       help="Problem files (.mom); '-' reads standard input."),
     json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
-    strict: bool = typer.Option(False, "--strict", help="Warnings (a stated principle that "
-                                "does not hold, a contact that would pull, precision lost) "
-                                "are errors: exit code 1."),
-    color: Color = typer.Option(Color.auto, "--color", help="Colour: auto (on a terminal, "
-                                "unless NO_COLOR; FORCE_COLOR forces it), always or never."),
+    strict: bool = _strict_option(),
+    color: Color = _color_option(),
 ) -> None:
     """Parse, build and analyse problem files without solving them.
 
@@ -498,14 +509,9 @@ def simulate(
                                help="Significant figures in printed numbers."),
     traceback_flag: bool = typer.Option(False, "--traceback", help="Show Python tracebacks of "
                                                                    "internal errors."),
-    sets: Optional[List[str]] = typer.Option(None, "--set", metavar="NAME=VALUE",
-                                             help="Override a `let` constant: NAME=VALUE with "
-                                                  "its unit (repeatable)."),
-    strict: bool = typer.Option(False, "--strict", help="Warnings (a stated principle that "
-                                "does not hold, a contact that would pull, precision lost) "
-                                "are errors: exit code 1."),
-    color: Color = typer.Option(Color.auto, "--color", help="Colour: auto (on a terminal, "
-                                "unless NO_COLOR; FORCE_COLOR forces it), always or never."),
+    sets: Optional[List[str]] = _set_option(),
+    strict: bool = _strict_option(),
+    color: Color = _color_option(),
 ) -> None:
     """Simulate the motion of a scene over time, with only the effects it declares.
 
@@ -771,9 +777,6 @@ def bench_simulate(
 
 
 # ---- problem sets: test, expect, variants, grade; --set -------------------------------------
-SET_HELP = "Override a `let` constant: NAME=VALUE with its unit, e.g. --set v0='5 m/s' " \
-           "(repeatable)."
-
 
 def _overrides_for(sets: Optional[List[str]], sources) -> tuple:
     """The `--set` pairs, checked: each parses as a value and names a `let` of every
@@ -835,8 +838,7 @@ def test(
     simulate: bool = typer.Option(False, "--simulate",
                                   help="Also run `simulate` on simulate scenes (a `simulate` "
                                        "block and no `find`): they pass if they simulate."),
-    sets: Optional[List[str]] = typer.Option(None, "--set", metavar="NAME=VALUE",
-                                             help=SET_HELP),
+    sets: Optional[List[str]] = _set_option(),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="Only failures and the summary."),
 ) -> None:
     """Run problem files as tests of their `expect` lines.
@@ -954,8 +956,7 @@ def expect(
     digits: int = typer.Option(4, "--digits", "-p", min=1, max=15,
                                help="Significant figures of the expected values (the "
                                     "tolerance is half a unit in the last one)."),
-    sets: Optional[List[str]] = typer.Option(None, "--set", metavar="NAME=VALUE",
-                                             help=SET_HELP),
+    sets: Optional[List[str]] = _set_option(),
 ) -> None:
     """Print `expect` lines for the current answers; with --write, put them in the file.
 

@@ -19,12 +19,18 @@ PENDING: set[str] = set()
 
 
 def remove_pending() -> None:
+    """Remove every temporary file still being written (the run is ending)."""
     for tmp in list(PENDING):
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        PENDING.discard(tmp)
+        _drop(tmp)
+
+
+def _drop(tmp: str) -> None:
+    """Remove one temporary file (gone already is fine) and forget it."""
+    try:
+        os.unlink(tmp)
+    except OSError:
+        pass
+    PENDING.discard(tmp)
 
 
 class OutputError(Exception):
@@ -132,11 +138,7 @@ def _atomic(path: str, force: bool, option: str, fill) -> None:
     except OSError as exc:
         raise OutputError(f"{option} {path}: cannot write: {exc.strerror or exc}") from None
     finally:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        PENDING.discard(tmp)
+        _drop(tmp)
 
 
 # ---- standard output ------------------------------------------------------------------
