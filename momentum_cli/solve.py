@@ -80,37 +80,25 @@ class Solution:
 
 def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
                 precision: str = "float") -> Solution:
-    """Compile, analyse and solve, iterating the friction regimes until they hold."""
+    """Compile, analyse and solve, iterating the friction regimes until they hold; where
+    that does not settle on a solution that keeps Coulomb's law at every impact contact,
+    every stick/slide combination is tried (regime_search)."""
+    from . import regime_search
+
     regimes: dict[str, str] = {}
     tried: set[tuple] = set()
-    sol = None
-    impulses: dict = {}  # Poisson's and Stronge's contacts: (P_t, P_n) by site
-    results: dict = {}
     rounds = 0
     while True:
-        system = compile_scene(scene, regimes, impulses)
-        structure = analyse(system)
-        pending = [s for s in system.path_laws if s.key not in impulses]
-        if pending:
-            # an impulse path starts from the state before its impact: solve only that
-            # (the first pass's Newton rows for the contact decide nothing that is used),
-            # one contact at a time, in the order the impacts happen
-            from .contact_laws import next_site, resolve_site
-
-            site, need, after = next_site(system, pending)
-            values = _solve_only(system, structure, need, after, precision)
-            results[site.key] = resolve_site(system, values, site, precision)
-            impulses[site.key] = results[site.key].impulse
-            continue
-        sol = _solve(system, structure, solve_all, precision, defer=bool(system.friction))
+        sol, results = _solve_regimes(scene, regimes, solve_all, precision)
         rounds += 1
         changed = _update_regimes(sol, regimes)
         key = tuple(sorted(regimes.items()))
         if not changed or key in tried or rounds >= max_rounds:
             break
         tried.add(key)
-        if impulses:  # another contact's regime may change the state before an impact
-            impulses, results = {}, {}
+    if changed or regime_search.violations(sol):
+        sol, results, regimes = regime_search.search(
+            sol, regimes, lambda r: _solve_regimes(scene, r, solve_all, precision))
     assert sol is not None
     if sol.deferred:  # a check failed in the regime that held (earlier rounds were trials)
         raise sol.deferred[0]
@@ -119,6 +107,29 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
     _law_checks(sol, results)
     _finite_answers(sol)
     return sol
+
+
+def _solve_regimes(scene: Scene, regimes: dict, solve_all: bool, precision: str):
+    """One solve in the given friction regimes: (solution, the path-law contacts' results)."""
+    impulses: dict = {}  # Poisson's and Stronge's contacts: (P_t, P_n) by site
+    results: dict = {}
+    while True:
+        system = compile_scene(scene, regimes, impulses)
+        structure = analyse(system)
+        pending = [s for s in system.path_laws if s.key not in impulses]
+        if not pending:
+            break
+        # an impulse path starts from the state before its impact: solve only that
+        # (the first pass's Newton rows for the contact decide nothing that is used),
+        # one contact at a time, in the order the impacts happen
+        from .contact_laws import next_site, resolve_site
+
+        site, need, after = next_site(system, pending)
+        values = _solve_only(system, structure, need, after, precision)
+        results[site.key] = resolve_site(system, values, site, precision)
+        impulses[site.key] = results[site.key].impulse
+    sol = _solve(system, structure, solve_all, precision, defer=bool(system.friction))
+    return sol, results
 
 
 def _finite_answers(sol: Solution) -> None:
@@ -202,6 +213,9 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
         names.add(site.jn)
         if site.jt:
             names.add(site.jt)
+        if site.slip_after is not None:  # an impact's slip, before and after (Coulomb)
+            variables(site.slip_expr, names)
+            variables(site.slip_after, names)
     # stated principles and user equations are checked when redundant: solve what they need
     # every redundant equation is checked (an inconsistent file must never pass silently)
     for k in structure.redundant:
@@ -535,9 +549,13 @@ def _conflict_note(e: Equation, values, system: System, state: _Rounds) -> str |
     ks = conflict_set(system, e.index, used, values)
     if len(ks) < 1:
         return None
+    return _statements_note([system.equations[k] for k in ks], system)
+
+
+def _statements_note(eqs, system: System) -> str | None:
+    """'the conflicting statements (the smallest set): line N (what), ...' for `eqs`."""
     parts: dict[int, list[str]] = {}
-    for k in ks:
-        q = system.equations[k]
+    for q in eqs:
         if q.span is not None:
             parts.setdefault(q.span.line, []).append(q.principle)
         for name, line in _given_lines(q, system):
@@ -607,7 +625,7 @@ def _check_equation(e: Equation, values, checks, system, structure, constant=Fal
     ok = math.isfinite(r) and abs(r) <= tol or (scale == 0 and r == 0)
     where = f"line {e.span.line}" if e.span else "the scene"
     if ok:
-        if bound > DECIDE * scale:
+        if bound > DECIDE * scale or _undecided_terms(r, bound, _own_size(e, values)):
             checks.append(CheckReport(
                 f"{e.principle}", "warning",
                 f"cannot decide ({where}): residual {fmt_num(r, 3)} is within the error "
@@ -638,6 +656,21 @@ def _check_equation(e: Equation, values, checks, system, structure, constant=Fal
                      "with it")
     raise ProblemError(f"inconsistent: {e.principle} does not hold", e.span,
                        code="inconsistent", notes=notes)
+
+
+def _undecided_terms(r: float, bound: float, own: float) -> bool:
+    """The equation's own terms are real values (above the bound, not round-off zeros),
+    known only to worse than DECIDE relative, and the residual is no round-off of them:
+    a quantity that cancels (known to 40 %) stated 1e-3 off cannot be judged in float."""
+    return bound < own and bound > DECIDE * own and abs(r) > 2 * ROUNDOFF * own
+
+
+def _own_size(e: Equation, values) -> float:
+    """The size of an equation's own terms at the solved values (0 if it cannot be had)."""
+    try:
+        return magnitude(e.residual, values)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return 0.0
 
 
 def _given_lines(e: Equation, system: System) -> list[tuple[str, int]]:
@@ -920,11 +953,15 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
         def trial(blk, env):
             _solve_block(system, structure, blk, env)
 
-        why = [problems(system, structure, block, names, x, values, trial) for x, _ in hinted]
+        broken: list[list[int]] = [[] for _ in hinted]
+        why = [problems(system, structure, block, names, x, values, trial, b)
+               for (x, _), b in zip(hinted, broken)]
     else:
         why = [[] for _ in hinted]
     physical = [r for r, w in zip(hinted, why) if not w]
     rejected = [f"{show(r[0])}: {'; '.join(w)}" for r, w in zip(hinted, why) if w]
+    if not physical and len(hinted) > 1 and structure is not None:
+        _overdetermined(system, eqs, hinted, why, broken, show)
     if not physical and len(hinted) > 1:
         raise ProblemError(f"no physical solution for {', '.join(names)}", eqs[0].span,
                            code="no-solution", notes=[f"rejected: {x}" for x in rejected])
@@ -947,6 +984,25 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
     rep.rejected = rejected if physical else []
     rep.unphysical = [] if physical else why[0]
     return rep
+
+
+def _overdetermined(system: System, eqs, roots, why, broken, show) -> None:
+    """A nonlinear block whose only physical root breaks a redundant statement of the
+    file: that statement and the block's contradict each other (as a linear conflict)."""
+    only = [i for i, w in enumerate(why) if broken[i] and len(w) == len(broken[i])]
+    if len(only) != 1:
+        return
+    i = only[0]
+    stated = [system.equations[k] for k in broken[i]
+              if system.equations[k].kind in ("stated", "user")]
+    if not stated:
+        return
+    e = stated[0]
+    raise ProblemError(f"inconsistent: {e.principle} does not hold", e.span,
+                       code="inconsistent",
+                       notes=[f"the only physical root of the block ({show(roots[i][0])}): "
+                              f"{'; '.join(why[i])}",
+                              _statements_note([e, *eqs], system)])
 
 
 def _newton_from(F, J, names, values, x0):

@@ -40,11 +40,11 @@ FORMING_JOINTS_FIXED = True
 # from the first assumption (stick) is refused "inconsistent": solve.py checks redundant
 # equations in the first regime round and raises before the regimes settle.
 REGIME_CHECK_FIXED = True
-# Several friction contacts in one impact (or friction with `restitution ?`): the sliding
-# direction is taken from the sign of the failed stick impulse, never from the slip
-# (compile.py gives impact FrictionSites `decided=True`), so friction can push along the
-# slip; and a sliding regime whose J_n < 0 is accepted.
-SLIDE_SIGN_FIXED = False
+# Several friction contacts in one impact (or friction with `restitution ?`): the regimes
+# that stick-first iteration settles on are re-checked against Coulomb's law (no slip
+# reversal, J_n >= 0, a found e in [0, 1]); when they break it, every stick/slide
+# combination is tried (momentum_cli/regime_search.py).
+SLIDE_SIGN_FIXED = True
 
 # `equation Q = value` true to round-off is refused "inconsistent": a true 0 written as
 # the dense solve's 1e-17 m/s, a value off by 3e-14 relative (the float dense solve's

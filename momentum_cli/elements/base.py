@@ -44,6 +44,7 @@ class FrictionSite:
     span: Span
     decided: bool = True  # False: the slip direction is re-checked after solving
     law: object = None  # its tangential law (contacts.Coulomb): `law.stick_holds(jt, jn)`
+    slip_after: E | None = None  # an impact's slip after it: its regime is one of 3 to choose
 
 
 @record

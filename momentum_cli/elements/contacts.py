@@ -299,7 +299,7 @@ class Coulomb(TangentialLaw):
                            "against the slip", compiler)
         compiler.friction.append(FrictionSite(rows.site, c.label, rows.phase.key, c.mu,
                                               rows.jn.name, rows.jt.name, regime, rows.vt1,
-                                              c.span, law=self))
+                                              c.span, law=self, slip_after=rows.vt2))
 
     def stamp_interval(self, rows: ContactRows, compiler) -> None:
         c = self.c
@@ -358,6 +358,28 @@ class Coulomb(TangentialLaw):
             return None
         want = Regime.sliding(slip)
         return want if slip != 0 and want != site.regime else None
+
+    def violation(self, site: FrictionSite, values: dict) -> str | None:
+        """Why an impact's solved impulses break Coulomb's law in `site.regime` (None: they
+        keep it): a stick outside the friction cone; a slide that pulls (J_n < 0), whose
+        slip before the impact runs the other way, or whose slip the friction reversed."""
+        jn = values[site.jn]
+        jt = values.get(site.jt, 0.0) if site.jt else 0.0
+        if site.regime == Regime.STICK:
+            if self.stick_holds(jt, jn):
+                return None
+            return (f"sticking needs |J_t| = {abs(jt):.6g} <= mu J_n = {self.mu * jn:.6g} N*s")
+        vt1, vt2 = evaluate(site.slip_expr, values), evaluate(site.slip_after, values)
+        s = site.regime.sign
+        if jn < -1e-9 * abs(jt):
+            return f"sliding with J_n = {jn:.6g} N*s < 0 (the contact would pull)"
+        tol = 1e-9 * max(abs(vt1), abs(vt2)) + 1e-15
+        if s * vt1 < -tol:
+            return (f"sliding along {'+' if s > 0 else '-'}t, but the slip before the impact "
+                    f"is {vt1:.6g} m/s")
+        if s * vt2 < -tol:
+            return f"friction reversed the slip (after the impact it is {vt2:.6g} m/s)"
+        return None
 
     def slip_sign(self, vt1: E, phase: Phase) -> float | None:
         """The slip direction over an interval: given, or known from the start state."""
