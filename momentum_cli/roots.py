@@ -22,8 +22,10 @@ TRIAL_LIMIT = 400  # unknowns solved on trial per root, at most
 _depth = [0]  # trials do not nest: a root inside a trial is judged on what is solved
 
 
-def problems(system, structure, block, names, x, values, solve_block) -> list[str]:
-    """Why root `x` of `block` is not physical ([] if nothing says it is not)."""
+def problems(system, structure, block, names, x, values, solve_block,
+             broken: list | None = None) -> list[str]:
+    """Why root `x` of `block` is not physical ([] if nothing says it is not); the
+    redundant equations it breaks are added to `broken` (their indices)."""
     env = dict(values)
     env.update(zip(names, x))
     solved = set(names)
@@ -42,6 +44,8 @@ def problems(system, structure, block, names, x, values, solve_block) -> list[st
         if not abs(r) <= LOOSE * size:
             where = f"line {e.span.line}" if e.span else "the scene"
             out.append(f"it breaks {e.principle} ({where}) by {fmt_num(r, 3)}")
+            if broken is not None:
+                broken.append(k)
     for t in system.transitions:
         if t.kind != "impact":
             continue

@@ -166,12 +166,16 @@ class Outcome:
         self.error = None
         self.answers: dict[str, tuple[float, float]] = {}
         self.state_answers: list[tuple[str, float, str]] = []
+        self.undecided: set[int] = set()
         try:
             sol = solve_scene(build(_parse(Source(name, text))))
         except ProblemError as exc:
             self.error = exc.diagnostics[0]
             return
         build_report(name, sol)  # the report of every variant builds too (as `solve_source`)
+        # the lines of redundant statements the float solve cannot judge (it says so)
+        self.undecided = {int(m) for c in sol.checks if c.status == "warning"
+                          for m in re.findall(r"^cannot decide \(line (\d+)\)", c.detail)}
         bounds = {}
         for rep in sol.blocks:
             comps = rep.quality.components if rep.quality is not None else None

@@ -29,17 +29,7 @@ SKIP = {
 CHEAP_ONLY = {"flow_chain_falls_onto_scale.mom"}
 
 # Known failures, each documented; strict: a fix must remove its entry.
-XFAIL: dict[tuple[str, str], str] = {
-    # issue 9, reproduction 9: the block's condition number (~1e13..5e14) makes the float
-    # error bound larger than a 1e-3 change; the redundant equation is judged "holds"
-    # where float cannot decide (the `checks` helper's part: say so, name --precision exact)
-    ("hard/km_rod_pinned_struck_near_pin.mom", "off"): "float cannot decide (issue 9 #9)",
-    ("hard/ridge_near_singular.mom", "off"): "float cannot decide (issue 9 #9)",
-    # a nonlinear block (T_lost = 0 with e unknown) over-determined by the appended
-    # velocity: every root breaks something, reported "no physical solution" (naming
-    # the block's unknowns) rather than "inconsistent" naming the appended line
-    ("find_e_no_energy_lost.mom", "off"): "over-determined Newton block: no-solution",
-}
+XFAIL: dict[tuple[str, str], str] = {}
 
 
 def _params(kind):
@@ -122,6 +112,8 @@ def test_inconsistent_statement_is_named(f):
         off = v + (1e-3 * abs(v) if v != 0 else 1e-3)
         text, line = _appended(source, [_equation(n, off, u)])
         out = Outcome(text, f)
+        if out.error is None and line in out.undecided:
+            continue  # float cannot decide, and says so naming the line (issue 9 #9)
         assert out.error is not None, f"{n} off by 1e-3 was accepted"
         assert out.error.code == "inconsistent", (n, out.error.code, out.error.message)
         named = out.lines_named()
