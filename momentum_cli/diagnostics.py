@@ -36,7 +36,8 @@ class Diagnostic:
         """GNU style: `file:line:col: severity: message`, then the snippet and notes."""
         name = source.name if source else "<input>"
         where = f"{name}:{self.span.line}:{self.span.column}" if self.span else name
-        out = [f"{where}: {self.severity}: {self.message}"]
+        loop = f" ({self.span.where})" if self.span and self.span.where else ""
+        out = [f"{where}: {self.severity}: {self.message}{loop}"]
         if self.span and source and self.caret:
             snippet = render_snippet(source, self.span)
             if snippet:
@@ -49,6 +50,8 @@ class Diagnostic:
         if self.span:
             d["line"] = self.span.line
             d["column"] = self.span.column
+            if self.span.where:
+                d["loop"] = self.span.where
             if self.span.end_line is not None:
                 d["end_line"] = self.span.end_line
                 d["end_column"] = self.span.end_column

@@ -16,6 +16,7 @@ class Span:
     column: int
     end_line: int | None = None
     end_column: int | None = None
+    where: str | None = None  # a line written by a loop: "in loop iteration i = 17"
 
     def __str__(self) -> str:
         return f"{self.line}:{self.column}"

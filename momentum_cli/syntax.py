@@ -596,21 +596,50 @@ def parse(source: Source) -> Document:
         raise ProblemError("empty problem file: nothing to solve", Span(1, 1), code="empty",
                            notes=["a problem needs at least a body, a state and a `find` line"])
     _check_depth(source)
+    from .loops import expand
+
+    loops = expand(text)  # `for` blocks and `body b[1..N]` written out (None: no loops)
+    return _parse(source, Source(source.name, loops.text) if loops else source, loops)
+
+
+def _in_file(exc: ProblemError, loops) -> ProblemError:
+    """An error the grammar found in the expanded text, located in the file."""
+    from .diagnostics import Diagnostic
+
+    if loops is None:
+        return exc
+    return ProblemError.many([Diagnostic(d.severity, d.code, d.message, loops.span(d.span),
+                                         d.notes, d.caret) if d.span else d
+                              for d in exc.diagnostics])
+
+
+def _parse(source: Source, expanded: Source, loops) -> Document:
+    """Parse `expanded` (the file, or its loops written out) into the file's Document;
+    the nodes' spans point into the file."""
+    from lark.exceptions import LarkError, UnexpectedInput, VisitError
+
+    text = expanded.text
     try:
         tree = parser().parse(text if text.endswith("\n") else text + "\n")
     except UnexpectedInput as exc:
-        raise _syntax_error(source, exc) from None
+        raise _in_file(_syntax_error(expanded, exc), loops) from None
+    except ProblemError as exc:  # the indenter's
+        raise _in_file(exc, loops) from None
     except LarkError as exc:  # anything else lark reports is still the file's syntax
         raise ProblemError(f"syntax error: {_first_line(exc)}", Span(1, 1), code="syntax") \
             from None
     _check_tree_depth(tree)
+    _SPANS[0] = loops
     try:
         statements = _ToNodes().transform(tree)
     except VisitError as exc:
         if isinstance(exc.orig_exc, ProblemError):
             raise exc.orig_exc from None
         raise
-    return Document(source, tuple(_plus_minus(s, text) for s in statements.children))
+    finally:
+        _SPANS[0] = None
+    # `expect V +- T` is read from the text the spans point into: the file's
+    return Document(source, tuple(_plus_minus(s, source.text) for s in statements.children))
 
 
 def _plus_minus(stmt, text: str):
@@ -796,12 +825,17 @@ def _show_char(ch: str) -> str:
 
 
 # ---- tree -> nodes ------------------------------------------------------------------------
+_SPANS: list = [None]  # while building nodes from expanded loops: the map to the file
+
+
 def _span(meta) -> Span:
-    return Span(meta.line, meta.column, meta.end_line, meta.end_column)
+    span = Span(meta.line, meta.column, meta.end_line, meta.end_column)
+    return span if _SPANS[0] is None else _SPANS[0].span(span)
 
 
 def _tspan(tok) -> Span:
-    return Span(tok.line, tok.column, tok.end_line, tok.end_column)
+    span = Span(tok.line, tok.column, tok.end_line, tok.end_column)
+    return span if _SPANS[0] is None else _SPANS[0].span(span)
 
 
 IN_UNIT = "in:"  # Num.unit of `2 in mm` (a bare 2 whose find item is shown in mm)

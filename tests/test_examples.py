@@ -510,6 +510,9 @@ CHECKS.update(LANGUAGE_CHECKS)
 from test_language_elements import EXAMPLE_CHECKS  # noqa: E402
 
 CHECKS.update(EXAMPLE_CHECKS)
+from test_loops import EXAMPLE_CHECKS as LOOP_CHECKS  # noqa: E402 (issue 10, item 10)
+
+CHECKS.update(LOOP_CHECKS)
 
 # the open-system examples (flow_*) are checked against their closed forms in test_flows.py
 PROBLEMS = sorted(p.stem for p in EXAMPLES.glob("*.mom") if not p.stem.startswith("flow_"))

@@ -49,9 +49,18 @@ def _params(kind):
 _original: dict[str, Outcome] = {}
 
 
+def _text(f: str) -> str:
+    """The example's text, its loops written out (the variants rename and reorder lines)."""
+    from momentum_cli.loops import expand
+
+    text = (EXAMPLES / f).read_text()
+    loops = expand(text)
+    return loops.text if loops else text
+
+
 def original(f: str) -> Outcome:
     if f not in _original:
-        _original[f] = Outcome((EXAMPLES / f).read_text(), f)
+        _original[f] = Outcome(_text(f), f)
     return _original[f]
 
 
@@ -66,14 +75,14 @@ def _same(a: Outcome, b: Outcome, mapping=None, what=""):
 
 @pytest.mark.parametrize("f", _params("rename"))
 def test_renamed(f):
-    text = (EXAMPLES / f).read_text()
+    text = _text(f)
     mapping = rename_map(text)
     _same(original(f), Outcome(rename(text, mapping), f), mapping, "renamed")
 
 
 @pytest.mark.parametrize("f", _params("reorder"))
 def test_reordered(f):
-    text = (EXAMPLES / f).read_text()
+    text = _text(f)
     _same(original(f), Outcome(reorder(text), f), None, "reordered")
 
 
@@ -93,7 +102,7 @@ def test_consistent_statement_changes_nothing(f):
     base = original(f)
     if base.error is not None or not base.state_answers:
         pytest.skip("no answered state quantity")
-    text, _ = _appended((EXAMPLES / f).read_text(),
+    text, _ = _appended(_text(f),
                         [_equation(n, v, u) for n, v, u in base.state_answers])
     out = Outcome(text, f)
     assert out.error is None, f"{out.error.code}: {out.error.message} {out.error.notes}"
@@ -105,7 +114,7 @@ def test_inconsistent_statement_is_named(f):
     base = original(f)
     if base.error is not None or not base.state_answers:
         pytest.skip("no answered state quantity")
-    source = (EXAMPLES / f).read_text()
+    source = _text(f)
     statement_lines = {k + 1 for k, x in enumerate(source.split("\n"))
                        if x.strip() and not x.lstrip().startswith("#")}
     for n, v, u in base.state_answers:
