@@ -9,6 +9,7 @@ ordinary statements; spans are mapped back when the nodes are built (syntax.py).
 from __future__ import annotations
 
 import difflib
+import functools
 import re
 
 from .diagnostics import ProblemError
@@ -179,16 +180,11 @@ def _range(text: str, env: dict, line: int, column: int) -> tuple[int, int]:
 
 def _int(expr: str, env: dict) -> int | None:
     """An integer expression of the loop indices (+ - * / % and parentheses), or None."""
-    expr = expr.strip()
-    if not expr or not _INT_EXPR.match(expr):
+    code = _compiled(expr.strip())
+    if code is None or not code[1] <= env.keys():
         return None
-    names = set(_WORD.findall(expr))
-    if names - set(env):
-        return None
-    if "**" in expr:
-        return None  # no powers: a bound must not take forever to compute
     try:
-        v = eval(_WORD.sub(lambda m: str(env[m.group(0)]), expr), {"__builtins__": {}}, {})
+        v = eval(code[0], {"__builtins__": {}}, env)
     except Exception:
         return None
     if isinstance(v, float):
@@ -196,6 +192,17 @@ def _int(expr: str, env: dict) -> int | None:
             return None
         v = int(v)
     return v if isinstance(v, int) else None
+
+
+@functools.lru_cache(maxsize=4096)
+def _compiled(expr: str):
+    """(code, names) of an integer expression, compiled once for every index (or None)."""
+    if not expr or not _INT_EXPR.match(expr) or "**" in expr:
+        return None  # no powers: a bound must not take forever to compute
+    try:
+        return compile(expr, "<loop>", "eval"), frozenset(_WORD.findall(expr))
+    except SyntaxError:
+        return None
 
 
 def _substitute(line: str, env: dict) -> str:
