@@ -30,6 +30,7 @@ _STATE_AT = re.compile(r"(@|->|\b(?:state|from|impact|interval|energy|over|burn|
                        r"[ \t]|\"|#|$))")
 _BEFORE_ARROW = re.compile(r"([A-Za-z_0-9+*/%()]+(?:-(?!>)[A-Za-z_0-9+*/%()]+)*)(?=[ \t]*->)")
 _BRACKET = re.compile(r"\[([^\[\]]*)\]")
+_DIGIT = re.compile(r"[0-9]")
 _STRING_OR_COMMENT = re.compile(r"\"[^\"\n]*\"|#.*")
 
 
@@ -49,7 +50,7 @@ class Expansion:
         self.text = text
         self.origins = origins
         self._lines = lines
-        self._blocks: dict[int, list] = {}
+        self._blocks: dict[tuple, list] = {}
 
     def span(self, span: Span | None) -> Span | None:
         """A span in the expanded text, as a span in the file (with the loop index)."""
@@ -69,11 +70,15 @@ class Expansion:
     def _column(self, line: int, column: int) -> int:
         """The column in the source line that column `column` of expanded line `line`
         was written from (the closest one, where the text was rewritten)."""
-        blocks = self._blocks.get(line)
-        if blocks is None:  # once per line (a line's nodes ask many times)
-            src, out = self.origins[line - 1].text, self._lines[line - 1]
-            blocks = difflib.SequenceMatcher(None, src, out, autojunk=False).get_matching_blocks()
-            self._blocks[line] = blocks
+        o = self.origins[line - 1]
+        # the alignment depends on where the numbers are, not on their digits: computed
+        # once per source line and number lengths (b[7] and b[8] align alike)
+        key = (o.line, _DIGIT.sub("0", self._lines[line - 1]))
+        blocks = self._blocks.get(key)
+        if blocks is None:
+            blocks = difflib.SequenceMatcher(None, _DIGIT.sub("0", o.text), key[1],
+                                             autojunk=False).get_matching_blocks()
+            self._blocks[key] = blocks
         k = column - 1
         for a, b, n in blocks:
             if b <= k < b + n:
