@@ -4,7 +4,8 @@ Linear blocks are solved with numpy after row and column equilibration (the
 unknowns mix N*s, m/s and rad/s), and their condition number is reported. Nonlinear
 blocks (energy phases) use damped Newton with branch hints from the file.
 Friction contacts are solved as stick first and switched to sliding where
-|J_t| > mu*J_n; the regime that held is reported.
+|J_t| > mu*J_n; where that does not settle on regimes that keep Coulomb's law,
+regime_search tries every combination. The regime that held is reported.
 """
 from __future__ import annotations
 
