@@ -51,34 +51,43 @@ class Expansion:
         self.origins = origins
         self._lines = lines
         self._blocks: dict[tuple, list] = {}
+        self._by_line: dict[int, list] = {}
 
     def span(self, span: Span | None) -> Span | None:
         """A span in the expanded text, as a span in the file (with the loop index)."""
-        if span is None or not 1 <= span.line <= len(self.origins):
+        if span is None:
             return span
-        o = self.origins[span.line - 1]
-        if o.where is None and o.text == self._lines[span.line - 1]:
-            if span.end_line in (None, span.line):
-                return Span(o.line, span.column, span.end_line and o.line, span.end_column)
-            end = self.origins[span.end_line - 1] if span.end_line <= len(self.origins) else o
-            return Span(o.line, span.column, end.line, span.end_column)
-        col = self._column(span.line, span.column)
-        end_col = self._column(span.line, span.end_column) if span.end_line == span.line and \
-            span.end_column else None
+        return self.at(span.line, span.column, span.end_line, span.end_column)
+
+    def at(self, line: int, column: int, end_line: int | None, end_column: int | None) -> Span:
+        """The file's span of a range in the expanded text (the parser's nodes call this)."""
+        if not 1 <= line <= len(self.origins):
+            return Span(line, column, end_line, end_column)
+        o = self.origins[line - 1]
+        if o.where is None and o.text == self._lines[line - 1]:
+            if end_line in (None, line):
+                return Span(o.line, column, end_line and o.line, end_column)
+            end = self.origins[end_line - 1] if end_line <= len(self.origins) else o
+            return Span(o.line, column, end.line, end_column)
+        col = self._column(line, column)
+        end_col = self._column(line, end_column) if end_line == line and end_column else None
         return Span(o.line, col, o.line if end_col else None, end_col, o.where)
 
     def _column(self, line: int, column: int) -> int:
         """The column in the source line that column `column` of expanded line `line`
         was written from (the closest one, where the text was rewritten)."""
-        o = self.origins[line - 1]
-        # the alignment depends on where the numbers are, not on their digits: computed
-        # once per source line and number lengths (b[7] and b[8] align alike)
-        key = (o.line, _DIGIT.sub("0", self._lines[line - 1]))
-        blocks = self._blocks.get(key)
+        blocks = self._by_line.get(line)
         if blocks is None:
-            blocks = difflib.SequenceMatcher(None, _DIGIT.sub("0", o.text), key[1],
-                                             autojunk=False).get_matching_blocks()
-            self._blocks[key] = blocks
+            o = self.origins[line - 1]
+            # the alignment depends on where the numbers are, not on their digits:
+            # computed once per source line and number lengths (b[7] and b[8] align alike)
+            key = (o.line, _DIGIT.sub("0", self._lines[line - 1]))
+            blocks = self._blocks.get(key)
+            if blocks is None:
+                blocks = difflib.SequenceMatcher(None, _DIGIT.sub("0", o.text), key[1],
+                                                 autojunk=False).get_matching_blocks()
+                self._blocks[key] = blocks
+            self._by_line[line] = blocks
         k = column - 1
         for a, b, n in blocks:
             if b <= k < b + n:

@@ -829,13 +829,15 @@ _SPANS: list = [None]  # while building nodes from expanded loops: the map to th
 
 
 def _span(meta) -> Span:
-    span = Span(meta.line, meta.column, meta.end_line, meta.end_column)
-    return span if _SPANS[0] is None else _SPANS[0].span(span)
+    if _SPANS[0] is not None:
+        return _SPANS[0].at(meta.line, meta.column, meta.end_line, meta.end_column)
+    return Span(meta.line, meta.column, meta.end_line, meta.end_column)
 
 
 def _tspan(tok) -> Span:
-    span = Span(tok.line, tok.column, tok.end_line, tok.end_column)
-    return span if _SPANS[0] is None else _SPANS[0].span(span)
+    if _SPANS[0] is not None:
+        return _SPANS[0].at(tok.line, tok.column, tok.end_line, tok.end_column)
+    return Span(tok.line, tok.column, tok.end_line, tok.end_column)
 
 
 IN_UNIT = "in:"  # Num.unit of `2 in mm` (a bare 2 whose find item is shown in mm)
