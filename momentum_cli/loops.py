@@ -52,6 +52,7 @@ class Expansion:
         self._lines = lines
         self._blocks: dict[tuple, list] = {}
         self._by_line: dict[int, list] = {}
+        self.chunks: list[tuple[int, int]] = [(0, len(lines))]  # runs of whole statements
 
     def span(self, span: Span | None) -> Span | None:
         """A span in the expanded text, as a span in the file (with the loop index)."""
@@ -104,15 +105,36 @@ def expand(text: str) -> Expansion | None:
     lines = text.split("\n")
     out: list[str] = []
     origins: list[Origin] = []
-    _block(lines, 0, len(lines), {}, "", out, origins)
-    return Expansion("\n".join(out), origins, out)
+    repeats: list[tuple[int, int]] = []
+    _block(lines, 0, len(lines), {}, "", out, origins, repeats)
+    exp = Expansion("\n".join(out), origins, out)
+    exp.chunks = _chunks(repeats, out)
+    return exp
+
+
+def _chunks(repeats: list[tuple[int, int]], lines: list[str]) -> list[tuple[int, int]]:
+    """The expanded lines cut into runs of whole top-level statements: each iteration of
+    a top-level loop, and the lines between (the parser reuses the parse of a run that
+    differs from an earlier one only in its digits). A cut never falls before a blank or
+    comment line: those end the statement before it, as in one parse of the whole."""
+    n = len(lines)
+    cuts = {0, n}
+    for a, b in repeats:
+        cuts.update((a, b))
+    moved = set()
+    for c in cuts:
+        while 0 < c < n and (not lines[c].strip() or lines[c].lstrip().startswith("#")):
+            c += 1
+        moved.add(c)
+    cuts = sorted(moved)
+    return [(a, b) for a, b in zip(cuts, cuts[1:]) if b > a]
 
 
 def _indent(s: str) -> int:
     return len(s.expandtabs(8)) - len(s.expandtabs(8).lstrip())
 
 
-def _block(lines, lo, hi, env, dedent: str, out, origins) -> None:
+def _block(lines, lo, hi, env, dedent: str, out, origins, repeats=None) -> None:
     """Lines lo..hi of the file, with the loop indices `env`, each dedented by `dedent`."""
     k = lo
     while k < hi:
@@ -139,9 +161,12 @@ def _block(lines, lo, hi, env, dedent: str, out, origins) -> None:
                                    f"{MAX_LINES} lines", Span(k + 1, 1), code="too-large")
             outer = m.group(1)
             for i in range(a, b + 1):
+                start = len(out)
                 _block(lines, k + 1, end, {**env, var: i},
                        dedent + inner[len(outer):] if inner.startswith(outer) else dedent,
                        out, origins)
+                if repeats is not None and not outer:
+                    repeats.append((start, len(out)))
             k = end
             continue
         if raw.lstrip().startswith("for ") or raw.lstrip().startswith("for\t"):
@@ -156,6 +181,8 @@ def _block(lines, lo, hi, env, dedent: str, out, origins) -> None:
             rest = line[r.end():]
             for i in range(a, b + 1):
                 new = _substitute(f"{r.group(1)}[{i}]{rest}", env)
+                if repeats is not None and not r.group(1)[0].isspace():
+                    repeats.append((len(out), len(out) + 1))
                 out.append(new)
                 origins.append(Origin(k + 1, raw, _where({**env}, f"{r.group(1).split()[-1]}[{i}]")))
             k += 1

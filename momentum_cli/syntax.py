@@ -602,6 +602,75 @@ def parse(source: Source) -> Document:
     return _parse(source, Source(source.name, loops.text) if loops else source, loops)
 
 
+_DIGITS = None
+_LINE_KEYS = ("line", "end_line", "container_line", "container_end_line")
+_POS_KEYS = ("start_pos", "end_pos", "container_start_pos", "container_end_pos")
+
+
+def _parse_runs(loops):
+    """The parse tree of expanded loops, parsing each run of statements whose text differs
+    from an earlier run only in its digits once (the 999 iterations of `impact i -> i+1`
+    are a few parses, not 999), and moving copies of it into place. None (parse the whole
+    text instead) when a run does not parse on its own: the whole parse locates the error."""
+    import re
+
+    from lark import Token, Tree
+    from lark.exceptions import LarkError
+    from lark.tree import Meta
+
+    global _DIGITS
+    _DIGITS = _DIGITS or re.compile(r"[0-9]")
+    lines, p = loops.text.split("\n"), parser()
+    starts, pos = [], 0
+    for x in lines:
+        starts.append(pos)
+        pos += len(x) + 1
+    cache: dict[str, object] = {}
+
+    def moved(node, text, dl, dc):
+        if isinstance(node, Token):
+            return Token(node.type, text[node.start_pos:node.end_pos], node.start_pos + dc,
+                         node.line + dl, node.column, node.end_line + dl, node.end_column,
+                         node.end_pos + dc)
+        meta = None
+        if node._meta is not None:
+            meta = Meta()
+            d = meta.__dict__
+            d.update(node._meta.__dict__)
+            for k in _LINE_KEYS:
+                if k in d:
+                    d[k] += dl
+            for k in _POS_KEYS:
+                if k in d:
+                    d[k] += dc
+        return Tree(node.data, [moved(c, text, dl, dc) for c in node.children], meta)
+
+    children = []
+    try:
+        for a, b in loops.chunks:
+            text = "\n".join(lines[a:b])
+            if b < len(lines) or not text.endswith("\n"):
+                text += "\n"  # as the whole text reads (one newline at its end)
+            key = _DIGITS.sub("0", text)
+            tpl = cache.get(key)
+            if tpl is None:
+                tpl = cache[key] = p.parse(text)
+                _same_tokens(tpl, text)
+            children.extend(moved(c, text, a, starts[a]) for c in tpl.children)
+    except (LarkError, ProblemError, ValueError):
+        return None
+    return Tree("start", children)
+
+
+def _same_tokens(tree, text: str) -> None:
+    """Every token is the text at its place (what moving a copy relies on)."""
+    from lark import Token
+
+    for t in tree.scan_values(lambda v: isinstance(v, Token)):
+        if text[t.start_pos:t.end_pos] != t.value:
+            raise ValueError(t)
+
+
 def _in_file(exc: ProblemError, loops) -> ProblemError:
     """An error the grammar found in the expanded text, located in the file."""
     from .diagnostics import Diagnostic
@@ -620,7 +689,9 @@ def _parse(source: Source, expanded: Source, loops) -> Document:
 
     text = expanded.text
     try:
-        tree = parser().parse(text if text.endswith("\n") else text + "\n")
+        tree = _parse_runs(loops) if loops is not None else None
+        if tree is None:
+            tree = parser().parse(text if text.endswith("\n") else text + "\n")
     except UnexpectedInput as exc:
         raise _in_file(_syntax_error(expanded, exc), loops) from None
     except ProblemError as exc:  # the indenter's

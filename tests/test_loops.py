@@ -177,3 +177,16 @@ def test_a_malformed_for_line_says_how_a_loop_is_written():
     d = error('problem "x"\nbody b[1..3]: particle(mass = 1 kg)\nfor i in 1..3\n    state i\n'
               'find b[1].vx@1\n')
     assert d.span.line == 3 and "for NAME in A..B:" in d.message
+
+
+@pytest.mark.parametrize("text", [cradle(30, extra="find b[30].vx@30\n"),
+                                  (EXAMPLES / "cradle_loop_doubling_masses.mom").read_text()])
+def test_reusing_the_parse_of_repeated_iterations_changes_nothing(text, monkeypatch):
+    """The parser parses an iteration whose text differs from an earlier one only in its
+    digits once and moves copies into place: the nodes (and every span) are those of
+    parsing the whole written-out text."""
+    from momentum_cli import syntax
+
+    reused = parse(Source("c.mom", text)).statements
+    monkeypatch.setattr(syntax, "_parse_runs", lambda loops: None)
+    assert parse(Source("c.mom", text)).statements == reused
