@@ -184,7 +184,8 @@ def _block(lines, lo, hi, env, dedent: str, out, origins, repeats=None) -> None:
                 if repeats is not None and not r.group(1)[0].isspace():
                     repeats.append((len(out), len(out) + 1))
                 out.append(new)
-                origins.append(Origin(k + 1, raw, _where({**env}, f"{r.group(1).split()[-1]}[{i}]")))
+                name = r.group(1).split()[-1]
+                origins.append(Origin(k + 1, raw, _where(env, f"{name}[{i}]")))
             k += 1
             continue
         out.append(_substitute(line, env) if env else line)
