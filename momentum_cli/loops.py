@@ -31,6 +31,8 @@ _STATE_AT = re.compile(r"(@|->|\b(?:state|from|impact|interval|energy|over|burn|
 _BEFORE_ARROW = re.compile(r"([A-Za-z_0-9+*/%()]+(?:-(?!>)[A-Za-z_0-9+*/%()]+)*)(?=[ \t]*->)")
 _BRACKET = re.compile(r"\[([^\[\]]*)\]")
 _DIGIT = re.compile(r"[0-9]")
+_LET_INT = re.compile(r"^let[ \t]+([A-Za-z_][A-Za-z_0-9]*)[ \t]*=[ \t]*([0-9]+)[ \t]*(?:#.*)?$",
+                      re.M)
 _STRING_OR_COMMENT = re.compile(r"\"[^\"\n]*\"|#.*")
 
 
@@ -106,7 +108,9 @@ def expand(text: str) -> Expansion | None:
     out: list[str] = []
     origins: list[Origin] = []
     repeats: list[tuple[int, int]] = []
-    _block(lines, 0, len(lines), {}, "", out, origins, repeats)
+    # `let N = 1000`: whole numbers a loop's bounds may name
+    lets = {m.group(1): int(m.group(2)) for m in _LET_INT.finditer(text)}
+    _block(lines, 0, len(lines), {}, "", out, origins, repeats, lets)
     exp = Expansion("\n".join(out), origins, out)
     exp.chunks = _chunks(repeats, out)
     return exp
@@ -134,7 +138,7 @@ def _indent(s: str) -> int:
     return len(s.expandtabs(8)) - len(s.expandtabs(8).lstrip())
 
 
-def _block(lines, lo, hi, env, dedent: str, out, origins, repeats=None) -> None:
+def _block(lines, lo, hi, env, dedent: str, out, origins, repeats=None, lets=None) -> None:
     """Lines lo..hi of the file, with the loop indices `env`, each dedented by `dedent`."""
     k = lo
     while k < hi:
@@ -155,7 +159,7 @@ def _block(lines, lo, hi, env, dedent: str, out, origins, repeats=None) -> None:
             first = body[0]
             inner = first[:len(first) - len(first.lstrip())]
             var = m.group(2)
-            a, b = _range(m.group(3), env, k + 1, raw.index(m.group(3)) + 1)
+            a, b = _range(m.group(3), {**(lets or {}), **env}, k + 1, raw.index(m.group(3)) + 1)
             if (b - a + 1) * (end - k - 1) + len(out) > MAX_LINES:
                 raise ProblemError(f"the loop over {var} = {a}..{b} would write more than "
                                    f"{MAX_LINES} lines", Span(k + 1, 1), code="too-large")
@@ -164,7 +168,7 @@ def _block(lines, lo, hi, env, dedent: str, out, origins, repeats=None) -> None:
                 start = len(out)
                 _block(lines, k + 1, end, {**env, var: i},
                        dedent + inner[len(outer):] if inner.startswith(outer) else dedent,
-                       out, origins)
+                       out, origins, None, lets)
                 if repeats is not None and not outer:
                     repeats.append((start, len(out)))
             k = end
@@ -177,7 +181,8 @@ def _block(lines, lo, hi, env, dedent: str, out, origins, repeats=None) -> None:
             if dedent and raw.strip() else raw
         r = _BODY_RANGE.match(line)
         if r:
-            a, b = _range(f"{r.group(2)}..{r.group(3)}", env, k + 1, len(r.group(1)) + 2)
+            a, b = _range(f"{r.group(2)}..{r.group(3)}", {**(lets or {}), **env}, k + 1,
+                          len(r.group(1)) + 2)
             rest = line[r.end():]
             for i in range(a, b + 1):
                 new = _substitute(f"{r.group(1)}[{i}]{rest}", env)
@@ -212,8 +217,9 @@ def _range(text: str, env: dict, line: int, column: int) -> tuple[int, int]:
     if a is None or b is None:
         bad = lo if a is None else hi
         raise ProblemError(f"syntax error: the loop bound `{bad.strip()}` is not a whole "
-                           "number (bounds are integers, or integer arithmetic of an enclosing "
-                           "loop's index)", Span(line, column), code="syntax")
+                           "number (bounds are integers, `let N = 1000` names, or integer "
+                           "arithmetic of them and of an enclosing loop's index)",
+                           Span(line, column), code="syntax")
     if b < a:
         raise ProblemError(f"the loop range {a}..{b} is empty", Span(line, column),
                            code="syntax", notes=["the first index is written first: `1..10`"])
