@@ -191,6 +191,7 @@ def test_reusing_the_parse_of_repeated_iterations_changes_nothing(text, monkeypa
 
 
 def test_loop_bounds_may_name_a_whole_number_let():
-    text = cradle(6, extra="find b[6].vx@6\n").replace("let m = 0.1 kg", "let m = 0.1 kg\nlet N = 6")
+    text = cradle(6, extra="find b[6].vx@6\n")
+    text = text.replace("let m = 0.1 kg", "let m = 0.1 kg\nlet N = 6")
     text = text.replace("b[1..6]", "b[1..N]").replace("2..6", "2..N").replace("1..5", "1..N-1")
     assert solve(text)["b[6].vx@6"] == pytest.approx(2.0, rel=1e-14)  # e = 1: all passed on
