@@ -1,0 +1,82 @@
+"""Report stage: a transition's system statements as the report shows them.
+
+In: the `SystemLaw`s compile found for an impact (system momentum, moments about a pin),
+the solved values, the reader's units. Out: plain dicts (principle, why, the
+parallel-axis step, the equation symbolically and with the known numbers, and the
+common velocity of bodies that move together), which every renderer lays out.
+"""
+from __future__ import annotations
+
+import re
+from collections import ChainMap
+
+from ..expr import to_text, variables
+from ..numbers import fmt_num
+from ..units import INERTIA, LENGTH, MASS, VELOCITY
+from .reader import Reader, numeric_line, symbolic_line
+
+
+class _Eq:
+    """An equation-like pair for the printers (lhs, rhs, text)."""
+
+    def __init__(self, lhs, rhs):
+        self.lhs, self.rhs = lhs, rhs
+
+    def text(self, numeric: bool = False) -> str:
+        return f"{to_text(self.lhs, numeric)} = {to_text(self.rhs, numeric)}"
+
+
+def _after(name: str, after: str, key: str) -> bool:
+    """An unknown of the transition: a state quantity after it, or one of its impulses."""
+    return name.endswith(f"@{after}") or name.endswith(f"@{key}")
+
+
+def _moving_together(law, values) -> bool:
+    """Every body has the same velocity component afterwards (to round-off)."""
+    if law.locked is None:
+        return False
+    comps = [values.get(n) for n in variables(law.rhs)]
+    if any(v is None for v in comps) or len(comps) < 2:
+        return False
+    scale = max(abs(v) for v in comps) or 1.0
+    return max(comps) - min(comps) <= 1e-9 * scale
+
+
+def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[dict]:
+    """One dict per system law of transition `t`: kind, principle, why, steps (lines
+    before the equation: the parallel-axis step), symbolic, numeric, result (lines after:
+    the common velocity)."""
+    out = []
+    for law in getattr(t, "laws", ()) or ():
+        steps, result = [], []
+        rhs = law.rhs
+        vals = values
+        if law.kind == "linear" and _moving_together(law, values):
+            rhs = law.locked
+            vals = ChainMap({k: values[v] for k, v in law.alias.items() if v in values}, values)
+            for k, v in law.alias.items():
+                if v in values:
+                    shown = values[v] / reader.factor(VELOCITY)
+                    result.append(f"{k} = {fmt_num(shown, sig)} {reader.label(VELOCITY)}: "
+                                  "the bodies move together")
+        eq = _Eq(law.lhs, rhs)
+        keep = {n for n in variables(law.lhs) | variables(rhs)
+                if "'" in n or _after(n, t.after, t.key)}
+        p = law.parallel
+        if p is not None:
+            I_G, m, d, I_O = (p["I_G"] / reader.factor(INERTIA), p["m"] / reader.factor(MASS),
+                              p["d"] / reader.factor(LENGTH), p["I_O"] / reader.factor(INERTIA))
+            f = lambda x: fmt_num(x, sig)  # noqa: E731
+            steps.append(f"I_{p['point']} = I_G + m*d^2 = {f(I_G)} + {f(m)}*{f(d)}^2 = {f(I_O)} "
+                          f"{reader.label(INERTIA)} (parallel axes: {p['body']}'s G is "
+                          f"{f(d)} {reader.label(LENGTH)} from {p['point']})")
+        out.append(dict(kind=law.kind, principle=law.principle, why=law.why, steps=steps,
+                        symbolic=symbolic_line(eq, system, reader, sig),
+                        numeric=numeric_line(eq, vals, keep, system, reader, sig),
+                        result=result))
+    return out
+
+
+def unknown_names(text: str) -> set[str]:
+    """The quantity names in a printed line (`rod.vx@2`, `J_n[A]@1->2`, `vx'@2`)."""
+    return set(re.findall(r"[A-Za-z_][\w.\[\]\-']*@[\w>\-]+", text))
