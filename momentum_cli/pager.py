@@ -23,7 +23,10 @@ class _Captured(io.StringIO):
     def __init__(self, real):
         super().__init__()
         self.real = real
-        self.encoding = getattr(real, "encoding", "utf-8") or "utf-8"
+
+    @property
+    def encoding(self) -> str:
+        return getattr(self.real, "encoding", None) or "utf-8"
 
     def isatty(self) -> bool:
         return True

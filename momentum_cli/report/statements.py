@@ -50,6 +50,9 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[di
     for law in getattr(t, "laws", ()) or ():
         steps, result = [], []
         rhs = law.rhs
+        names = variables(law.lhs) | variables(law.rhs)
+        if law.kind == "linear" and all(values.get(n, 1.0) == 0 for n in names):
+            continue  # nothing moves along it: 0 = 0 says nothing
         vals = values
         if law.kind == "linear" and _moving_together(law, values):
             rhs = law.locked
