@@ -263,3 +263,15 @@ def test_pager_runs_for_a_long_terminal_output(monkeypatch, tmp_path):
     out = _Tty()
     show(long, out)
     assert out.getvalue() == long
+
+
+def test_the_readme_sample_is_what_the_program_prints():
+    from conftest import ROOT
+
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    cmd = "momentum solve --plain --steps brief examples/seed_plastic_collision.mom"
+    sample = re.search(re.escape(cmd) + r"`:\n\n```text\n(.*?)```", readme, flags=re.S)
+    assert sample, "the README shows the brief derivation of seed_plastic_collision"
+    assert sample.group(1) == plain(["--steps", "brief",
+                                     str(EXAMPLES / "seed_plastic_collision.mom")]).replace(
+        str(EXAMPLES / "seed_plastic_collision.mom"), "examples/seed_plastic_collision.mom")

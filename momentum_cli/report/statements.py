@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from collections import ChainMap
 
-from ..expr import to_text, variables
+from ..expr import Const, Mul, NonLinear, Var, add_all, affine, to_text, variables
 from ..numbers import fmt_num
 from ..units import INERTIA, LENGTH, MASS, VELOCITY
 from .reader import Reader, numeric_line, symbolic_line
@@ -42,6 +42,22 @@ def _moving_together(law, values) -> bool:
     return max(comps) - min(comps) <= 1e-9 * scale
 
 
+def _arms(moments, t, values):
+    """The moments about the pin as (arm)*(impulse) terms: the positions are those of
+    the state before the impact, known here, so each impulse has one numeric arm."""
+    impulses = {n for n in variables(moments) if n.endswith(f"@{t.key}")}
+    try:
+        coef, const = affine(moments, impulses, values)
+    except (NonLinear, KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return moments
+    scale = max((abs(c) for c in coef.values()), default=0.0)
+    terms = [Mul((Const(c), Var(n))) if c != 1.0 else Var(n)
+             for n, c in coef.items() if abs(c) > 1e-14 * scale]
+    if const != 0.0:
+        terms.append(Const(const))
+    return add_all(terms) if terms else Const(0.0)
+
+
 def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[dict]:
     """One dict per system law of transition `t`: kind, principle, why, steps (lines
     before the equation: the parallel-axis step), symbolic, numeric, result (lines after:
@@ -62,6 +78,8 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[di
                     shown = values[v] / reader.factor(VELOCITY)
                     result.append(f"{k} = {fmt_num(shown, sig)} {reader.label(VELOCITY)}: "
                                   "the bodies move together")
+        if law.kind == "pin":
+            rhs = _arms(rhs, t, values)
         eq = _Eq(law.lhs, rhs)
         keep = {n for n in variables(law.lhs) | variables(rhs)
                 if "'" in n or _after(n, t.after, t.key)}
