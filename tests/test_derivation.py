@@ -275,3 +275,21 @@ def test_the_readme_sample_is_what_the_program_prints():
     assert sample.group(1) == plain(["--steps", "brief",
                                      str(EXAMPLES / "seed_plastic_collision.mom")]).replace(
         str(EXAMPLES / "seed_plastic_collision.mom"), "examples/seed_plastic_collision.mom")
+
+
+@pytest.mark.parametrize("path", SEEDS, ids=lambda p: p.stem)
+def test_every_seed_converts_to_us_units(path):
+    """Every bare number of every line takes the dimension its place needs (lever arms
+    in ft, inertias in slug*ft^2): no line falls back to SI."""
+    text = plain(["--units", "us", str(path)])
+    assert "(SI)" not in text and "kg" not in text and " m/s" not in text
+
+
+def test_a_lever_arm_converts_to_feet():
+    text = plain(["--units", "us", str(EXAMPLES / "seed_pendulum_wall.mom")])
+    ft = 0.3048
+    # the pin law: I_O (w3 - w2) = (2 m) J_n, with I_O in slug*ft^2 and the arm in ft
+    assert f"= {fmt_num(2 / ft)}*J_n[B]@2->3" in text
+    slug_ft2 = 4.4482216152605 / ft * ft**2  # slug = lbf s^2/ft
+    I_O = 4 * 2**2 / 3 + (2 / 5 * 10 * 0.3**2 + 10 * 2**2)  # rod about its end + sphere
+    assert f"{fmt_num(I_O / slug_ft2)}*(pendulum.omega@3" in text

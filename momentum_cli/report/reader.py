@@ -158,6 +158,31 @@ def _dim_up(e: E, system, memo: dict) -> Dim | None:
     return d
 
 
+def _dim_guess(e: E, system) -> Dim | None:
+    """The dimension of `e` if its bare numbers and unnamed knowns are pure numbers."""
+    t = type(e)
+    if t is Const:
+        return NONE
+    if t is Var or t is Known:
+        d = leaf_dim(e, system)
+        return NONE if d is None and t is Known else d
+    if t is Add:
+        ds = [_dim_guess(x, system) for x in e.terms]
+        return ds[0] if ds and all(d == ds[0] for d in ds) else None
+    if t is Mul:
+        d = NONE
+        for x in e.factors:
+            g = _dim_guess(x, system)
+            if g is None:
+                return None
+            d = dim_mul(d, g)
+        return d
+    if t is Pow:
+        b = _dim_guess(e.base, system)
+        return dim_pow(b, e.exp) if b is not None else None
+    return NONE
+
+
 def _dim_down(e: E, target: Dim | None, system, memo: dict, slots: dict) -> None:
     """Give each bare number the dimension its place in the equation needs."""
     t = type(e)
@@ -170,15 +195,26 @@ def _dim_down(e: E, target: Dim | None, system, memo: dict, slots: dict) -> None
             _dim_down(x, d, system, memo, slots)
     elif t is Mul:
         open_ = [x for x in e.factors if memo.get(id(x)) is None]
+        guess: dict = {}
+        if len(open_) > 1 and target is not None:
+            # several open factors (`0.2*(0.6*J_n - 0.8*J_t)`, `3000*ln(m0/m1)`): the
+            # numbers inside a sum or a named ratio are taken as pure numbers (direction
+            # cosines, ratios), which leaves one bare number to carry the dimension
+            bare = [x for x in open_ if type(x) is Const]
+            rest_open = [x for x in open_ if type(x) is not Const]
+            if len(bare) == 1:
+                guess = {id(x): _dim_guess(x, system) for x in rest_open}
+                if all(g is not None for g in guess.values()):
+                    open_ = bare
         if len(open_) == 1 and target is not None:
             rest = NONE
             for x in e.factors:
                 if x is not open_[0]:
-                    rest = dim_mul(rest, memo[id(x)])
+                    rest = dim_mul(rest, memo.get(id(x)) or guess[id(x)])
             _dim_down(open_[0], dim_div(target, rest), system, memo, slots)
         for x in e.factors:
             if len(open_) != 1 or x is not open_[0]:
-                _dim_down(x, memo.get(id(x)), system, memo, slots)
+                _dim_down(x, memo.get(id(x)) or guess.get(id(x)), system, memo, slots)
     elif t is Pow:
         d = memo.get(id(e.base))
         if d is None and target is not None and e.exp:
