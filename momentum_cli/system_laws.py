@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import field
 
+from .elements.keys import state_key
 from .elements.kinds import JointKind
 from .expr import V2, ZERO, Add, Const, E, Known, Mul, Var, add, add_all, mul, neg
 from .records import record
@@ -30,6 +31,9 @@ class SystemLaw:
     alias: dict = field(default_factory=dict)
     # pin: the parallel-axis step, I_O = I_G + m d^2 (numbers in SI)
     parallel: dict | None = None
+    # pin-system: per side (before, after) the pinned body's w and the other bodies'
+    # (m, r x v about O, I w)
+    parts: tuple = ()
 
 
 def _external(sources, members: set) -> list:
@@ -50,6 +54,77 @@ def system_laws(c, t, sources, moved: list[str], hits: dict) -> list[SystemLaw]:
     if len(moved) >= 2:
         out += _linear(c, sources, moved, i, j)
     out += _pins(c, t, moved, hits, i, j)
+    out += _pinned_system(c, t, sources, moved, i, j)
+    return out
+
+
+def _pin_to_ground(c, t):
+    """(joint, the body's point) of each fixed pin acting in t on a rigid body."""
+    for jt in c.joints:
+        if jt.kind != JointKind.PIN or not jt.acts_in(c, t):
+            continue
+        ends = [p for p in (jt.a, jt.b) if p.body is not None]
+        if len(ends) != 1:
+            continue
+        p = ends[0]
+        body = c.scene.bodies[p.body]
+        if body.is_particle or p.located_by is not None or p.round_contact:
+            continue
+        yield jt, p
+
+
+def _known_here(c, body: str, qty: str, sid: str) -> bool:
+    """Whether a state quantity is given or already an unknown of the system."""
+    key = c._find((body, qty, sid))
+    return c._given(key) is not None or state_key(*key) in c.unknowns
+
+
+def _pinned_system(c, t, sources, moved, i, j) -> list[SystemLaw]:
+    """Bodies together with a body pinned to the ground at O, every external impulse at
+    O: their angular momentum about O is conserved, the pinned body's as I_O w."""
+    if len(moved) < 2 or any(s.before == t.before and s.after == t.after and
+                             hasattr(s, "about") for s in c.scene.stated):
+        return []
+    ext = _external(sources, set(moved))
+    out = []
+    for jt, p in _pin_to_ground(c, t):
+        b = p.body
+        if b not in moved or not ext or any(s.torque_only or s.point != p.name for s in ext):
+            continue
+        body = c.scene.bodies[b]
+        d = math.hypot(*p.offset)
+        I_O = body.inertia + body.mass * d * d
+        others = [o for o in moved if o != b]
+        parts, sides = [], []
+        fixed = jt.b if jt.b.body is None else jt.a  # the pin's ground point: O itself
+        # positions do not change during an impact: the state before gives every arm
+        # (asking for the state after would make new unknowns of its positions)
+        if not all(_known_here(c, o, q, i) for o in others for q in ("x", "y")):
+            continue  # a position no row asks for: stating this would make it an unknown
+        rp = c.point_position(fixed, i)
+        arms = {o: c.pos(o, i) - rp for o in others}
+        for sid in (i, j):
+            side = []
+            for o in others:
+                ob = c.scene.bodies[o]
+                r = arms[o]
+                spin = None if ob.is_particle else mul(Known(f"I_{o}", ob.inertia),
+                                                       c.sv(o, "omega", sid))
+                side.append((c.mass(o, i), r.cross(c.vel(o, sid)), spin))
+            parts.append((c.sv(b, "omega", sid), side))
+            H = mul(Known(f"I_{p.name}", I_O), c.sv(b, "omega", sid))
+            for m, rxv, spin in side:
+                H = add(H, mul(m, rxv))
+                if spin is not None:
+                    H = add(H, spin)
+            sides.append(H)
+        names = ", ".join(moved)
+        out.append(SystemLaw("pin-system", f"angular momentum of {{{names}}} about the pin "
+                             f"{p.name}: H_{p.name}{i} = H_{p.name}{j}",
+                             f"every external impulse on the system acts at {p.name}",
+                             sides[0], sides[1], tuple(moved),
+                             parallel=dict(body=b, point=p.name, I_G=body.inertia,
+                                           m=body.mass, d=d, I_O=I_O), parts=tuple(parts)))
     return out
 
 
@@ -92,16 +167,10 @@ def _pins(c, t, moved, hits, i, j) -> list[SystemLaw]:
     """A body turning about a fixed pin O: I_O (w2 - w1) = the moments about O of the
     other impulses on it (the pin's own impulse has no moment about O)."""
     out = []
-    for jt in c.joints:
-        if jt.kind != JointKind.PIN or not jt.acts_in(c, t):
-            continue
-        ends = [p for p in (jt.a, jt.b) if p.body is not None]
-        if len(ends) != 1:
-            continue
-        p = ends[0]
+    for jt, p in _pin_to_ground(c, t):
         b = p.body
         body = c.scene.bodies[b]
-        if b not in moved or body.is_particle or p.located_by is not None or p.round_contact:
+        if b not in moved:
             continue
         d = math.hypot(*p.offset)
         m = body.mass

@@ -293,3 +293,22 @@ def test_a_lever_arm_converts_to_feet():
     slug_ft2 = 4.4482216152605 / ft * ft**2  # slug = lbf s^2/ft
     I_O = 4 * 2**2 / 3 + (2 / 5 * 10 * 0.3**2 + 10 * 2**2)  # rod about its end + sphere
     assert f"{fmt_num(I_O / slug_ft2)}*(pendulum.omega@3" in text
+
+
+def test_a_body_with_a_pinned_one_conserves_angular_momentum_about_the_pin():
+    """Ballistic pendulum: m_b v_b d = I_O w2 + m_b v_b2 d, with I_O of rod + block
+    about O (the bullet strikes d = L below O)."""
+    rep = report(EXAMPLES / "ballistic_pendulum.mom")
+    laws = [s for t in rep.transitions for s in t["system"] if s["kind"] == "pin-system"]
+    assert len(laws) == 1
+    s = laws[0]
+    L, m_rod, m_blk, a, mb, u = 1.5, 2.0, 6.0, 0.2, 0.03, 500.0
+    I_O = m_rod * L**2 / 3 + m_blk * a**2 / 6 + m_blk * L**2  # the block: m (a^2 + a^2)/12
+    f = fmt_num
+    assert s["symbolic"] == ("I_O*pendulum.omega@1 + m_bullet*1.5*bullet.vx@1 = "
+                             "I_O*pendulum.omega@2 + m_bullet*1.5*bullet.vx@2")
+    assert s["numeric"] == (f"{f(I_O)}*0 + {f(mb)}*{f(L)}*{f(u)} = "
+                            f"{f(I_O)}*pendulum.omega@2 + {f(mb)}*{f(L)}*bullet.vx@2")
+    # the parallel-axis step is shown once in the transition (the pin's own law has it)
+    steps = [x for t in rep.transitions for y in t["system"] for x in y["steps"]]
+    assert len(steps) == 1

@@ -10,7 +10,21 @@ from __future__ import annotations
 import re
 from collections import ChainMap
 
-from ..expr import Const, Mul, NonLinear, Var, add_all, affine, to_text, variables
+from ..expr import (
+    Add,
+    Const,
+    Fn,
+    Known,
+    Mul,
+    NonLinear,
+    Pow,
+    Var,
+    add_all,
+    affine,
+    mul,
+    to_text,
+    variables,
+)
 from ..numbers import fmt_num
 from ..units import INERTIA, LENGTH, MASS, VELOCITY
 from .reader import Reader, numeric_line, symbolic_line
@@ -58,11 +72,56 @@ def _arms(moments, t, values):
     return add_all(terms) if terms else Const(0.0)
 
 
+_VELOCITY = re.compile(r"\.(vx|vy)@")
+
+
+def _named(e, given: dict):
+    """`e` with the velocities it knows by name as unknowns, so that they keep their
+    names through `affine`; their values go into `given`."""
+    t = type(e)
+    if t is Known and (_VELOCITY.search(e.name) or ".omega@" in e.name):
+        given[e.name] = e.value
+        return Var(e.name)
+    if t is Add:
+        return Add(tuple(_named(x, given) for x in e.terms))
+    if t is Mul:
+        return Mul(tuple(_named(x, given) for x in e.factors))
+    if t is Pow:
+        return Pow(_named(e.base, given), e.exp)
+    if t is Fn:
+        return Fn(e.name, _named(e.arg, given))
+    return e
+
+
+def _moments(law, part, values, given: dict):
+    """One side of a pinned system's angular momentum: I_O w of the pinned body, then
+    for each other body m*(arm*v + ...) with its arms about O as numbers."""
+    w, side = part
+    p = law.parallel
+    terms = [mul(Known(f"I_{p['point']}", p["I_O"]), _named(w, given))]
+    for m, rxv, spin in side:
+        rxv = _named(rxv, given)
+        vs = {n for n in variables(rxv) if _VELOCITY.search(n)}
+        known = {n: values[n] for n in variables(rxv) - vs if n in values}
+        try:
+            coef, const = affine(rxv, vs, ChainMap(known, given, values))
+        except (NonLinear, KeyError, ValueError, ZeroDivisionError, OverflowError):
+            return None
+        scale = max((abs(c) for c in coef.values()), default=0.0)
+        arm = add_all([Mul((Const(c), Var(n))) for n, c in sorted(coef.items())
+                       if abs(c) > 1e-14 * scale] + ([Const(const)] if const else []))
+        terms.append(Mul((m, arm)))
+        if spin is not None:
+            terms.append(_named(spin, given))
+    return add_all(terms)
+
+
 def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[dict]:
     """One dict per system law of transition `t`: kind, principle, why, steps (lines
     before the equation: the parallel-axis step), symbolic, numeric, result (lines after:
     the common velocity)."""
     out = []
+    shown: set = set()  # a pin's parallel-axis step is shown once per transition
     for law in getattr(t, "laws", ()) or ():
         steps, result = [], []
         rhs = law.rhs
@@ -78,13 +137,22 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[di
                     shown = values[v] / reader.factor(VELOCITY)
                     result.append(f"{k} = {fmt_num(shown, sig)} {reader.label(VELOCITY)}: "
                                   "the bodies move together")
+        lhs = law.lhs
         if law.kind == "pin":
             rhs = _arms(rhs, t, values)
-        eq = _Eq(law.lhs, rhs)
-        keep = {n for n in variables(law.lhs) | variables(rhs)
+        elif law.kind == "pin-system":
+            given: dict = {}
+            lhs, rhs = (_moments(law, part, values, given) for part in law.parts)
+            if lhs is None or rhs is None:
+                lhs, rhs = law.lhs, law.rhs
+            else:
+                vals = ChainMap(given, values)
+        eq = _Eq(lhs, rhs)
+        keep = {n for n in variables(lhs) | variables(rhs)
                 if "'" in n or _after(n, t.after, t.key)}
         p = law.parallel
-        if p is not None:
+        if p is not None and (p["body"], p["point"]) not in shown:
+            shown.add((p["body"], p["point"]))
             I_G, m, d, I_O = (p["I_G"] / reader.factor(INERTIA), p["m"] / reader.factor(MASS),
                               p["d"] / reader.factor(LENGTH), p["I_O"] / reader.factor(INERTIA))
             f = lambda x: fmt_num(x, sig)  # noqa: E731
