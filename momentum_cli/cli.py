@@ -66,6 +66,17 @@ class Color(str, Enum):
     never = "never"
 
 
+class Steps(str, Enum):
+    brief = "brief"
+    full = "full"
+
+
+class Units(str, Enum):
+    si = "si"
+    us = "us"
+    file = "file"
+
+
 def _pick_format(fmt: Format, json_flag: bool, plain: bool) -> str:
     asked = [n for n, on in (("--json", json_flag), ("--plain", plain),
                              (f"--format {fmt.value}", fmt != Format.auto)) if on]
@@ -248,25 +259,28 @@ def _console(mode: str, color: Color):
     return Console()
 
 
-def _render(report, mode: str, console, index: int, digits: int, simulation: bool):
+def _render(report, mode: str, console, index: int, digits: int, simulation: bool,
+            detail: str = "full"):
     """Print one file's report as rich tables or plain text; returns the rich console
-    (made once, on first use)."""
+    (made once, on first use). `detail`: brief or full (solve's --steps)."""
     if mode == "rich":
         if console is None:
             console = _console(mode, Color.auto)
         if simulation:
             from .report.sim_rich import render
+            render(report, console, digits)
         else:
             from .report.rich_out import render
-        render(report, console, digits)
+            render(report, console, digits, detail=detail)
         return console
-    if simulation:
-        from .report.sim_text import render
-    else:
-        from .report.text import render
     if index:
         sys.stdout.write("\n")
-    sys.stdout.write(render(report, digits))
+    if simulation:
+        from .report.sim_text import render
+        sys.stdout.write(render(report, digits))
+    else:
+        from .report.text import render
+        sys.stdout.write(render(report, digits, detail=detail))
     return console
 
 
@@ -315,6 +329,18 @@ def solve(
                                                       "solved."),
     strict: bool = _strict_option(),
     color: Color = _color_option(),
+    steps: Optional[Steps] = typer.Option(None, "--steps", help="brief: the principles, the "
+                                          "equations with numbers, the answers and key checks "
+                                          "(the default on a terminal); full: everything "
+                                          "(matrices, conditioning, every check; the default "
+                                          "of --plain and pipes)."),
+    units: Units = typer.Option(Units.file, "--units", help="The units numbers are shown "
+                                "in: file (the unit system the problem is written in, angles "
+                                "in degrees where it typed degrees), si or us (slug, ft, lb); "
+                                "`find ... in UNIT` still wins. JSON numbers stay SI."),
+    no_pager: bool = typer.Option(False, "--no-pager", help="Never page: by default a "
+                                  "derivation longer than the terminal goes through $PAGER "
+                                  "(less -FRX), never when the output is piped."),
 ) -> None:
     """Solve problem files and print the solution step by step.
 
@@ -324,10 +350,24 @@ def solve(
       momentum solve --json examples/*.mom
       cat problem.mom | momentum solve -q -
     """
+    from .pager import paged
     from .run import solve_many
 
     mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
     _safe_streams()
+    detail = (steps or (Steps.brief if mode == "rich" else Steps.full)).value
+    view = dict(units=units.value, detail=detail)
+    with paged(enabled=not no_pager and mode in ("rich", "plain") and not quiet,
+               color=color != Color.never):
+        _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_flag, sets,
+                     jsonl, strict, color, plain or json_flag, view)
+
+
+def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_flag, sets,
+                 jsonl, strict, color, deterministic, view) -> None:
+    """`solve`'s work: read, solve in order (in parallel for many), print, exit code."""
+    from .run import solve_many
+
     out = sys.stdout
     results = []
     many = len(files) > 1
@@ -336,11 +376,11 @@ def solve(
     solved = (r for r in ())
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
-                            precision.value, overrides)
+                            precision.value, overrides, view["units"])
     try:
         worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
-                            traceback_flag, results, strict, color, plain or json_flag,
-                            overrides, jsonl)
+                            traceback_flag, results, strict, color, deterministic,
+                            overrides, jsonl, view)
     finally:
         solved.close()  # ends any worker processes still running
     if mode == "json" and not jsonl:
@@ -354,7 +394,7 @@ def solve(
 
 def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 traceback_flag, results, strict, color, deterministic, overrides=(),
-                jsonl=False) -> ExitCode:
+                jsonl=False, view=None) -> ExitCode:
     """Print (or collect, for JSON) each file's result in order; the worst exit code."""
     from .run import solve_source
 
@@ -367,7 +407,8 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
             res = next(solved)
         elif res is None:
             try:
-                res = solve_source(source, solve_all, digits, precision.value, overrides)
+                res = solve_source(source, solve_all, digits, precision.value, overrides,
+                                   units=(view or {}).get("units", "file"))
             except (KeyboardInterrupt, typer.Exit):
                 raise
             except Exception as exc:  # --traceback: show the bug
@@ -411,7 +452,8 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 out.write(f"==> {name} <==\n")
             out.write(render_quiet(res.report, digits))
         else:
-            console = _render(res.report, mode, console, i, digits, simulation=False)
+            console = _render(res.report, mode, console, i, digits, simulation=False,
+                              detail=(view or {}).get("detail", "full"))
     return worst
 
 

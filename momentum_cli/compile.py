@@ -51,6 +51,7 @@ from .scene import (
     TransitionSpec,
 )
 from .source import Span
+from .system_laws import system_laws
 from .units import (
     TIME,
     Dim,
@@ -111,6 +112,7 @@ class TransitionInfo:
     contacts: list[tuple[str, E, E]]  # label, approach normal velocity, separation velocity
     energy: tuple[E, E] | None = None  # kinetic energy of the bodies it moves, before/after
     bodies: tuple[str, ...] = ()  # the bodies it moves (whose T its energy and T_lost cover)
+    laws: list = field(default_factory=list)  # system_laws.SystemLaw: shown, not solved
 
 
 @record
@@ -469,6 +471,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         lin: dict[str, list[V2]] = defaultdict(list)
         ang: dict[str, list[E]] = defaultdict(list)
         sources: list[ImpulseSource] = []
+        hits: dict[str, list] = defaultdict(list)  # per body: (point, arm, J, torque)
         contacts_info = []
         duration: E | None = None
         if is_interval:
@@ -488,6 +491,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             if p is None or p.body is None:
                 return
             r = self.arm(p, i, normal, sign)
+            hits[p.body].append((p, r, J, torque))
             lin[p.body].append(J)
             m = r.cross(J)
             if torque is not None:
@@ -566,8 +570,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         why = self._why(sources, t)
         moved = [b for b in sc.bodies if b in busy]
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
+        laws = system_laws(self, t, sources, moved, hits) if not is_interval else []
         self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info,
-                                               energy, tuple(moved)))
+                                               energy, tuple(moved), laws))
 
     def holds_at(self, from_state: str | None, sid: str) -> bool:
         """Whether something that holds from state `from_state` on (None: always) holds
@@ -650,6 +655,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             tr.kind != TransitionKind.ENERGY and (tr.before, tr.after) == (t.before, t.after)
             for tr in self.scene.transitions) else EquationKind.AUTO
         i, j = t.before, t.after
+        u = f"U{i}{j}" if len(i) == len(j) == 1 else f"U{i}-{j}"  # the work from i to j
         group = f"energy {i} -> {j}"
         groups = energy_groups(self.scene, self.joints, self.holds_at, t)
         for msg in split_joints(groups, self.joints, self.holds_at, t):
@@ -668,11 +674,12 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             lhs = add(add(self._kinetic(i, bodies), self._potential(i, bodies)), U)
             rhs = add(self._kinetic(j, bodies), self._potential(j, bodies))
             of = "" if whole else f" of {{{', '.join(bodies)}}}"
-            self.eq(lhs, rhs, f"work-energy{of}: T1 + V1 + U12 = T2 + V2", group, t.span,
+            self.eq(lhs, rhs, f"work-energy{of}: T{i} + V{i} + {u} = T{j} + V{j}", group, t.span,
                     kind)
         for body, surface, span in t.rolls:
             self._rolling(body, surface, j, group, span, None)
-        why = ["energy is conserved except for the work U12 of the declared forces and moments"]
+        why = [f"energy is conserved except for the work {u} of the declared forces and "
+               "moments"]
         if self.scene.gravity is not None:
             why.append("gravity and springs enter as potential energy V")
         self.transitions.append(TransitionInfo("energy", t.key, i, j, t.span, why, [], None,

@@ -44,6 +44,7 @@ class FindSpec:
     factor: float  # SI value / factor = display value
     span: Span
     alt: E | None = None  # the same quantity in another form (solve keeps the better bound)
+    explicit: bool = False  # `find ... in UNIT`: the reader's units (--units) do not apply
 
 
 class ReferencesMixin:
@@ -309,11 +310,13 @@ class ReferencesMixin:
                     names = ["px" + base[1:], "py" + base[1:]]
                 else:
                     names = [f"{base}.x", f"{base}.y"]
-                out.append(FindSpec(names[0], v.x, q.dim, unit, factor, item.span))
-                out.append(FindSpec(names[1], v.y, q.dim, unit, factor, item.span))
+                out.append(FindSpec(names[0], v.x, q.dim, unit, factor, item.span,
+                                    explicit=bool(item.unit)))
+                out.append(FindSpec(names[1], v.y, q.dim, unit, factor, item.span,
+                                    explicit=bool(item.unit)))
             else:
                 out.append(FindSpec(base, q.value, q.dim, unit, factor, item.span,
-                                    self._loss_form(item.expr)))
+                                    self._loss_form(item.expr), explicit=bool(item.unit)))
         return out
 
     def _loss_form(self, node) -> E | None:

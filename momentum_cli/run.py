@@ -118,7 +118,7 @@ def _build_scene(source: Source, overrides=()):
 
 
 def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
-                 precision: str = "float", overrides=()) -> FileResult:
+                 precision: str = "float", overrides=(), units: str = "file") -> FileResult:
     """Solve one file; `overrides` are `--set` (name, value text) pairs for its `let`s.
     Its `expect` lines are checked (`FileResult.expects`), also when it does not solve."""
     from .report.model import build_report
@@ -129,7 +129,7 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
             scene = _build_scene(source, overrides)
             sol = solve_scene(scene, solve_all, precision=precision)
             _instant_phases(sol)
-            rep = build_report(source.name, sol, sig)
+            rep = build_report(source.name, sol, sig, units)
             checks = []
             if scene.expects:
                 from .expectations import check_solution
@@ -238,16 +238,17 @@ PARALLEL_MIN = 48  # files in one call from which a second process pays for itse
 
 def _solve_job(job):
     """Worker: solve one (source, options) job; a bug becomes an internal FileResult."""
-    source, solve_all, sig, precision, overrides = job
+    source, solve_all, sig, precision, overrides, units = job
     try:
-        return solve_source(source, solve_all, sig, precision, overrides)
+        return solve_source(source, solve_all, sig, precision, overrides, units)
     except Exception as exc:  # a bug in momentum: keep going, report it in order
         return FileResult(source.name, "internal", None, None, [Diagnostic(
             "error", "internal", f"internal error: {type(exc).__name__}: {exc} (this is a bug "
             "in momentum; rerun with --traceback and report it)")])
 
 
-def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=()):
+def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
+               units: str = "file"):
     """Solve sources in order, in parallel worker processes when there are many.
 
     Yields FileResults in the input order. Each file is independent, so with many
@@ -261,7 +262,7 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=())
         (os.cpu_count() or 1)
     if len(sources) < PARALLEL_MIN or cores < 2:
         for s in sources:
-            yield _solve_job((s, solve_all, sig, precision, overrides))
+            yield _solve_job((s, solve_all, sig, precision, overrides, units))
         return
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
@@ -274,7 +275,7 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=())
         ctx = mp.get_context("fork")
     except ValueError:
         ctx = None
-    jobs = [(s, solve_all, sig, precision, overrides) for s in sources]
+    jobs = [(s, solve_all, sig, precision, overrides, units) for s in sources]
     done = 0
     if ctx is not None:
         pool = None

@@ -18,6 +18,8 @@ from .expr import Const
 from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
 from .records import record
 from .source import Span
+from .unit_system import FileUnits
+from .unit_system import detect as detect_units
 from .units import (
     ACCELERATION,
     FORCE,
@@ -214,6 +216,7 @@ class Scene:
     gains: list = field(default_factory=list)  # syntax.GainDecl: compiled by accretion.py
     simulations: list = field(default_factory=list)  # sim.spec.SimSpec: `momentum simulate`
     expects: list = field(default_factory=list)  # expectations.ExpectSpec: `expect` lines
+    file_units: FileUnits = field(default_factory=FileUnits)  # the units the file is written in
 
 
 SHAPES = {
@@ -499,7 +502,7 @@ class _Builder:
                      transitions=transitions, stated=stated, equations=equations, finds=finds,
                      notes=self.notes, gravity_span=self.gravity_span, steady=steady,
                      burns=burns, gains=gains, simulations=simulations,
-                     expects=expects)
+                     expects=expects, file_units=detect_units(self.doc))
 
     def _gain(self, s: S.GainDecl, states, transitions, taken: dict) -> None:
         """A gain or loss of mass: a particle between two declared states, with a rate,

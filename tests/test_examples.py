@@ -292,6 +292,17 @@ def us_rod_center_of_percussion():
               "Jx[O]@1->2": 0.0, "Jy[O]@1->2": 0.0, "T_lost@1->2": lost * FT_LB}, scale=J * LBF)
 
 
+def us_railcars_couple():
+    a = got("us_railcars_couple")
+    # US units: two cars couple, momentum along the track conserved
+    g, WA, WB, vA = 32.2, 30000.0, 20000.0, 4.0
+    v = WA * vA / (WA + WB)
+    J = WB / g * v
+    lost = WA * vA**2 / (2 * g) - (WA + WB) * v**2 / (2 * g)
+    check(a, {"A.vx@2": v * FT, "B.vx@2": v * FT, "J_n[A-B]@1->2": J * LBF,
+              "T_lost@1->2": lost * FT_LB}, scale=J * LBF)
+
+
 def newtons_cradle_sequence():
     a = got("newtons_cradle_sequence")
     m, v0, e = 0.1, 2.0, 1.0
@@ -496,7 +507,8 @@ CHECKS = {f.__name__: f for f in [
     seed_rod_drop_smooth,
     rod_struck_by_particle, ballistic_pendulum, ballistic_pendulum_pin_from_impact,
     ballistic_pendulum_pin_from_impact_rough, disk_slide_then_roll, wall_oblique_stick,
-    wall_oblique_slide, us_rod_center_of_percussion, newtons_cradle_sequence,
+    wall_oblique_slide, us_rod_center_of_percussion, us_railcars_couple,
+    newtons_cradle_sequence,
     newtons_cradle_simultaneous, ball_bounce_rebound, bounce_find_e, sphere_backspin_returns,
     sphere_rough_bounce, crate_pushed_force, flywheel_torque, spring_launch_collision,
     disk_rolls_down_ramp, disk_climbs_curb, joint_forms_in_impact, weld_forms_in_impact,

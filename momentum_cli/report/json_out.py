@@ -27,8 +27,11 @@ def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=N
                "answers": [], "unknowns": [], "equations": [], "checks": [],
                "diagnostics": [x.to_json() for x in diagnostics]}
     if rep is not None:
-        d["answers"] = [dict(a) for a in rep.answers]
-        d["unknowns"] = [dict(u) for u in rep.unknowns]
+        # the schema's fields only: unknowns in SI; an answer's value in its unit (`find
+        # ... in UNIT`, else the reader's units) beside si_value
+        d["answers"] = [{k: a[k] for k in ("name", "value", "unit", "si_value")}
+                        for a in rep.answers]
+        d["unknowns"] = [{k: u[k] for k in ("name", "si_value", "unit")} for u in rep.unknowns]
         rows = [r for t in rep.transitions for r in t["equations"]]
         rows += [r for rs in rep.other_equations.values() for r in rs]
         rows.sort(key=lambda r: r.index)

@@ -12,7 +12,18 @@ from ..compile import System
 from ..expr import evaluate, magnitude, variables
 from ..numbers import fmt_num, fmt_tiny
 from ..records import record
+from ..expr import Var
 from ..solve import CheckReport, Solution
+from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
+from .statements import statements
+from .reader import (
+    STATE_DIMS,
+    direction,
+    is_angle,
+    numeric_line,
+    reader_for,
+    symbolic_line,
+)
 
 
 @record
@@ -25,6 +36,7 @@ class EquationRow:
     numeric: str
     kind: str
     role: str  # solved | check | not needed | undetermined
+    solves: list = field(default_factory=list)  # unknowns its block solves (named in numeric)
 
 
 @record
@@ -45,6 +57,10 @@ class Report:
     counts: dict = field(default_factory=dict)
     flows: list = field(default_factory=list)  # control-volume flux rows (evaluated)
     expectations: list = field(default_factory=list)  # the `expect` lines, checked (dicts)
+    # the reader's units: system "si"|"us", degrees, name ("SI" | "US customary") and the
+    # labels of mass, inertia, length, velocity; knowns, bodies' shown_mass/shown_inertia,
+    # unknowns' value/shown_unit, answers without `in UNIT` and numeric lines are in them
+    units: dict = field(default_factory=dict)
 
 
 def _finite(x: float | None) -> float | None:
@@ -53,12 +69,16 @@ def _finite(x: float | None) -> float | None:
     return 0.0 if x == 0 else float(x)
 
 
-def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
+def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") -> Report:
+    """`units`: si | us | file (the units the file is written in), for what is shown;
+    the SI values stay beside them (si_value) for JSON."""
     system: System = sol.system
     sc = system.scene
     st = sol.structure
     values = sol.values
+    reader = reader_for(units, sc.file_units)
     solved_eqs = {k for b in sol.blocks for k in b.equations}
+    solves = {k: list(b.unknowns) for b in sol.blocks for k in b.equations}
     role = {}
     for k, e in enumerate(system.equations):
         if k in solved_eqs:
@@ -69,20 +89,28 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
             role[k] = "undetermined"
         else:
             role[k] = "not needed"
+    # an integration's rows print what it integrated and its result (integration.py)
+    integrated = {k for integ in system.integrations for k in integ.equations}
     rows = [EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
-                        e.text(), e.text(numeric=True), e.kind, role[k])
+                        e.text() if k in integrated else symbolic_line(e, system, reader, sig),
+                        e.text(numeric=True) if k in integrated else
+                        numeric_line(e, values, set(solves.get(k, ())), system, reader, sig),
+                        e.kind, role[k], solves.get(k, []))
             for k, e in enumerate(system.equations)]
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
                    formula=b.inertia_formula, particle=b.is_particle,
-                   weight=b.weight_given) for b in sc.bodies.values()]
+                   weight=b.weight_given, shown_mass=b.mass / reader.factor(MASS),
+                   shown_inertia=b.inertia / reader.factor(INERTIA))
+              for b in sc.bodies.values()]
     effects = []
+    acc = reader.label(ACCELERATION)
     if sc.gravity is not None:
         g = math.hypot(*sc.gravity)
-        effects.append(f"gravity {fmt_num(g, sig)} m/s^2 along "
+        effects.append(f"gravity {fmt_num(g / reader.factor(ACCELERATION), sig)} {acc} along "
                        f"({fmt_num(sc.gravity[0] / g, 4)}, {fmt_num(sc.gravity[1] / g, 4)})")
     elif sc.g is not None:
-        effects.append(f"g = {fmt_num(sc.g, sig)} m/s^2 (into the plane: weights only, no "
-                       "planar force)")
+        effects.append(f"g = {fmt_num(sc.g / reader.factor(ACCELERATION), sig)} {acc} (into "
+                       "the plane: weights only, no planar force)")
     else:
         effects.append("no gravity (none declared)")
     for j in sc.joints:
@@ -96,19 +124,29 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
         for (body, q), (v, _) in spec.givens.items():
             unit = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
                     "omega": "rad/s"}[q]
-            items.append((f"{body}.{q}", v, unit))
+            items.append((f"{body}.{q}", *reader.show(v, STATE_DIMS[q], unit, q == "angle")))
+        units = [u for _n, _v, u in items]
         for (body, q), hs in spec.hints.items():
             for rel, v, _ in hs:
-                items.append((f"{body}.{q} {rel}", v, "hint"))
-        knowns.append(dict(id=sid, label=spec.label or "", items=items))
+                si_unit = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
+                           "omega": "rad/s"}[q]
+                shown = reader.show(v, STATE_DIMS[q], si_unit, q == "angle")
+                items.append((f"{body}.{q} {rel}", shown[0], "hint"))
+                units.append(shown[1])
+        # items: (name, value, unit) in the reader's units, unit "hint" for a bound (its
+        # unit in `units`, one per item)
+        knowns.append(dict(id=sid, label=spec.label or "", items=items, units=units))
     transitions = []
     used_groups = set()
     for t in system.transitions:
         group = f"{t.kind} {t.before} -> {t.after}"
         used_groups.add(group)
+        # system: the principles stated for the system (sum of momenta, moments about a
+        # pin with I_O = I_G + m d^2), shown before the body-by-body rows (statements.py)
         transitions.append(dict(kind=t.kind, key=t.key, before=t.before, after=t.after,
                                 line=t.span.line, why=list(t.why),
-                                equations=[r for r in rows if r.group == group]))
+                                equations=[r for r in rows if r.group == group],
+                                system=statements(t, values, system, reader, sig)))
     other: dict[str, list[EquationRow]] = {}
     for r in rows:
         if r.group not in used_groups:
@@ -130,14 +168,22 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
             d["matrix"] = [[_finite(x) for x in row] for row in b.matrix]
             d["rhs"] = [_finite(x) for x in b.rhs]
         blocks.append(d)
-    unknowns = [dict(name=n, si_value=_finite(values[n]), unit=u.unit)
-                for n, u in system.unknowns.items() if n in values]
+    unknowns = []
+    for n, u in system.unknowns.items():
+        if n in values:
+            v, shown = reader.show(_finite(values[n]), u.dim, u.unit, is_angle(Var(n), system))
+            unknowns.append(dict(name=n, si_value=_finite(values[n]), unit=u.unit,
+                                 value=v, shown_unit=shown))
     flows = _flow_rows(system, values)
-    checks = list(sol.checks) + _energy_checks(sol, sig) + _residual_checks(sol) + \
+    checks = list(sol.checks) + _energy_checks(sol, sig, reader) + _residual_checks(sol) + \
         _flux_checks(flows)
     checks += _error_estimates(sol)
-    answers = [dict(name=n, value=_finite(v), unit=u, si_value=_finite(si))
-               for n, v, u, si in sol.answers]
+    answers = []
+    for f, (n, v, u, si) in zip(system.finds, sol.answers):
+        if not f.explicit and f.factor == 1.0:  # no `in UNIT`: the reader's units
+            v, u = reader.show(si, f.dim, u, u == "rad" and is_angle(Var(n), system))
+        answers.append(dict(name=n, value=_finite(v), unit=u, si_value=_finite(si),
+                            direction=direction(n, _finite(si), system)))
     regimes = [dict(contact=s.label, transition=s.transition,
                     regime="stick" if s.regime == "stick" else "slide")
                for s in system.friction if s.regime != "no slip"]  # static checks: in checks
@@ -145,8 +191,13 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                   blocks=len(st.blocks), solved_blocks=len(sol.blocks),
                   redundant=len(st.redundant) + len(st.constant_eqs),
                   undetermined=len(st.under))
-    return Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
-                  checks, answers, regimes, list(sol.diagnostics), counts, flows)
+    rep = Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
+                 checks, answers, regimes, list(sol.diagnostics), counts, flows)
+    rep.units = dict(system=reader.system, degrees=reader.degrees,
+                     name="US customary" if reader.system == "us" else "SI",
+                     mass=reader.label(MASS), inertia=reader.label(INERTIA),
+                     length=reader.label(LENGTH), velocity=reader.label(VELOCITY))
+    return rep
 
 
 def expectation_dict(c) -> dict:
@@ -260,8 +311,10 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
     return out
 
 
-def _energy_checks(sol: Solution, sig: int) -> list[CheckReport]:
+def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
     out = []
+    k = reader.factor(MOMENT) if reader is not None else 1.0
+    J = reader.label(MOMENT, "J") if reader is not None else "J"
     system, values = sol.system, sol.values
     for t in system.transitions:
         if t.kind != "impact":
@@ -281,8 +334,9 @@ def _energy_checks(sol: Solution, sig: int) -> list[CheckReport]:
             status, what = "ok", "lost"
         of = f"T of {{{', '.join(t.bodies)}}}: " if t.bodies else ""
         out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", status,
-                               f"{of}T{t.before} = {fmt_num(a, sig)} J, T{t.after} = "
-                               f"{fmt_num(b, sig)} J, {what} {fmt_num(abs(lost) if abs(lost) > tol else 0.0, sig)} J "
+                               f"{of}T{t.before} = {fmt_num(a / k, sig)} {J}, T{t.after} = "
+                               f"{fmt_num(b / k, sig)} {J}, {what} "
+                               f"{fmt_num(abs(lost) / k if abs(lost) > tol else 0.0, sig)} {J} "
                                f"({fmt_num(abs(frac) * 100 if abs(lost) > tol else 0.0, 4)} %)",
                                _finite(frac)))
     return out

@@ -7,34 +7,40 @@ from __future__ import annotations
 
 from ..numbers import fmt_num
 from .model import Report
+from .text import _items
 
 
-def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
+def render(rep: Report, console, sig: int = 6, steps: bool = True,
+           detail: str = "full") -> None:
     from rich import box
     from rich.markup import escape
     from rich.table import Table
     from rich.text import Text
 
+    if steps and detail == "brief":
+        return render_brief(rep, console, sig)
     f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
+    uu = rep.units or {}
     console.rule(Text(f"{rep.file}: {rep.title or '(untitled problem)'}", style="bold"))
     if steps:
         t = Table(title="Bodies", box=box.SIMPLE_HEAD, title_justify="left")
-        for h in ("body", "shape", "mass (kg)", "I_G (kg·m²)", "inertia formula"):
+        for h in ("body", "shape", f"mass ({uu.get('mass', 'kg')})",
+                  f"I_G ({uu.get('inertia', 'kg*m^2')})", "inertia formula"):
             t.add_column(h, justify="right" if "(" in h else "left")
         for b in rep.bodies:
-            t.add_row(escape(b["name"]), b["shape"], f(b["mass"]),
-                      "-" if b["particle"] else f(b["inertia"]),
+            t.add_row(escape(b["name"]), b["shape"], f(b.get("shown_mass", b["mass"])),
+                      "-" if b["particle"] else f(b.get("shown_inertia", b["inertia"])),
                       escape(b["formula"] + (" (mass = W/g)" if b["weight"] else "")))
         if rep.bodies:
             console.print(t)
         for e in rep.effects:
             console.print(f"  [dim]•[/dim] {escape(e)}")
-        t = Table(title="Knowns (SI)", box=box.SIMPLE_HEAD, title_justify="left")
+        t = Table(title=f"Knowns ({uu.get('name', 'SI')})", box=box.SIMPLE_HEAD,
+                  title_justify="left")
         t.add_column("state")
         t.add_column("given")
         for k in rep.knowns:
-            items = ", ".join(f"{n} = {f(v)} {u}".rstrip() if u != "hint" else f"{n} {f(v)}"
-                              for n, v, u in k["items"]) or "(nothing given)"
+            items = _items(k, f) or "(nothing given)"
             t.add_row(escape(f"{k['id']} {k['label']}".strip()), escape(items))
         if rep.knowns:
             console.print(t)
@@ -83,12 +89,14 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
                 for row, rhs in zip(b["matrix"], b["rhs"]):
                     t.add_row(*[f(x) for x in row], f(rhs))
                 console.print(t)
-        t = Table(title="Solution (SI)", box=box.SIMPLE_HEAD, title_justify="left")
+        t = Table(title=f"Solution ({uu.get('name', 'SI')})", box=box.SIMPLE_HEAD,
+                  title_justify="left")
         t.add_column("unknown")
         t.add_column("value", justify="right")
         t.add_column("unit")
-        for u in rep.unknowns:
-            t.add_row(escape(u["name"]), f(u["si_value"]), u["unit"])
+        for x in rep.unknowns:
+            t.add_row(escape(x["name"]), f(x.get("value", x["si_value"])),
+                      x.get("shown_unit", x["unit"]))
         console.print(t)
         t = Table(title="Checks", box=box.SIMPLE_HEAD, title_justify="left")
         t.add_column("check")
@@ -105,10 +113,50 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
         for r in rep.regimes:
             console.print(f"  friction at {escape(r['contact'])} ({r['transition']}): "
                           f"[bold]{r['regime']}[/bold]")
+    _answers(rep, console, sig)
+
+
+def _answers(rep: Report, console, sig: int) -> None:
+    from rich import box
+    from rich.markup import escape
+    from rich.table import Table
+
     t = Table(title="Answers", box=box.ROUNDED, title_justify="left")
     t.add_column("quantity", style="bold")
     t.add_column("value", justify="right")
     t.add_column("unit")
+    t.add_column("")
     for a in rep.answers:
-        t.add_row(escape(a["name"]), f(a["value"]), escape(a["unit"]))
+        v = fmt_num(a["value"], sig) if a["value"] is not None else "-"
+        t.add_row(escape(a["name"]), v, escape(a["unit"]), escape(a.get("direction") or ""))
     console.print(t)
+
+
+def render_brief(rep: Report, console, sig: int = 6) -> None:
+    """The brief derivation (text.render_brief's content), headings in colour, the
+    numeric lines dimmed under their symbolic lines, the answers as a table."""
+    from rich.markup import escape
+    from rich.text import Text
+
+    from .text import render_brief as brief_text
+
+    console.rule(Text(f"{rep.file}: {rep.title or '(untitled problem)'}", style="bold"))
+    lines = brief_text(rep, sig).splitlines()[1:]
+    cut = lines.index("Answers") if "Answers" in lines else len(lines)
+    for i, line in enumerate(lines[:cut]):
+        if line and not line.startswith(" "):
+            console.print(Text(line, style="bold cyan"))
+        elif line.startswith("  why: "):
+            console.print(f"  [green]why:[/green] {escape(line[7:])}")
+        elif line.startswith("      ") and i > 0 and lines[i - 1].startswith("      "):
+            console.print(Text(line, style="dim"), soft_wrap=True)
+        else:
+            console.print(Text(line), soft_wrap=line.startswith("      "))
+    _answers(rep, console, sig)
+    colours = {"ok": "green", "warning": "yellow", "error": "red", "info": "blue"}
+    for line in lines[cut:]:
+        if line.startswith("  ") and ": " in line:
+            status, rest = line.strip().split(": ", 1)
+            console.print(f"  [{colours.get(status, 'white')}]{status}[/] {escape(rest)}")
+        elif line == "Checks":
+            console.print(Text(line, style="bold cyan"))

@@ -25,18 +25,25 @@ def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list
     return out
 
 
-def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
+def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") -> str:
+    """`detail` full: every section; brief: the principles with their equations and
+    numbers, the answers and the key checks (see `render_brief`)."""
+    if steps and detail == "brief":
+        return render_brief(rep, sig)
     f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
     out: list[str] = []
     title = rep.title or "(untitled problem)"
     out.append(f"== {rep.file}: {title}")
+    u = rep.units or {}
     if steps:
         if rep.bodies:
             out.append("")
             out.append("Bodies")
-        out.extend([] if not rep.bodies else table(["body", "shape", "mass (kg)", "I_G (kg*m^2)", "inertia formula"],
-                         [[b["name"], b["shape"], f(b["mass"]),
-                           "-" if b["particle"] else f(b["inertia"]),
+        out.extend([] if not rep.bodies else table(
+            ["body", "shape", f"mass ({u.get('mass', 'kg')})",
+             f"I_G ({u.get('inertia', 'kg*m^2')})", "inertia formula"],
+                         [[b["name"], b["shape"], f(b.get("shown_mass", b["mass"])),
+                           "-" if b["particle"] else f(b.get("shown_inertia", b["inertia"])),
                            b["formula"] + (" (mass = W/g)" if b["weight"] else "")]
                           for b in rep.bodies]))
         out.append("")
@@ -44,11 +51,10 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
         out.extend("  " + e for e in rep.effects)
         if rep.knowns:
             out.append("")
-            out.append("Knowns (SI)")
+            out.append(f"Knowns ({u.get('name', 'SI')})")
         for k in rep.knowns:
             label = f' "{k["label"]}"' if k["label"] else ""
-            items = ", ".join(f"{n} = {f(v)} {u}".rstrip() if u != "hint" else f"{n} {f(v)}"
-                              for n, v, u in k["items"]) or "(nothing given)"
+            items = _items(k, f) or "(nothing given)"
             out.append(f"  state {k['id']}{label}: {items}")
         for volume in dict.fromkeys(r["volume"] for r in rep.flows):
             out.append("")
@@ -64,6 +70,7 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
             for w in t["why"]:
                 out.append(f"  why: {w}")
+            out.extend(_system(t))
             for r in t["equations"]:
                 out.extend(_equation(r))
         for group, rows in rep.other_equations.items():
@@ -85,9 +92,10 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
                         zip(b["matrix"], b["rhs"])]
                 out.extend(table(b["unknowns"] + ["", "rhs"], rows, indent="      "))
         out.append("")
-        out.append("Solution (SI)")
+        out.append(f"Solution ({u.get('name', 'SI')})")
         out.extend(table(["unknown", "value", "unit"],
-                         [[u["name"], f(u["si_value"]), u["unit"]] for u in rep.unknowns]))
+                         [[x["name"], f(x.get("value", x["si_value"])),
+                           x.get("shown_unit", x["unit"])] for x in rep.unknowns]))
         if rep.regimes:
             out.append("")
             out.append("Friction regimes")
@@ -102,9 +110,88 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
             out.append("  none: no impact, control volume or redundant equation to check")
         out.append("")
         out.append("Answers")
-    for a in rep.answers:
-        out.append(f"  {a['name']} = {f(a['value'])} {a['unit']}".rstrip())
+    out.extend(_answers(rep, sig))
     return "\n".join(out) + "\n"
+
+
+def _items(k: dict, f) -> str:
+    """A state's givens, `name = value unit`, and its bounds, `name > value unit`."""
+    units = k.get("units") or [""] * len(k["items"])
+    return ", ".join(f"{n} = {f(v)} {u}".rstrip() if u != "hint" else f"{n} {f(v)} {un}".rstrip()
+                     for (n, v, u), un in zip(k["items"], units))
+
+
+def _answers(rep: Report, sig: int) -> list[str]:
+    out = []
+    for a in rep.answers:
+        v = fmt_num(a["value"], sig) if a["value"] is not None else "-"
+        way = f" ({a['direction']})" if a.get("direction") else ""
+        out.append(f"  {a['name']} = {v} {a['unit']}".rstrip() + way)
+    return out
+
+
+# checks a brief derivation keeps: what the reader must see (energy, expectations, trouble)
+KEY_CHECKS = ("kinetic energy", "expect", "friction", "flux signs")
+
+
+def key_checks(rep: Report) -> list:
+    return [c for c in rep.checks
+            if c.status in ("warning", "error") or c.name.startswith(KEY_CHECKS)]
+
+
+def render_brief(rep: Report, sig: int = 6) -> str:
+    """One screen: the givens, each principle with its equations (symbolic, then with
+    numbers), the stated principles, the answers and the key checks. The constraint
+    bookkeeping of each state, the matrices and the conditioning are in --steps full."""
+    u = rep.units or {}
+    f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
+    out = [f"== {rep.file}: {rep.title or '(untitled problem)'}"]
+    if rep.knowns:
+        out.append("")
+        out.append(f"Given ({u.get('name', 'SI')})")
+        for k in rep.knowns:
+            items = _items(k, f)
+            if items:
+                out.append(f"  state {k['id']}: {items}")
+    sections = [(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})",
+                 t["why"][:1], t["equations"], t) for t in rep.transitions]
+    sections += [(g[0].upper() + g[1:], [], rows, None)
+                 for g, rows in rep.other_equations.items() if not g.startswith("state ")]
+    for title, why, rows, t in sections:
+        rows = [r for r in rows if r.role in ("solved", "check")]
+        if not rows and not why:
+            continue
+        out.append("")
+        out.append(title)
+        out.extend(f"  why: {w}" for w in why)
+        out.extend(_system(t) if t is not None else [])
+        for r in rows:
+            out.extend(_equation(r))
+    out.append("")
+    out.append("Answers")
+    out.extend(_answers(rep, sig))
+    checks = key_checks(rep)
+    if checks:
+        out.append("")
+        out.append("Checks")
+        out.extend(f"  {c.status}: {c.name}: {c.detail}" for c in checks)
+    return "\n".join(out) + "\n"
+
+
+def _system(t: dict) -> list[str]:
+    """The principles for the system, then (in the rows after it) body by body."""
+    out = []
+    for s in t.get("system", ()):
+        out.append(f"  * {s['principle']}")
+        out.append(f"      because {s['why']}")
+        out.extend(f"      {x}" for x in s["steps"])
+        out.append(f"      {s['symbolic']}")
+        if s["numeric"] != s["symbolic"]:
+            out.append(f"      {s['numeric']}")
+        out.extend(f"      {x}" for x in s["result"])
+    if out:
+        out.append("  body by body:")
+    return out
 
 
 def _equation(r) -> list[str]:

@@ -1,0 +1,326 @@
+"""Report stage: numbers in the reader's units, numeric lines, direction words.
+
+In: the solved values (SI), the units the file is written in, `--units si|us|file`.
+Out: display values and unit labels (slug, ft, lb, deg where the file used them), an
+equation's numeric line with every known value substituted, the sign of an answer in
+words. The solve stays in SI; only what is printed is converted.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+from ..expr import Add, Const, E, Fn, Known, Mul, Pow, Var, to_text
+from ..numbers import fmt_num
+from ..records import record
+from ..units import (
+    ACCELERATION,
+    ANGULAR_IMPULSE,
+    FORCE,
+    IMPULSE,
+    INERTIA,
+    LENGTH,
+    MASS,
+    MOMENT,
+    NONE,
+    RATE,
+    STIFFNESS,
+    TIME,
+    UNITS,
+    VELOCITY,
+    Dim,
+    dim_div,
+    dim_mul,
+    dim_pow,
+    si_label,
+)
+
+FT = UNITS["ft"][0]
+SLUG = UNITS["slug"][0]
+US_LABELS: dict[Dim, str] = {
+    NONE: "", MASS: "slug", LENGTH: "ft", TIME: "s", VELOCITY: "ft/s",
+    ACCELERATION: "ft/s^2", RATE: "rad/s", FORCE: "lb", MOMENT: "lb*ft", IMPULSE: "lb*s",
+    ANGULAR_IMPULSE: "lb*ft*s", INERTIA: "slug*ft^2", STIFFNESS: "lb/ft",
+    (1, 2, -3): "ft*lb/s", (1, 0, -1): "slug/s", (0, 0, -2): "rad/s^2",
+}
+_STATE = re.compile(r"^[^.@\s]+\.(x|y|angle|vx|vy|omega)@")
+STATE_DIMS = {"x": LENGTH, "y": LENGTH, "angle": NONE, "vx": VELOCITY, "vy": VELOCITY,
+              "omega": RATE}
+
+
+@record(frozen=True)
+class Reader:
+    """How numbers are shown: `system` "si" or "us", angles in degrees or radians."""
+
+    system: str = "si"
+    degrees: bool = False
+
+    def factor(self, dim: Dim) -> float:
+        """SI value / factor = the displayed value."""
+        if self.system != "us":
+            return 1.0
+        return SLUG ** dim[0] * FT ** dim[1]
+
+    def label(self, dim: Dim, si_unit: str | None = None) -> str:
+        if self.system != "us":
+            return si_unit if si_unit is not None else si_label(dim)
+        if si_unit == "J":
+            return "ft*lb"
+        if dim in US_LABELS:
+            return US_LABELS[dim]
+        parts = []
+        for sym, e in zip(("slug", "ft", "s"), dim):
+            parts.append(sym if e == 1 else f"{sym}^{e}" if e else "")
+        return "*".join(p for p in parts if p)
+
+    def show(self, si_value, dim: Dim, si_unit: str, angle: bool = False):
+        """(value, unit) of one quantity as the reader reads it."""
+        if si_value is None:
+            return None, self.label(dim, si_unit)
+        if angle and self.degrees:
+            return math.degrees(si_value), "deg"
+        return si_value / self.factor(dim), self.label(dim, si_unit)
+
+
+def reader_for(choice: str, file_units) -> Reader:
+    """`--units file` follows the file (system and degrees); `si` is SI in radians;
+    `us` is US customary, in degrees where the file typed degrees."""
+    degrees = bool(getattr(file_units, "degrees", False))
+    if choice == "si":
+        return Reader("si", False)
+    if choice == "us":
+        return Reader("us", degrees)
+    return Reader(getattr(file_units, "system", "si"), degrees)
+
+
+# ---- the dimension of each leaf of an equation ---------------------------------------------------
+def leaf_dim(e: E, system) -> Dim | None:
+    """The dimension of an unknown or a named known; None for bare numbers."""
+    name = getattr(e, "name", None)
+    if name is None:
+        return None
+    u = system.unknowns.get(name)
+    if u is not None:
+        return u.dim
+    m = _STATE.match(name)
+    if m:
+        return STATE_DIMS[m.group(1)]
+    if name == "g":
+        return ACCELERATION
+    if name.startswith("m_"):
+        return MASS
+    if name.startswith("I_"):
+        return INERTIA
+    if name.startswith("t@"):
+        return TIME
+    if name.startswith(("e[", "mu[", "mu_")):
+        return NONE
+    q = system.scene.constants.get(name)
+    return getattr(q, "dim", None)
+
+
+def is_angle(e: E, system) -> bool:
+    name = getattr(e, "name", None)
+    if name is None:
+        return False
+    u = system.unknowns.get(name)
+    if u is not None:
+        return u.qty == "angle"  # an orientation (not a rotation such as dtheta)
+    return bool(re.match(r"^[^.@\s]+\.angle@", name))
+
+
+def _dim_up(e: E, system, memo: dict) -> Dim | None:
+    k = id(e)
+    if k in memo:
+        return memo[k]
+    t = type(e)
+    if t is Const:
+        d = None
+    elif t is Var or t is Known:
+        d = leaf_dim(e, system)
+    elif t is Add:
+        ds = [_dim_up(x, system, memo) for x in e.terms]
+        d = next((x for x in ds if x is not None), None)
+    elif t is Mul:
+        ds = [_dim_up(x, system, memo) for x in e.factors]
+        d = None
+        if all(x is not None for x in ds):
+            d = NONE
+            for x in ds:
+                d = dim_mul(d, x)
+    elif t is Pow:
+        b = _dim_up(e.base, system, memo)
+        d = dim_pow(b, e.exp) if b is not None else None
+    else:
+        _dim_up(e.arg, system, memo)
+        d = NONE
+    memo[k] = d
+    return d
+
+
+def _dim_guess(e: E, system) -> Dim | None:
+    """The dimension of `e` if its bare numbers and unnamed knowns are pure numbers."""
+    t = type(e)
+    if t is Const:
+        return NONE
+    if t is Var or t is Known:
+        d = leaf_dim(e, system)
+        return NONE if d is None and t is Known else d
+    if t is Add:
+        ds = [_dim_guess(x, system) for x in e.terms]
+        return ds[0] if ds and all(d == ds[0] for d in ds) else None
+    if t is Mul:
+        d = NONE
+        for x in e.factors:
+            g = _dim_guess(x, system)
+            if g is None:
+                return None
+            d = dim_mul(d, g)
+        return d
+    if t is Pow:
+        b = _dim_guess(e.base, system)
+        return dim_pow(b, e.exp) if b is not None else None
+    return NONE
+
+
+def _dim_down(e: E, target: Dim | None, system, memo: dict, slots: dict) -> None:
+    """Give each bare number the dimension its place in the equation needs."""
+    t = type(e)
+    if t is Const or (t is Known and memo.get(id(e)) is None):
+        if target is not None or e.value not in (0.0, 1.0, -1.0):  # 0 and 1 need none
+            slots[id(e)] = target
+    elif t is Add:
+        d = memo.get(id(e)) or target
+        for x in e.terms:
+            _dim_down(x, d, system, memo, slots)
+    elif t is Mul:
+        open_ = [x for x in e.factors if memo.get(id(x)) is None]
+        guess: dict = {}
+        if len(open_) > 1 and target is not None:
+            # several open factors (`0.2*(0.6*J_n - 0.8*J_t)`, `3000*ln(m0/m1)`): the
+            # numbers inside a sum or a named ratio are taken as pure numbers (direction
+            # cosines, ratios), which leaves one bare number to carry the dimension
+            bare = [x for x in open_ if type(x) is Const]
+            rest_open = [x for x in open_ if type(x) is not Const]
+            if len(bare) == 1:
+                guess = {id(x): _dim_guess(x, system) for x in rest_open}
+                if all(g is not None for g in guess.values()):
+                    open_ = bare
+        if len(open_) == 1 and target is not None:
+            rest = NONE
+            for x in e.factors:
+                if x is not open_[0]:
+                    rest = dim_mul(rest, memo.get(id(x)) or guess[id(x)])
+            _dim_down(open_[0], dim_div(target, rest), system, memo, slots)
+        for x in e.factors:
+            if len(open_) != 1 or x is not open_[0]:
+                _dim_down(x, memo.get(id(x)) or guess.get(id(x)), system, memo, slots)
+    elif t is Pow:
+        d = memo.get(id(e.base))
+        if d is None and target is not None and e.exp:
+            d = dim_pow(target, 1.0 / e.exp)
+        _dim_down(e.base, d, system, memo, slots)
+    elif t is Fn:
+        _dim_down(e.arg, NONE, system, memo, slots)
+
+
+# ---- the numeric line -----------------------------------------------------------------------------
+def symbolic_line(eq, system, reader: Reader, sig: int = 6) -> str:
+    """`lhs = rhs` with knowns by name; its bare numbers (lever arms, inertias) in the
+    reader's units."""
+    if reader.system != "us":
+        return eq.text()
+    return numeric_line(eq, {}, set(), system, reader, sig, symbolic=True)
+
+
+def numeric_line(eq, values: dict, keep: set, system, reader: Reader, sig: int = 6,
+                 symbolic: bool = False) -> str:
+    """`lhs = rhs` with every value that is known here substituted (the givens and what
+    earlier blocks solved), the unknowns in `keep` by name, in the reader's units.
+
+    In US units every bare number is converted by the dimension its place needs; a line
+    whose numbers cannot all be placed is shown in SI and says so."""
+    memo: dict = {}
+    slots: dict = {}
+    scale = reader.system == "us"
+    if scale:
+        dl, dr = _dim_up(eq.lhs, system, memo), _dim_up(eq.rhs, system, memo)
+        d = dl if dl is not None else dr
+        _dim_down(eq.lhs, d, system, memo, slots)
+        _dim_down(eq.rhs, d, system, memo, slots)
+        # a number that no dimension reaches is a pure number only if the line is one
+        if any(v is None for v in slots.values()):
+            scale = False
+    r = reader if scale else Reader("si", reader.degrees)
+    if symbolic and not scale:
+        return eq.text()
+    sub = _Sub(values, keep, system, r, memo, slots, scale, symbolic)
+    num = not symbolic
+    text = f"{to_text(sub(eq.lhs, False), num, sig)} = {to_text(sub(eq.rhs, False), num, sig)}"
+    if reader.system == "us" and not scale:
+        text += "   (SI)"
+    return text
+
+
+class _Sub:
+    """A copy of an expression tree with known leaves replaced by display numbers."""
+
+    def __init__(self, values, keep, system, reader, memo, slots, scale, names=False):
+        self.values, self.keep, self.system, self.reader = values, keep, system, reader
+        self.memo, self.slots, self.scale, self.names = memo, slots, scale, names
+
+    def __call__(self, e: E, in_fn: bool) -> E:
+        t = type(e)
+        if t is Const:
+            if not self.scale or e.value in (0.0, 1.0, -1.0):
+                return e
+            d = self.slots.get(id(e))
+            return Const(e.value / self.reader.factor(d)) if d else e
+        if t is Var or t is Known:
+            if self.names:
+                return e
+            if t is Var and (e.name in self.keep or e.name not in self.values):
+                return e
+            v = e.value if t is Known else self.values[e.name]
+            if v is None or (isinstance(v, float) and math.isnan(v)):
+                return e
+            if self.reader.degrees and is_angle(e, self.system):
+                s = f"{fmt_num(math.degrees(v))} deg"
+                return Var(f"({s})" if s.startswith("-") and not in_fn else s)
+            d = leaf_dim(e, self.system) if self.scale else None
+            if d is None and self.scale:
+                d = self.slots.get(id(e))
+            return Const(v / self.reader.factor(d) if d else v)
+        if t is Add:
+            return Add(tuple(self(x, False) for x in e.terms))
+        if t is Mul:
+            return Mul(tuple(self(x, False) for x in e.factors))
+        if t is Pow:
+            return Pow(self(e.base, False), e.exp)
+        return Fn(e.name, self(e.arg, True))
+
+
+# ---- the sign of an answer in words ----------------------------------------------------------------
+_WORDS = {"omega": ("counterclockwise", "clockwise"), "vx": ("to the right", "to the left"),
+          "vy": ("upward", "downward")}
+
+
+def direction(name: str, value: float | None, system) -> str | None:
+    """`clockwise`, `to the left`, `downward`...: the sign of a velocity component, an
+    angular velocity or an impulse component along x or y, in the words of a textbook
+    (x to the right, y up, counterclockwise positive)."""
+    if value is None or value == 0:
+        return None
+    u = system.unknowns.get(name)
+    qty = u.qty if u is not None else None
+    if qty is None:
+        m = _STATE.match(name)
+        qty = m.group(1) if m else None
+    if qty is None and re.match(r"^J(x|y)\[", name):
+        qty = "v" + name[1]
+    if qty is None and re.match(r"^(H|M)\[", name):
+        qty = "omega"
+    words = _WORDS.get(qty)
+    if words is None:
+        return None
+    return words[0] if value > 0 else words[1]

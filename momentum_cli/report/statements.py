@@ -1,0 +1,171 @@
+"""Report stage: a transition's system statements as the report shows them.
+
+In: the `SystemLaw`s compile found for an impact (system momentum, moments about a pin),
+the solved values, the reader's units. Out: plain dicts (principle, why, the
+parallel-axis step, the equation symbolically and with the known numbers, and the
+common velocity of bodies that move together), which every renderer lays out.
+"""
+from __future__ import annotations
+
+import re
+from collections import ChainMap
+
+from ..expr import (
+    Add,
+    Const,
+    Fn,
+    Known,
+    Mul,
+    NonLinear,
+    Pow,
+    Var,
+    add_all,
+    affine,
+    mul,
+    to_text,
+    variables,
+)
+from ..numbers import fmt_num
+from ..units import INERTIA, LENGTH, MASS, VELOCITY
+from .reader import Reader, numeric_line, symbolic_line
+
+
+class _Eq:
+    """An equation-like pair for the printers (lhs, rhs, text)."""
+
+    def __init__(self, lhs, rhs):
+        self.lhs, self.rhs = lhs, rhs
+
+    def text(self, numeric: bool = False) -> str:
+        return f"{to_text(self.lhs, numeric)} = {to_text(self.rhs, numeric)}"
+
+
+def _after(name: str, after: str, key: str) -> bool:
+    """An unknown of the transition: a state quantity after it, or one of its impulses."""
+    return name.endswith(f"@{after}") or name.endswith(f"@{key}")
+
+
+def _moving_together(law, values) -> bool:
+    """Every body has the same velocity component afterwards (to round-off)."""
+    if law.locked is None:
+        return False
+    comps = [values.get(n) for n in variables(law.rhs)]
+    if any(v is None for v in comps) or len(comps) < 2:
+        return False
+    scale = max(abs(v) for v in comps) or 1.0
+    return max(comps) - min(comps) <= 1e-9 * scale
+
+
+def _arms(moments, t, values):
+    """The moments about the pin as (arm)*(impulse) terms: the positions are those of
+    the state before the impact, known here, so each impulse has one numeric arm."""
+    impulses = {n for n in variables(moments) if n.endswith(f"@{t.key}")}
+    try:
+        coef, const = affine(moments, impulses, values)
+    except (NonLinear, KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return moments
+    scale = max((abs(c) for c in coef.values()), default=0.0)
+    terms = [Mul((Const(c), Var(n))) if c != 1.0 else Var(n)
+             for n, c in coef.items() if abs(c) > 1e-14 * scale]
+    if const != 0.0:
+        terms.append(Const(const))
+    return add_all(terms) if terms else Const(0.0)
+
+
+_VELOCITY = re.compile(r"\.(vx|vy)@")
+
+
+def _named(e, given: dict):
+    """`e` with the velocities it knows by name as unknowns, so that they keep their
+    names through `affine`; their values go into `given`."""
+    t = type(e)
+    if t is Known and (_VELOCITY.search(e.name) or ".omega@" in e.name):
+        given[e.name] = e.value
+        return Var(e.name)
+    if t is Add:
+        return Add(tuple(_named(x, given) for x in e.terms))
+    if t is Mul:
+        return Mul(tuple(_named(x, given) for x in e.factors))
+    if t is Pow:
+        return Pow(_named(e.base, given), e.exp)
+    if t is Fn:
+        return Fn(e.name, _named(e.arg, given))
+    return e
+
+
+def _moments(law, part, values, given: dict):
+    """One side of a pinned system's angular momentum: I_O w of the pinned body, then
+    for each other body m*(arm*v + ...) with its arms about O as numbers."""
+    w, side = part
+    p = law.parallel
+    terms = [mul(Known(f"I_{p['point']}", p["I_O"]), _named(w, given))]
+    for m, rxv, spin in side:
+        rxv = _named(rxv, given)
+        vs = {n for n in variables(rxv) if _VELOCITY.search(n)}
+        known = {n: values[n] for n in variables(rxv) - vs if n in values}
+        try:
+            coef, const = affine(rxv, vs, ChainMap(known, given, values))
+        except (NonLinear, KeyError, ValueError, ZeroDivisionError, OverflowError):
+            return None
+        scale = max((abs(c) for c in coef.values()), default=0.0)
+        arm = add_all([Mul((Const(c), Var(n))) for n, c in sorted(coef.items())
+                       if abs(c) > 1e-14 * scale] + ([Const(const)] if const else []))
+        terms.append(Mul((m, arm)))
+        if spin is not None:
+            terms.append(_named(spin, given))
+    return add_all(terms)
+
+
+def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[dict]:
+    """One dict per system law of transition `t`: kind, principle, why, steps (lines
+    before the equation: the parallel-axis step), symbolic, numeric, result (lines after:
+    the common velocity)."""
+    out = []
+    shown: set = set()  # a pin's parallel-axis step is shown once per transition
+    for law in getattr(t, "laws", ()) or ():
+        steps, result = [], []
+        rhs = law.rhs
+        names = variables(law.lhs) | variables(law.rhs)
+        if law.kind == "linear" and all(values.get(n, 1.0) == 0 for n in names):
+            continue  # nothing moves along it: 0 = 0 says nothing
+        vals = values
+        if law.kind == "linear" and _moving_together(law, values):
+            rhs = law.locked
+            vals = ChainMap({k: values[v] for k, v in law.alias.items() if v in values}, values)
+            for k, v in law.alias.items():
+                if v in values:
+                    shown = values[v] / reader.factor(VELOCITY)
+                    result.append(f"{k} = {fmt_num(shown, sig)} {reader.label(VELOCITY)}: "
+                                  "the bodies move together")
+        lhs = law.lhs
+        if law.kind == "pin":
+            rhs = _arms(rhs, t, values)
+        elif law.kind == "pin-system":
+            given: dict = {}
+            lhs, rhs = (_moments(law, part, values, given) for part in law.parts)
+            if lhs is None or rhs is None:
+                lhs, rhs = law.lhs, law.rhs
+            else:
+                vals = ChainMap(given, values)
+        eq = _Eq(lhs, rhs)
+        keep = {n for n in variables(lhs) | variables(rhs)
+                if "'" in n or _after(n, t.after, t.key)}
+        p = law.parallel
+        if p is not None and (p["body"], p["point"]) not in shown:
+            shown.add((p["body"], p["point"]))
+            I_G, m, d, I_O = (p["I_G"] / reader.factor(INERTIA), p["m"] / reader.factor(MASS),
+                              p["d"] / reader.factor(LENGTH), p["I_O"] / reader.factor(INERTIA))
+            f = lambda x: fmt_num(x, sig)  # noqa: E731
+            steps.append(f"I_{p['point']} = I_G + m*d^2 = {f(I_G)} + {f(m)}*{f(d)}^2 = {f(I_O)} "
+                          f"{reader.label(INERTIA)} (parallel axes: {p['body']}'s G is "
+                          f"{f(d)} {reader.label(LENGTH)} from {p['point']})")
+        out.append(dict(kind=law.kind, principle=law.principle, why=law.why, steps=steps,
+                        symbolic=symbolic_line(eq, system, reader, sig),
+                        numeric=numeric_line(eq, vals, keep, system, reader, sig),
+                        result=result))
+    return out
+
+
+def unknown_names(text: str) -> set[str]:
+    """The quantity names in a printed line (`rod.vx@2`, `J_n[A]@1->2`, `vx'@2`)."""
+    return set(re.findall(r"[A-Za-z_][\w.\[\]\-']*@[\w>\-]+", text))
