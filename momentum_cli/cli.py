@@ -315,6 +315,10 @@ def solve(
                                                       "solved."),
     strict: bool = _strict_option(),
     color: Color = _color_option(),
+    sensitivity: bool = typer.Option(False, "--sensitivity",
+                                     help="Also print d answer / d given for every answer and "
+                                          "every given number of the file, ranked by the "
+                                          "relative form (d ln answer / d ln given)."),
 ) -> None:
     """Solve problem files and print the solution step by step.
 
@@ -336,11 +340,11 @@ def solve(
     solved = (r for r in ())
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
-                            precision.value, overrides)
+                            precision.value, overrides, sensitivity)
     try:
         worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                             traceback_flag, results, strict, color, plain or json_flag,
-                            overrides, jsonl)
+                            overrides, jsonl, sensitivity)
     finally:
         solved.close()  # ends any worker processes still running
     if mode == "json" and not jsonl:
@@ -354,7 +358,7 @@ def solve(
 
 def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 traceback_flag, results, strict, color, deterministic, overrides=(),
-                jsonl=False) -> ExitCode:
+                jsonl=False, sensitivity=False) -> ExitCode:
     """Print (or collect, for JSON) each file's result in order; the worst exit code."""
     from .run import solve_source
 
@@ -367,7 +371,8 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
             res = next(solved)
         elif res is None:
             try:
-                res = solve_source(source, solve_all, digits, precision.value, overrides)
+                res = solve_source(source, solve_all, digits, precision.value, overrides,
+                                   sensitivity)
             except (KeyboardInterrupt, typer.Exit):
                 raise
             except Exception as exc:  # --traceback: show the bug

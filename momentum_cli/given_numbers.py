@@ -16,7 +16,7 @@ _NOT_DATA = (S.Find, S.SimulateDecl, S.Expect, S.Problem)
 
 @record(frozen=True)
 class GivenNumber:
-    id: str  # p1, p2, ... in the file's order
+    id: str  # #1, #2, ... in the file's order
     node: S.Num
     label: str  # what it is: `rod mass`, `let mu`, `rod.vx@1`, `restitution at A`
     text: str  # as written: `10 kg`
@@ -49,7 +49,7 @@ def given_numbers(doc: S.Document) -> list[GivenNumber]:
         for num, path in _nums(st, []):
             if num.value == 0 and not num.unit:
                 continue
-            out.append(GivenNumber(f"p{len(out) + 1}", num, _label(st, path),
+            out.append(GivenNumber(f"#{len(out) + 1}", num, _label(st, path),
                                    _text(doc.source, num)))
     return out
 

@@ -23,16 +23,17 @@ import numpy as np
 
 from .compile import compile_scene
 from .diagnostics import ProblemError
-from .expr import diff, evaluate, variables
+from .expr import diff, evaluate, magnitude, variables
 from .given_numbers import GivenNumber, given_numbers, perturbed
 from dataclasses import field
 
 from .records import record
 
 STEP = 1e-3  # the stencil's step, relative to the number (absolute for a zero with a unit)
+TIED = 1e-7  # a redundant equation moved more than this (relative to its terms) is broken
 EDGE_STEP = 1e-6  # a one-sided step, where one side leaves the problem's domain (e = 1)
-NOTE = ("regimes (stick or slide) and root choices held fixed; each derivative is per the "
-        "units the file writes the number in")
+NOTE = ("friction regimes and root choices held fixed; per the unit each number is "
+        "written in")
 
 
 @record
@@ -61,9 +62,12 @@ class Sensitivities:
 
     def ranked(self, a: AnswerSensitivity) -> list[str]:
         """Parameter ids by how much a 1 % change moves the answer, largest first."""
-        vals = {p.id: p.value for p in self.parameters}
-        return sorted(a.derivatives, key=lambda pid: (-abs(a.derivatives[pid] * vals[pid]),
-                                                      int(pid[1:])))
+        return sorted(a.derivatives, key=lambda pid: (-self.effect(a, pid), int(pid[1:])))
+
+    def effect(self, a: AnswerSensitivity, pid: str) -> float:
+        """|d answer / d ln given|: what a relative change moves (per unit for a zero)."""
+        p = next(q for q in self.parameters if q.id == pid)
+        return abs(a.derivatives[pid] * (p.value or 1.0))
 
 
 def sensitivities(doc, sol, build=None) -> Sensitivities:
@@ -79,7 +83,9 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
         return out
     values = sol.values
     eqs = system.equations
-    rows = [k for rep in sol.blocks for k in rep.equations]
+    solved = [k for rep in sol.blocks for k in rep.equations]
+    checks = _checks(system, set(solved), values)
+    rows = solved + checks
     finds = system.finds
     base = _residuals(system, rows, values)
     # dF/dx and the answers' dF/dx at the solution, from the trees' derivatives
@@ -124,6 +130,17 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
             sol_b = np.linalg.lstsq(J, rhs, rcond=None)[0]
         for v, i in idx.items():
             dx[v] = sol_b[i]
+    # a redundant equation that the number alone breaks: the file ties the number to
+    # others (equal masses that make one `e` fit two contacts), so it has no derivative
+    for k in checks:
+        dr = Fp[pos[k]] + sum(d * dx[v] for v, d in jac[k].items())
+        size = magnitude(eqs[k].residual, values)
+        for j, prm in enumerate(params):
+            if ok[j] and abs(dr[j] * prm.value) > TIED * size:
+                ok[j] = False
+                line = f"line {eqs[k].span.line}" if eqs[k].span else "the scene"
+                out.skipped[prm.id] = f"moving it alone breaks equation ({k + 1}), " \
+                    f"{eqs[k].principle} ({line})"
     for i, f in enumerate(finds):
         name, shown, unit, si = sol.answers[i]
         d = Ap[i].copy()
@@ -150,6 +167,22 @@ def _unsupported(sol) -> str | None:
     if len(sol.answers) != len(system.finds):
         return "the answers could not all be computed"
     return None
+
+
+def _checks(system, solved: set[int], values) -> list[int]:
+    """The equations not solved for anything whose unknowns all have values and that
+    hold: the redundant ones solve checked, and pure checks of the given numbers."""
+    out = []
+    for k, e in enumerate(system.equations):
+        if k in solved or not variables(e.residual) <= values.keys():
+            continue
+        try:
+            r, size = evaluate(e.residual, values), magnitude(e.residual, values)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if size > 0 and abs(r) <= 1e-9 * size:
+            out.append(k)
+    return out
 
 
 def _gradient(e, values) -> dict[str, float]:

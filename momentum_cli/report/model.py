@@ -45,6 +45,7 @@ class Report:
     counts: dict = field(default_factory=dict)
     flows: list = field(default_factory=list)  # control-volume flux rows (evaluated)
     expectations: list = field(default_factory=list)  # the `expect` lines, checked (dicts)
+    sensitivities: dict | None = None  # `--sensitivity`: report/sensitivity.section
 
 
 def _finite(x: float | None) -> float | None:

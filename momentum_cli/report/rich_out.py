@@ -112,3 +112,7 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True) -> None:
     for a in rep.answers:
         t.add_row(escape(a["name"]), f(a["value"]), escape(a["unit"]))
     console.print(t)
+    if rep.sensitivities:
+        from .sensitivity import render_rich
+
+        render_rich(rep.sensitivities, console, sig)

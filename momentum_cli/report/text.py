@@ -104,6 +104,10 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
         out.append("Answers")
     for a in rep.answers:
         out.append(f"  {a['name']} = {f(a['value'])} {a['unit']}".rstrip())
+    if rep.sensitivities:
+        from .sensitivity import text_lines
+
+        out.extend(text_lines(rep.sensitivities, sig))
     return "\n".join(out) + "\n"
 
 
