@@ -6,12 +6,15 @@ document with one literal's value changed, for the sensitivities (`sensitivity.p
 """
 from __future__ import annotations
 
+import re
+
 from . import syntax as S
 from .records import record
 
 # statements whose numbers are not data of the problem (what to print, what to
 # simulate, what to expect, the title)
 _NOT_DATA = (S.Find, S.SimulateDecl, S.Expect, S.Problem)
+_NUMBER = re.compile(r"(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
 
 
 @record(frozen=True)
@@ -104,7 +107,10 @@ def _text(source, num: S.Num) -> str:
     end = num.unit_span if num.unit_span is not None else sp
     line = source.line_text(sp.line) if hasattr(source, "line_text") else ""
     if line and end.end_line == sp.line and end.end_column:
-        return line[sp.column - 1:end.end_column - 1].strip()
+        text = line[sp.column - 1:end.end_column - 1].strip()
+        m = _NUMBER.match(text)
+        if m and float(m.group(0)) == num.value:  # not a `--set` value at the let's place
+            return text
     return f"{num.value:g} {num.unit or ''}".strip()
 
 

@@ -19,8 +19,7 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
+from .bounds import size_of
 from .compile import compile_scene
 from .diagnostics import ProblemError
 from .expr import diff, evaluate, magnitude, variables
@@ -42,6 +41,7 @@ class AnswerSensitivity:
     value: float  # in the answer's display unit
     unit: str
     derivatives: dict[str, float]  # parameter id -> d answer / d parameter
+    size: float = 0.0  # the size of the terms that make the answer (display unit)
 
 
 @record
@@ -72,6 +72,8 @@ class Sensitivities:
 
 def sensitivities(doc, sol, build=None) -> Sensitivities:
     """The sensitivities of `sol` (solved from `doc`) to every given number of `doc`."""
+    import numpy as np
+
     if build is None:
         from .scene import build
     params = given_numbers(doc)
@@ -84,6 +86,11 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
     values = sol.values
     eqs = system.equations
     solved = [k for rep in sol.blocks for k in rep.equations]
+    free = sorted({v for k in solved for v in variables(eqs[k].residual)} - values.keys())
+    if free:  # a rank-revealed block: the numbers leave these free, the rows share them
+        out.unavailable = f"a block leaves {', '.join(free[:3])} free (numerically " \
+                          "dependent rows); their split has no derivative"
+        return out
     checks = _checks(system, set(solved), values)
     rows = solved + checks
     finds = system.finds
@@ -104,7 +111,7 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
             continue
         Fp[:, j], Ap[:, j] = col
     # forward through the blocks: dx_b/dp = -J_b^-1 (dF_b/dp + dF_b/dx_prev dx_prev/dp)
-    dx: dict[str, np.ndarray] = {}
+    dx: dict = {}
     pos = {k: i for i, k in enumerate(rows)}
     for rep in sol.blocks:
         names = list(rep.unknowns)
@@ -134,7 +141,7 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
     # others (equal masses that make one `e` fit two contacts), so it has no derivative
     for k in checks:
         dr = Fp[pos[k]] + sum(d * dx[v] for v, d in jac[k].items())
-        size = magnitude(eqs[k].residual, values)
+        size = _size(eqs[k], values)
         for j, prm in enumerate(params):
             if ok[j] and abs(dr[j] * prm.value) > TIED * size:
                 ok[j] = False
@@ -150,9 +157,14 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
                 return out
             d += g * dx[v]
         d /= f.factor
+        try:
+            size = size_of(f.expr, values, sol.size or {}) / abs(f.factor)
+        except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+            size = abs(shown)
         out.answers.append(AnswerSensitivity(
             name, shown, unit,
-            {p.id: float(d[j]) for j, p in enumerate(params) if ok[j]}))
+            {p.id: float(d[j]) for j, p in enumerate(params) if ok[j]},
+            size if math.isfinite(size) else abs(shown)))
     return out
 
 
@@ -177,7 +189,7 @@ def _checks(system, solved: set[int], values) -> list[int]:
         if k in solved or not variables(e.residual) <= values.keys():
             continue
         try:
-            r, size = evaluate(e.residual, values), magnitude(e.residual, values)
+            r, size = evaluate(e.residual, values), _size(e, values)
         except (ValueError, ZeroDivisionError, OverflowError):
             continue
         if size > 0 and abs(r) <= 1e-9 * size:
@@ -185,13 +197,20 @@ def _checks(system, solved: set[int], values) -> list[int]:
     return out
 
 
+def _size(e, values) -> float:
+    """The scale of an equation's terms (both sides: `20 = 20` folds to a zero residual)."""
+    return magnitude(e.lhs, values) + magnitude(e.rhs, values)
+
+
 def _gradient(e, values) -> dict[str, float]:
     """d e / d x for each unknown of `e` that has a value."""
     return {v: evaluate(diff(e, v), values) for v in sorted(variables(e)) if v in values}
 
 
-def _residuals(system, rows, values) -> np.ndarray:
+def _residuals(system, rows, values):
     """The residuals of `rows` and the `find` expressions at `values`, one vector."""
+    import numpy as np
+
     r = [evaluate(system.equations[k].residual, values) for k in rows]
     r += [evaluate(f.expr, values) for f in system.finds]
     return np.array(r, dtype=float)
@@ -231,6 +250,6 @@ def _explicit(doc, prm: GivenNumber, system, regimes, rows, values, base, build)
         if a is None or b is None:
             return "moving it changes the problem's structure or leaves its domain"
         d = side * (-3 * base + 4 * a - b) / (2 * h)
-    if not np.all(np.isfinite(d)):
+    if not all(math.isfinite(x) for x in d):
         return "not differentiable here"
     return d[:len(rows)], d[len(rows):]

@@ -19,7 +19,7 @@ def section(s) -> dict:
     units = {p.id: p.unit for p in s.parameters}
     answers = []
     for a in s.answers:
-        scale = max([abs(a.value)] + [s.effect(a, k) for k in a.derivatives])
+        scale = max([abs(a.value), a.size] + [s.effect(a, k) for k in a.derivatives])
         rows = []
         for pid in s.ranked(a):
             d = a.derivatives[pid]
@@ -39,11 +39,10 @@ def per(answer_unit: str, given_unit: str) -> str:
     return f"{answer_unit} per {given_unit}" if answer_unit else f"per {given_unit}"
 
 
-def text_lines(sec: dict, sig: int = 6) -> list[str]:
+def text_lines(sec: dict, sig: int, table) -> list[str]:
     """The plain-text section: the given numbers, then each answer's ranked derivatives
-    (the numbers that do not move an answer are named in one line)."""
-    from .text import table
-
+    (the numbers that do not move an answer are named in one line); `table` is the plain
+    report's table layout."""
     f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
     out = ["", f"Sensitivities ({sec['note']})"]
     if sec["unavailable"]:
@@ -51,14 +50,17 @@ def text_lines(sec: dict, sig: int = 6) -> list[str]:
         return out
     params = {p["id"]: p for p in sec["parameters"]}
     out.extend(table(["given", "what", "line", "value"],
-                     [[p["id"], p["label"], str(p["line"]), p["text"] +
-                       (f" (no derivative: {p['skipped']})" if p["skipped"] else "")]
+                     [[p["id"], p["label"], str(p["line"]), p["text"]]
                       for p in sec["parameters"]]))
+    for p in sec["parameters"]:
+        if p["skipped"]:
+            out.append(f"  {p['id']} has no derivative: {p['skipped']}")
     for a in sec["answers"]:
         out.append("")
         out.append(f"  {a['name']} = {f(a['value'])} {a['unit']}".rstrip())
         moving = [r for r in a["derivatives"] if r["derivative"] != 0]
-        still = [r["parameter"] for r in a["derivatives"] if r["derivative"] == 0]
+        still = sorted((r["parameter"] for r in a["derivatives"] if r["derivative"] == 0),
+                       key=lambda pid: int(pid[1:]))
         if moving:
             out.extend(table(["given", "d answer / d given", "relative (d ln / d ln)"],
                              [[f"{r['parameter']} {params[r['parameter']]['label']}",
@@ -88,6 +90,9 @@ def render_rich(sec: dict, console, sig: int = 6) -> None:
     for p in sec["parameters"]:
         t.add_row(p["id"], escape(p["label"]), str(p["line"]), escape(p["text"]))
     console.print(t)
+    for p in sec["parameters"]:
+        if p["skipped"]:
+            console.print(f"  {p['id']} has no derivative: {escape(p['skipped'])}")
     for a in sec["answers"]:
         t = Table(title=escape(f"{a['name']} = {f(a['value'])} {a['unit']}"),
                   box=box.SIMPLE_HEAD, title_justify="left")

@@ -107,7 +107,7 @@ def render(rep: Report, sig: int = 6, steps: bool = True) -> str:
     if rep.sensitivities:
         from .sensitivity import text_lines
 
-        out.extend(text_lines(rep.sensitivities, sig))
+        out.extend(text_lines(rep.sensitivities, sig, table))
     return "\n".join(out) + "\n"
 
 
