@@ -331,6 +331,7 @@ def solve(
     from .run import solve_many
 
     mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
+    sensitivity = sensitivity and (mode == "json" or not quiet)  # -q prints answers only
     _safe_streams()
     out = sys.stdout
     results = []

@@ -10,8 +10,8 @@ with J_b and dF_b/dx_prev from the symbolic derivatives of the equation trees at
 solution. A given number enters the trees through the scene (a mass, an inertia
 m L^2/12, a moment arm from an angle), so dF/dp, the explicit dependence at the fixed
 solution, is taken by recompiling the file with the number moved and evaluating the
-residuals at the same solution (a 4-point central stencil, no re-solve): the
-equations are smooth in their data, and the step error (h^4) is far below 1e-10.
+residuals at the same solution (a central difference, no re-solve): the equations are
+smooth in their data, and the step's error (h^2 + eps/h, h = 1e-5 p) is about 1e-10.
 Friction regimes and root choices are those of the solution, held fixed; derived
 answers (`find NAME = expr`, speeds, T_lost) are differentiated through their trees.
 """
@@ -28,7 +28,8 @@ from dataclasses import field
 
 from .records import record
 
-STEP = 1e-3  # the stencil's step, relative to the number (absolute for a zero with a unit)
+STEP = 1e-5  # the central difference's step, relative to the number (absolute for a zero
+# with a unit): the residuals are evaluated, not solved, so the error is ~(h^2 + eps/h) ~ 1e-10
 TIED = 1e-7  # a redundant equation moved more than this (relative to its terms) is broken
 EDGE_STEP = 1e-6  # a one-sided step, where one side leaves the problem's domain (e = 1)
 NOTE = ("friction regimes and root choices held fixed; per the unit each number is "
@@ -88,9 +89,11 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
     solved = [k for rep in sol.blocks for k in rep.equations]
     free = sorted({v for k in solved for v in variables(eqs[k].residual)} - values.keys())
     if free:  # a rank-revealed block: the numbers leave these free, the rows share them
-        out.unavailable = f"a block leaves {', '.join(free[:3])} free (numerically " \
-                          "dependent rows); their split has no derivative"
-        return out
+        values = _with_free(eqs, solved, values, free)
+        if values is None:
+            out.unavailable = f"a block leaves {', '.join(free[:3])} free and its rows are " \
+                              "not linear in them"
+            return out
     checks = _checks(system, set(solved), values)
     rows = solved + checks
     finds = system.finds
@@ -114,7 +117,11 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
     dx: dict = {}
     pos = {k: i for i, k in enumerate(rows)}
     for rep in sol.blocks:
-        names = list(rep.unknowns)
+        # a free unknown (one split of an impulse among many), or one a rank-revealed
+        # block's rows share with a later block, is a column here too (minimum norm):
+        # only the block's own unknowns, the determined ones, are unique and kept
+        names = list(rep.unknowns) + sorted({v for k in rep.equations for v in jac[k]
+                                             if v not in dx and v not in rep.unknowns})
         idx = {v: i for i, v in enumerate(names)}
         J = np.zeros((len(rep.equations), len(names)))
         rhs = np.zeros((len(rep.equations), n))
@@ -123,11 +130,8 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
             for v, d in jac[k].items():
                 if v in idx:
                     J[r, idx[v]] = d
-                elif v in dx:
-                    rhs[r] -= d * dx[v]
                 else:
-                    out.unavailable = f"{v} is used before it is solved"
-                    return out
+                    rhs[r] -= d * dx[v]
         if J.shape[0] == J.shape[1]:
             try:
                 sol_b = np.linalg.solve(J, rhs)
@@ -135,11 +139,13 @@ def sensitivities(doc, sol, build=None) -> Sensitivities:
                 sol_b = np.linalg.lstsq(J, rhs, rcond=None)[0]
         else:
             sol_b = np.linalg.lstsq(J, rhs, rcond=None)[0]
-        for v, i in idx.items():
-            dx[v] = sol_b[i]
+        for v in rep.unknowns:
+            dx[v] = sol_b[idx[v]]
     # a redundant equation that the number alone breaks: the file ties the number to
     # others (equal masses that make one `e` fit two contacts), so it has no derivative
     for k in checks:
+        if not jac[k].keys() <= dx.keys():
+            continue  # it holds a split that the numbers leave free
         dr = Fp[pos[k]] + sum(d * dx[v] for v, d in jac[k].items())
         size = _size(eqs[k], values)
         for j, prm in enumerate(params):
@@ -197,6 +203,25 @@ def _checks(system, solved: set[int], values) -> list[int]:
     return out
 
 
+def _with_free(eqs, rows, values, free):
+    """`values` with one choice (minimum norm) of the unknowns the numbers leave free, so
+    that the rows can be evaluated and differentiated; None if they are not linear in
+    them."""
+    import numpy as np
+
+    vals = dict(values)
+    vals.update((v, 0.0) for v in free)
+    use = [k for k in rows if variables(eqs[k].residual) & set(free)]
+    A = np.array([[evaluate(diff(eqs[k].residual, v), vals) for v in free] for k in use])
+    b = -np.array([evaluate(eqs[k].residual, vals) for k in use])
+    x = np.linalg.lstsq(A, b, rcond=None)[0]
+    vals.update(zip(free, map(float, x)))
+    for k in use:
+        if abs(evaluate(eqs[k].residual, vals)) > 1e-9 * max(_size(eqs[k], vals), 1e-300):
+            return None
+    return vals
+
+
 def _size(e, values) -> float:
     """The scale of an equation's terms (both sides: `20 = 20` folds to a zero residual)."""
     return magnitude(e.lhs, values) + magnitude(e.rhs, values)
@@ -238,11 +263,7 @@ def _explicit(doc, prm: GivenNumber, system, regimes, rows, values, base, build)
 
     r1, m1 = at(h), at(-h)
     if r1 is not None and m1 is not None:
-        r2, m2 = at(2 * h), at(-2 * h)
-        if r2 is not None and m2 is not None:
-            d = (8 * (r1 - m1) - (r2 - m2)) / (12 * h)
-        else:
-            d = (r1 - m1) / (2 * h)
+        d = (r1 - m1) / (2 * h)
     else:  # at the edge of the domain (e = 1, mu = 0): one side, a smaller step
         h = EDGE_STEP * abs(p) if p != 0 else EDGE_STEP
         side = 1.0 if r1 is not None else -1.0
