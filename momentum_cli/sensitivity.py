@@ -14,18 +14,20 @@ residuals at the same solution (a central difference, no re-solve): the equation
 smooth in their data, and the step's error (h^2 + eps/h, h = 1e-5 p) is about 1e-10.
 Friction regimes and root choices are those of the solution, held fixed; derived
 answers (`find NAME = expr`, speeds, T_lost) are differentiated through their trees.
+A number that a redundant equation ties to others has no derivative of its own (said
+why); where the numbers leave an impulse's split free, only the determined unknowns
+get derivatives.
 """
 from __future__ import annotations
 
 import math
+from dataclasses import field
 
 from .bounds import size_of
 from .compile import compile_scene
 from .diagnostics import ProblemError
 from .expr import diff, evaluate, magnitude, variables
 from .given_numbers import GivenNumber, given_numbers, perturbed
-from dataclasses import field
-
 from .records import record
 
 STEP = 1e-5  # the central difference's step, relative to the number (absolute for a zero
