@@ -74,13 +74,28 @@ class Sensitivities:
 
 
 def sensitivities(doc, sol, build=None) -> Sensitivities:
-    """The sensitivities of `sol` (solved from `doc`) to every given number of `doc`."""
+    """The sensitivities of `sol` (solved from `doc`) to every given number of `doc`; a
+    number that fails on the way (an overflow in a derivative) makes the section say so
+    and never costs the file its answers."""
+    import numpy as np
+
+    params = given_numbers(doc)
+    out = Sensitivities(params)
+    try:
+        return _sensitivities(doc, sol, build, out)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError,
+            np.linalg.LinAlgError) as exc:
+        out.answers = []
+        out.unavailable = f"the derivatives could not be computed ({type(exc).__name__})"
+        return out
+
+
+def _sensitivities(doc, sol, build, out: Sensitivities) -> Sensitivities:
     import numpy as np
 
     if build is None:
         from .scene import build
-    params = given_numbers(doc)
-    out = Sensitivities(params)
+    params = out.parameters
     system = sol.system
     why = _unsupported(sol)
     if why:

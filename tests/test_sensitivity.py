@@ -201,3 +201,12 @@ def test_set_override_is_the_parameter():
     row = next(r for r in vb["derivatives"] if r["parameter"] == v0["id"])
     assert row["derivative"] == pytest.approx(1.5 * 2 / 3, rel=1e-9)
     assert row["relative"] == pytest.approx(1.0, rel=1e-9)
+
+
+def test_unavailable_is_said_not_guessed():
+    """A phase integrated numerically has no derivatives here: the section says why and
+    the answers are still printed."""
+    name = "flow_raindrop_in_mist.mom"
+    doc = parse(Source(name, (EXAMPLES / name).read_text()))
+    sens = sensitivities(doc, solve_scene(build(doc)))
+    assert sens.unavailable and "integrated" in sens.unavailable and not sens.answers
