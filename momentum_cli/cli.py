@@ -341,6 +341,10 @@ def solve(
     no_pager: bool = typer.Option(False, "--no-pager", help="Never page: by default a "
                                   "derivation longer than the terminal goes through $PAGER "
                                   "(less -FRX), never when the output is piped."),
+    sensitivity: bool = typer.Option(False, "--sensitivity",
+                                     help="Also print d answer / d given for every answer and "
+                                          "every given number of the file, ranked by the "
+                                          "relative form (d ln answer / d ln given)."),
 ) -> None:
     """Solve problem files and print the solution step by step.
 
@@ -354,6 +358,7 @@ def solve(
     from .run import solve_many
 
     mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
+    sensitivity = sensitivity and (mode == "json" or not quiet)  # -q prints answers only
     _safe_streams()
     detail = (steps or (Steps.brief if mode == "rich" else Steps.full)).value
     view = dict(units=units.value, detail=detail)
@@ -376,11 +381,11 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
     solved = (r for r in ())
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
-                            precision.value, overrides, view["units"])
+                            precision.value, overrides, view["units"], sensitivity)
     try:
         worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                             traceback_flag, results, strict, color, deterministic,
-                            overrides, jsonl, view)
+                            overrides, jsonl, view, sensitivity)
     finally:
         solved.close()  # ends any worker processes still running
     if mode == "json" and not jsonl:
@@ -394,7 +399,7 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
 
 def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 traceback_flag, results, strict, color, deterministic, overrides=(),
-                jsonl=False, view=None) -> ExitCode:
+                jsonl=False, view=None, sensitivity=False) -> ExitCode:
     """Print (or collect, for JSON) each file's result in order; the worst exit code."""
     from .run import solve_source
 
@@ -408,7 +413,9 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
         elif res is None:
             try:
                 res = solve_source(source, solve_all, digits, precision.value, overrides,
-                                   units=(view or {}).get("units", "file"))
+                res = solve_source(source, solve_all, digits, precision.value, overrides,
+                                   units=(view or {}).get("units", "file"),
+                                   sensitivity=sensitivity)
             except (KeyboardInterrupt, typer.Exit):
                 raise
             except Exception as exc:  # --traceback: show the bug

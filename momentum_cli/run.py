@@ -118,9 +118,11 @@ def _build_scene(source: Source, overrides=()):
 
 
 def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
-                 precision: str = "float", overrides=(), units: str = "file") -> FileResult:
+                 precision: str = "float", overrides=(), units: str = "file",
+                 sensitivity: bool = False) -> FileResult:
     """Solve one file; `overrides` are `--set` (name, value text) pairs for its `let`s.
-    Its `expect` lines are checked (`FileResult.expects`), also when it does not solve."""
+    Its `expect` lines are checked (`FileResult.expects`), also when it does not solve.
+    `sensitivity`: the report gets d answer / d given number (`--sensitivity`)."""
     from .report.model import build_report
     from .solve import solve_scene
 
@@ -130,6 +132,8 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
             sol = solve_scene(scene, solve_all, precision=precision)
             _instant_phases(sol)
             rep = build_report(source.name, sol, sig, units)
+            if sensitivity:
+                rep.sensitivities = _sensitivities(source, overrides, sol)
             checks = []
             if scene.expects:
                 from .expectations import check_solution
@@ -143,6 +147,21 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         return _failed(source, list(exc.diagnostics))
     except RecursionError:  # `parse` bounds the depth; this is the last line of defence
         return _too_deep(source)
+
+
+def _sensitivities(source: Source, overrides, sol) -> dict:
+    """The report's sensitivities section of a solved file (parsed again: the given
+    numbers are the document's literals)."""
+    from .report.sensitivity import section
+    from .sensitivity import sensitivities
+    from .syntax import parse
+
+    doc = parse(source)
+    if overrides:
+        from .overrides import apply
+
+        doc = apply(doc, overrides)
+    return section(sensitivities(doc, sol))
 
 
 def _failed(source: Source, diagnostics) -> FileResult:
@@ -238,9 +257,9 @@ PARALLEL_MIN = 48  # files in one call from which a second process pays for itse
 
 def _solve_job(job):
     """Worker: solve one (source, options) job; a bug becomes an internal FileResult."""
-    source, solve_all, sig, precision, overrides, units = job
+    source, solve_all, sig, precision, overrides, *more = job
     try:
-        return solve_source(source, solve_all, sig, precision, overrides, units)
+        return solve_source(source, solve_all, sig, precision, overrides, *more)
     except Exception as exc:  # a bug in momentum: keep going, report it in order
         return FileResult(source.name, "internal", None, None, [Diagnostic(
             "error", "internal", f"internal error: {type(exc).__name__}: {exc} (this is a bug "
@@ -248,7 +267,7 @@ def _solve_job(job):
 
 
 def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
-               units: str = "file"):
+               units: str = "file", sensitivity: bool = False):
     """Solve sources in order, in parallel worker processes when there are many.
 
     Yields FileResults in the input order. Each file is independent, so with many
@@ -262,7 +281,7 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
         (os.cpu_count() or 1)
     if len(sources) < PARALLEL_MIN or cores < 2:
         for s in sources:
-            yield _solve_job((s, solve_all, sig, precision, overrides, units))
+            yield _solve_job((s, solve_all, sig, precision, overrides, units, sensitivity))
         return
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
@@ -275,7 +294,7 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
         ctx = mp.get_context("fork")
     except ValueError:
         ctx = None
-    jobs = [(s, solve_all, sig, precision, overrides, units) for s in sources]
+    jobs = [(s, solve_all, sig, precision, overrides, units, sensitivity) for s in sources]
     done = 0
     if ctx is not None:
         pool = None

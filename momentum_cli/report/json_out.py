@@ -49,6 +49,8 @@ def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=N
             d["flows"] = [dict(r) for r in rep.flows]
         if rep.expectations:
             d["expectations"] = [dict(e) for e in rep.expectations]
+        if rep.sensitivities:
+            d["sensitivities"] = rep.sensitivities
     if check_counts is not None:
         d["counts"] = dict(check_counts)
     return d

@@ -61,6 +61,7 @@ class Report:
     # labels of mass, inertia, length, velocity; knowns, bodies' shown_mass/shown_inertia,
     # unknowns' value/shown_unit, answers without `in UNIT` and numeric lines are in them
     units: dict = field(default_factory=dict)
+    sensitivities: dict | None = None  # `--sensitivity`: report/sensitivity.section
 
 
 def _finite(x: float | None) -> float | None:

@@ -130,6 +130,10 @@ def _answers(rep: Report, console, sig: int) -> None:
         v = fmt_num(a["value"], sig) if a["value"] is not None else "-"
         t.add_row(escape(a["name"]), v, escape(a["unit"]), escape(a.get("direction") or ""))
     console.print(t)
+    if rep.sensitivities:
+        from .sensitivity import render_rich
+
+        render_rich(rep.sensitivities, console, sig)
 
 
 def render_brief(rep: Report, console, sig: int = 6) -> None:
@@ -141,7 +145,7 @@ def render_brief(rep: Report, console, sig: int = 6) -> None:
     from .text import render_brief as brief_text
 
     console.rule(Text(f"{rep.file}: {rep.title or '(untitled problem)'}", style="bold"))
-    lines = brief_text(rep, sig).splitlines()[1:]
+    lines = brief_text(rep, sig, sensitivities=False).splitlines()[1:]
     cut = lines.index("Answers") if "Answers" in lines else len(lines)
     for i, line in enumerate(lines[:cut]):
         if line and not line.startswith(" "):

@@ -111,6 +111,10 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
         out.append("")
         out.append("Answers")
     out.extend(_answers(rep, sig))
+    if rep.sensitivities:
+        from .sensitivity import text_lines
+
+        out.extend(text_lines(rep.sensitivities, sig, table))
     return "\n".join(out) + "\n"
 
 
@@ -139,7 +143,7 @@ def key_checks(rep: Report) -> list:
             if c.status in ("warning", "error") or c.name.startswith(KEY_CHECKS)]
 
 
-def render_brief(rep: Report, sig: int = 6) -> str:
+def render_brief(rep: Report, sig: int = 6, sensitivities: bool = True) -> str:
     """One screen: the givens, each principle with its equations (symbolic, then with
     numbers), the stated principles, the answers and the key checks. The constraint
     bookkeeping of each state, the matrices and the conditioning are in --steps full."""
@@ -175,6 +179,10 @@ def render_brief(rep: Report, sig: int = 6) -> str:
         out.append("")
         out.append("Checks")
         out.extend(f"  {c.status}: {c.name}: {c.detail}" for c in checks)
+    if sensitivities and rep.sensitivities:
+        from .sensitivity import text_lines
+
+        out.extend(text_lines(rep.sensitivities, sig, table))
     return "\n".join(out) + "\n"
 
 
