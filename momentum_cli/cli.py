@@ -355,13 +355,12 @@ def solve(
       cat problem.mom | momentum solve -q -
     """
     from .pager import paged
-    from .run import solve_many
 
     mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
     sensitivity = sensitivity and (mode == "json" or not quiet)  # -q prints answers only
     _safe_streams()
     detail = (steps or (Steps.brief if mode == "rich" else Steps.full)).value
-    view = dict(units=units.value, detail=detail)
+    view = dict(units=units.value, detail=detail, sensitivity=sensitivity)
     with paged(enabled=not no_pager and mode in ("rich", "plain") and not quiet,
                color=color != Color.never):
         _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_flag, sets,
@@ -373,6 +372,7 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
     """`solve`'s work: read, solve in order (in parallel for many), print, exit code."""
     from .run import solve_many
 
+    sensitivity = view["sensitivity"]
     out = sys.stdout
     results = []
     many = len(files) > 1
@@ -412,7 +412,6 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
             res = next(solved)
         elif res is None:
             try:
-                res = solve_source(source, solve_all, digits, precision.value, overrides,
                 res = solve_source(source, solve_all, digits, precision.value, overrides,
                                    units=(view or {}).get("units", "file"),
                                    sensitivity=sensitivity)
