@@ -776,6 +776,69 @@ def bench_simulate(
     sys.stdout.write("\n".join(text_table(HEADERS, table(rows))) + "\n")
 
 
+@bench_app.command("sweep")
+def bench_sweep(
+    files: List[str] = typer.Argument(None, metavar="[FILE...]",
+                                      help="Problem files (default: the seed and sweep "
+                                           "examples when run from the repository)."),
+    count: int = typer.Option(10000, "--count", "-n", min=1,
+                              help="Variants of each file for the batched sweep and numpy."),
+    loop: int = typer.Option(100, "--loop", min=1,
+                             help="Variants timed in the scalar-solve loop."),
+    processes: int = typer.Option(5, "--processes", min=0,
+                                  help="Variants timed as one process each (0: skip)."),
+    seed: int = typer.Option(1, "--seed", help="Seed of the drawn `let` values."),
+    json_flag: bool = typer.Option(False, "--json", help="Print JSON."),
+    markdown: bool = typer.Option(False, "--markdown",
+                                  help="Print a Markdown table with the library versions."),
+) -> None:
+    """Variants per second: the batched sweep, numpy's batched solve, a scalar loop, and
+    one process per variant.
+
+    Every `let` of each file is drawn uniform within +-5 % of its value (files without
+    `let` give only the numpy limit). numpy's limit is np.linalg.solve on the file's linear
+    blocks stacked COUNT times (built first, only the solve timed).
+
+    \b
+    Examples:
+      momentum bench sweep
+      momentum bench sweep --count 100000 --markdown
+    """
+    import json
+
+    from .sweep.bench import HEADERS, as_json, default_files, markdown as md, run, table
+
+    if not files:
+        files = default_files()
+    if not files:
+        raise typer.BadParameter("no problem files given, and no examples/seed_*.mom here")
+    for f in files:
+        if not os.path.isfile(f):
+            raise typer.BadParameter(f"no such file: {f}")
+    err = sys.stderr
+    rows = run(files, count, loop, processes, seed,
+               progress=lambda f, s: err.write(f"  {f}: {s}\n") if err.isatty() else None)
+    if json_flag:
+        from .bench import versions
+        from .report.json_out import clean
+
+        sys.stdout.write(json.dumps({"schema_version": "1", "versions": versions(),
+                                     "sweep": clean(as_json(rows))}, indent=2,
+                                    allow_nan=False) + "\n")
+        return
+    if markdown:
+        from .bench import versions
+
+        sys.stdout.write(md(rows) + f"\nProduced by `momentum bench sweep --count {count} "
+                         f"--markdown`: {count:,} variants per file for the batched sweep and "
+                         f"numpy, {loop} in the scalar loop, {processes} as processes; "
+                         f"{versions()}.\n")
+        return
+    from .report.text import table as text_table
+
+    sys.stdout.write("\n".join(text_table(HEADERS, table(rows))) + "\n")
+
+
 # ---- problem sets: test, expect, variants, grade; --set -------------------------------------
 
 def _overrides_for(sets: Optional[List[str]], sources) -> tuple:
