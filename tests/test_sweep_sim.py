@@ -69,3 +69,36 @@ def test_plot_draws_a_grid_or_histograms(tmp_path, grid):
     path = tmp_path / "sweep.png"
     draw(res, str(path), ["e"] if grid else [], [] if grid else ["e"], title="bounce")
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_plot_is_never_written_over_an_existing_file_without_force(tmp_path):
+    pytest.importorskip("matplotlib", reason="matplotlib is not installed (the `plot` extra)")
+    from momentum_cli.sweep.execute import RunError, check_plot
+
+    path = tmp_path / "old.png"
+    path.write_bytes(b"keep")
+    with pytest.raises(RunError, match="exists; add --force"):
+        check_plot(str(path), [str(BOUNCE)], False)
+    check_plot(str(path), [str(BOUNCE)], True)
+    with pytest.raises(RunError, match="unknown file type"):
+        check_plot(str(tmp_path / "x.txt"), [str(BOUNCE)], False)
+    assert path.read_bytes() == b"keep"
+
+
+def test_simulate_sweeps_vary_lets_only():
+    from momentum_cli.sweep.execute import RunError, run
+
+    with pytest.raises(RunError, match="has no `let ee`; did you mean 'e'"):
+        run(str(BOUNCE), BOUNCE.read_text(encoding="utf-8"), {"ee": np.array([0.5])},
+            simulate=True)
+
+
+def test_a_missing_dask_is_a_one_line_usage_error(monkeypatch):
+    import sys
+
+    from momentum_cli.sweep.execute import RunError, check_dask
+
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    with pytest.raises(RunError, match=r"pip install 'momentum-cli\[dask\]'"):
+        check_dask("local")
+    check_dask(None)
