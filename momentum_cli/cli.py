@@ -1114,6 +1114,55 @@ def variants(
 
 
 @app.command()
+def sweep(
+    file: str = typer.Argument(..., metavar="FILE", help="The problem file (.mom)."),
+    vary: Optional[List[str]] = typer.Option(None, "--vary", metavar="NAME=LO..HI:N",
+                                             help="A grid of N values from LO to HI "
+                                                  "(several make a product): e=0..1:101, "
+                                                  "'h=0.5..2:16 m'."),
+    sample: Optional[List[str]] = typer.Option(None, "--sample", metavar="NAME~DIST(...)",
+                                               help="Draws: uniform(lo, hi), normal(mean, "
+                                                    "sd), lognormal(mean, sd), "
+                                                    "triangular(lo, mode, hi), with units: "
+                                                    "'m~normal(2 kg, 0.05 kg)'."),
+    count: Optional[int] = typer.Option(None, "--count", "-n", help="How many draws."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="The random seed (numpy PCG64; "
+                                                            "default 0)."),
+    csv_path: Optional[str] = typer.Option(None, "--csv", metavar="FILE",
+                                           help="One row per variant: parameters (SI), "
+                                                "answers (the find's unit), status."),
+    json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
+    jsonl: bool = typer.Option(False, "--jsonl", help="Print one JSON object per variant."),
+    digits: int = typer.Option(6, "--digits", "-p", min=1, max=17,
+                               help="Significant figures in the summary."),
+) -> None:
+    """Solve a problem for many values of its `let` constants (or given numbers:
+    `rod.y@1`, `e[A]`), compiled once and solved as arrays; summarise every answer.
+
+    \b
+    Examples:
+      momentum sweep examples/seed_oblique_particles.mom --vary e=0..1:101 --csv e.csv
+      momentum sweep examples/seed_rod_drop_smooth.mom --sample 'e[A]~uniform(0.5, 0.7)' \\
+          --sample 'rod.y@1~normal(1 m, 0.05 m)' --count 100000 --seed 1
+    """
+    from .sweep.command import UsageError, run
+
+    if json_flag and jsonl:
+        raise typer.BadParameter("--json and --jsonl ask for different outputs; give one")
+    _safe_streams()
+    bar = (lambda total: _FileProgress(total, "variants")) \
+        if sys.stderr.isatty() and not (json_flag or jsonl) else None
+    try:
+        code = run(file, vary or [], sample or [], count, seed, csv_path, json_flag, jsonl,
+                   digits, bar)
+    except UsageError as exc:
+        sys.stderr.write(f"momentum sweep: error: {exc}\n")
+        raise typer.Exit(int(ExitCode.USAGE)) from None
+    sys.stdout.flush()
+    raise typer.Exit(code)
+
+
+@app.command()
 def grade(
     key: List[str] = typer.Argument(..., metavar="KEY_PATH",
                                     help="The key: problem files or folders (*.mom)."),

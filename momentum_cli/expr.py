@@ -131,6 +131,8 @@ FUNCS = {
 def lift(x) -> E:
     if isinstance(x, E):
         return x
+    if isinstance(x, float):  # a float subclass (a sweep's traced number) stays itself
+        return Const(x)
     return Const(float(x))
 
 
@@ -217,6 +219,9 @@ def power(a: E, p: float) -> E:
 
 def fn(name: str, a: E) -> E:
     if isinstance(a, Const):
+        traced = getattr(a.value, "apply", None)  # a sweep's traced number (sweep/trace.py)
+        if traced is not None:
+            return Const(traced(name))
         try:
             return Const(float(FUNCS[name](a.value)))
         except (ValueError, OverflowError):

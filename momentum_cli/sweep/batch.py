@@ -1,0 +1,464 @@
+"""`solve_batch`: one problem file solved for many variants, compiled once.
+
+In: a problem file and each parameter's SI values (numpy columns). Out: `BatchResult`,
+every `find` answer as an array (SI), and each variant's status: "ok" (solved by the
+batch in the regimes the scalar solve would choose), or why it was solved on its
+own by the ordinary scalar solve (a decision of the structure that goes another way,
+a block near-singular, another set of roots), or "error: ..." if it does not solve.
+
+The file is built and compiled once with traced numbers (trace.py) at a base variant;
+the structure is analysed once; each block's rows become numpy kernels (kernel.py,
+blocks.py). Friction regimes follow the scalar solve's rounds variant by variant:
+every variant starts with every contact sticking, switches where the scalar rule
+says, and is solved again with the structure of its new regimes.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..records import record
+from . import trace
+from .blocks import _mark, block_for
+from .kernel import function
+from .params import ParamError, bind, build_variant
+
+CHUNK = 100_000
+MAX_ROUNDS = 8
+
+
+class SweepError(ValueError):
+    """The sweep cannot start (unreadable file, unknown parameter): one line."""
+
+
+@record
+class BatchResult:
+    answers: dict  # name -> float64 array (SI)
+    units: dict  # name -> SI unit label of the answer
+    status: np.ndarray  # object array: "ok" or why the variant was solved on its own
+    params: dict  # name -> float64 array (SI)
+    display: dict  # name -> (unit of the `find`, factor: SI / factor = display value)
+    param_units: dict  # name -> SI unit label of the parameter
+    regimes: np.ndarray | None = None  # object array: the friction regimes that held
+    batched: bool = True  # False: the structure could not be batched; all scalar
+    note: str = ""  # why not batched
+
+
+def solve_batch(problem_path: str, columns: dict, dims: dict | None = None,
+                progress=None, chunk: int = CHUNK) -> BatchResult:
+    """Every variant of the file (columns: parameter -> SI values)."""
+    from ..run import SourceTextError, read_source
+    from ..diagnostics import ProblemError
+    from ..syntax import parse
+
+    try:
+        source = read_source(problem_path)
+    except (OSError, SourceTextError) as exc:
+        raise SweepError(f"{problem_path}: cannot read: "
+                         f"{getattr(exc, 'strerror', None) or exc}") from None
+    names = list(columns)
+    cols = {n: np.ascontiguousarray(columns[n], dtype=float) for n in names}
+    sizes = {len(c) for c in cols.values()}
+    if len(sizes) > 1:
+        raise SweepError("the parameter columns have different lengths")
+    n = sizes.pop() if sizes else 0
+    try:
+        doc = bind(parse(source), names, problem_path)
+    except ParamError as exc:
+        raise SweepError(str(exc)) from None
+    except ProblemError as exc:
+        d = exc.diagnostics[0]
+        where = f":{d.span.line}:{d.span.column}" if d.span else ""
+        raise SweepError(f"{problem_path}{where}: error: {d.message}") from None
+    sweep = _Sweep(doc, names, dims or {}, cols, n)
+    sweep.prepare()
+    for lo in range(0, n, chunk):
+        sweep.run_chunk(lo, min(n, lo + chunk))
+        if progress is not None:
+            progress(min(n, lo + chunk))
+    return sweep.result()
+
+
+class _Plan:
+    """One regime assignment's traced structure and its kernels."""
+
+    def __init__(self, sweep, regimes: dict):
+        from ..analyse import analyse
+        from ..compile import compile_scene
+        from ..solve import _needed
+
+        self.regimes = regimes
+        trace.start()
+        try:
+            scene = build_variant(sweep.doc, sweep.traced, sweep.dims)
+            system = compile_scene(scene, dict(regimes))
+            structure = analyse(system)
+        finally:
+            self.guards = trace.stop()
+        self.system, self.structure = system, structure
+        self.reason = _unbatchable(system, structure)
+        if self.reason:
+            return
+        with trace.paused():
+            needed = _needed(system, structure, False)
+            order = structure.needed_blocks(needed)
+            self.unknowns = [u for b in order for u in structure.blocks[b].unknowns]
+            self.blocks = []
+            for b in order:
+                blk = block_for(system, structure, structure.blocks[b], sweep.names,
+                                self.unknowns)
+                if blk is None:
+                    self.reason = "a block with more equations than unknowns"
+                    return
+                self.blocks.append(blk)
+            self.finds = system.finds
+            fexprs = [f.expr for f in system.finds]
+            self.find_fn = function(fexprs, sweep.names, self.unknowns, "finds")
+            # guards, friction sites, redundant rows and durations: checked per variant
+            g = self.guards
+            self.guard_fn = function([x.lhs for x in g] + [x.rhs for x in g], sweep.names,
+                                     self.unknowns, "guards") if g else None
+            self.sites = [s for s in system.friction if s.jn in self.unknowns]
+            site_exprs = []
+            for s in self.sites:
+                site_exprs.append(_lift(s.mu))
+                site_exprs.append(s.slip_expr if s.slip_expr is not None else _lift(0.0))
+            self.site_fn = function(site_exprs, sweep.names, self.unknowns, "sites") \
+                if self.sites else None
+            known = set(self.unknowns)
+            checks = [k for k in structure.redundant
+                      if structure.incidence[k] <= known]
+            self.check_eqs = [system.equations[k] for k in checks]
+            terms = []
+            self.check_terms = []
+            for e in self.check_eqs:
+                r = e.residual
+                ts = list(r.terms) if type(r).__name__ == "Add" else [r]
+                self.check_terms.append((len(terms), len(ts)))
+                terms.extend(ts)
+            self.check_fn = function(terms, sweep.names, self.unknowns, "checks") \
+                if terms else None
+            self.durations = [self.unknowns.index(u) for u, k in
+                              ((u, system.unknowns[u].kind) for u in self.unknowns)
+                              if k == "duration"]
+
+    def solve(self, p, m):
+        """(values per unknown, ok mask, reasons) for m variants."""
+        ok = np.ones(m, bool)
+        why = np.full(m, None, dtype=object)
+        v: list = [None] * len(self.unknowns)
+        with np.errstate(all="ignore"):
+            if self.guard_fn is not None:
+                vals = self.guard_fn(p, v)
+                h = len(self.guards)
+                for g, a, b in zip(self.guards, vals[:h], vals[h:]):
+                    got = _compare(g.op, a, b)
+                    bad = np.broadcast_to(got != g.outcome, (m,))
+                    if bad.any():
+                        _mark(ok, why, bad, "the structure changes (a given becomes 0, a "
+                              "coefficient 1, a direction flips)")
+            for blk in self.blocks:
+                blk.run(p, v, m, ok, why)
+            for j, x in enumerate(v):
+                if x is None or np.ndim(x) == 0:
+                    v[j] = np.broadcast_to(np.asarray(x, float), (m,))
+            for j in self.durations:
+                _mark(ok, why, ~(v[j] > 0), "a duration is not positive")
+            if self.check_fn is not None:
+                terms = self.check_fn(p, v)
+                for e, (start, cnt) in zip(self.check_eqs, self.check_terms):
+                    ts = [np.broadcast_to(np.asarray(t, float), (m,)) for t in
+                          terms[start:start + cnt]]
+                    res = np.abs(np.sum(ts, axis=0))
+                    mag = np.sum(np.abs(ts), axis=0)
+                    _mark(ok, why, ~(res <= 1e-9 * mag + 1e-300),
+                          f"a redundant equation does not hold ({e.principle})")
+        return v, ok, why
+
+    def next_regimes(self, p, v, m):
+        """Each variant's regimes after the scalar solve's update rule; (keys, changed)."""
+        keys = np.full(m, None, dtype=object)
+        changed = np.zeros(m, bool)
+        if not self.sites:
+            return keys, changed
+        vals = self.site_fn(p, v)
+        new = [np.full(m, s.regime, dtype=object) for s in self.sites]
+        idx = {u: j for j, u in enumerate(self.unknowns)}
+        with np.errstate(all="ignore"):
+            for i, s in enumerate(self.sites):
+                mu = np.broadcast_to(np.asarray(vals[2 * i], float), (m,))
+                jn = v[idx[s.jn]]
+                jt = v[idx[s.jt]] if s.jt and s.jt in idx else np.zeros(m)
+                if s.regime == "stick":
+                    slide = np.abs(jt) > mu * jn * (1 + 1e-12) + 1e-300
+                    new[i][slide & (jt < 0)] = "slide+"
+                    new[i][slide & ~(jt < 0)] = "slide-"
+                    changed |= slide
+                elif s.slip_expr is not None and not s.decided:
+                    slip = np.broadcast_to(np.asarray(vals[2 * i + 1], float), (m,))
+                    want = np.where(slip > 0, "slide+", "slide-")
+                    flip = (slip != 0) & (want != s.regime)
+                    new[i][flip] = want[flip]
+                    changed |= flip
+        base = dict(self.regimes)
+        for j in range(m):
+            if changed[j]:
+                r = dict(base)
+                for i, s in enumerate(self.sites):
+                    if new[i][j] != s.regime:
+                        r[s.key] = new[i][j]
+                keys[j] = tuple(sorted(r.items()))
+        return keys, changed
+
+
+def _lift(x):
+    from ..expr import Const
+
+    return Const(x) if isinstance(x, float) else Const(float(x))
+
+
+def _compare(op, a, b):
+    return {"==": np.equal, "!=": np.not_equal, "<": np.less, "<=": np.less_equal,
+            ">": np.greater, ">=": np.greater_equal}[op](a, b)
+
+
+def _unbatchable(system, structure) -> str:
+    """Why this structure is left to the scalar solve ('' if it is not)."""
+    if system.integrations:
+        return "a phase integrated numerically"
+    if system.path_laws:
+        return "an impact law that follows the impulse path (Poisson, Stronge)"
+    from ..solve import _under_rows
+
+    if structure.under and _under_rows(structure):
+        return "an under-determined part"
+    for k in structure.constant_eqs:
+        if not structure.incidence[k]:
+            return "an equation of given values only (a check)"
+    return ""
+
+
+class _Sweep:
+    def __init__(self, doc, names, dims, cols, n):
+        self.doc, self.names, self.dims, self.cols, self.n = doc, names, dims, cols, n
+        self.plans: dict = {}
+        self.answers: dict = {}
+        self.units: dict = {}
+        self.display: dict = {}
+        self.status = np.full(n, "ok", dtype=object)
+        self.regimes = np.full(n, "", dtype=object)
+        self.batched = True
+        self.note = ""
+        self.order: list = []
+
+    # ---- the base variant: the scalar solve decides the answers' names and units
+    def prepare(self) -> None:
+        from ..diagnostics import ProblemError
+
+        n = self.n
+        tries = [n // 2, 0, n - 1] if n else []
+        base = None
+        self.base_error = None
+        for i in dict.fromkeys(tries):
+            try:
+                sol = self._scalar(i)
+            except ProblemError as exc:
+                self.base_error = exc
+                continue
+            except ParamError as exc:
+                raise SweepError(str(exc)) from None
+            base = (i, sol)
+            break
+        if base is None:
+            self.batched = False
+            self.note = "no variant tried first solves"
+            if self.base_error is not None and n:
+                d = self.base_error.diagnostics[0]
+                if d.code in ("syntax", "name", "units", "type"):
+                    where = f":{d.span.line}:{d.span.column}" if d.span else ""
+                    raise SweepError(f"{self.doc.source.name}{where}: error: {d.message}")
+            return
+        i, sol = base
+        self.base = i
+        for name, _v, unit, _si in sol.answers:
+            self.order.append(name)
+        self._find_units(sol)
+        self.answers = {a: np.full(n, np.nan) for a in self.order}
+        self.traced = {p: trace.leaf(p, float(self.cols[p][i])) for p in self.names}
+        plan = self._plan(())
+        if plan.reason:
+            self.batched, self.note = False, plan.reason
+            return
+        leak = self._leaks(plan, sol)
+        if leak:
+            self.batched, self.note = False, leak
+
+    def _find_units(self, sol) -> None:
+        from ..units import si_label
+
+        for f in sol.system.finds:
+            self.display[f.name] = (f.unit, f.factor)
+            self.units[f.name] = f.unit if f.factor == 1.0 else si_label(f.dim)
+        for name, _v, unit, si in sol.answers:
+            if name not in self.display:  # a vector's components
+                self.display[name] = (unit, (si / _v) if _v not in (0.0,) and si else 1.0)
+                self.units[name] = unit
+
+    def _plan(self, key) -> _Plan:
+        plan = self.plans.get(key)
+        if plan is None:
+            plan = self.plans[key] = _Plan(self, dict(key))
+        return plan
+
+    def _leaks(self, plan: _Plan, base_sol) -> str:
+        """Build and compile a second variant as the scalar solve would; every number of
+        its equations must be what the traced ones give there (a number computed outside
+        the trace, e.g. by math.hypot, would be the base's for every variant)."""
+        from ..analyse import analyse  # noqa: F401
+        from ..compile import compile_scene
+        from ..expr import evaluate
+        from ..diagnostics import ProblemError
+
+        n = self.n
+        probes = [j for j in (0, n - 1, n // 3) if j != self.base]
+        for j in probes[:2]:
+            vals = {p: float(self.cols[p][j]) for p in self.names}
+            try:
+                scene = build_variant(self.doc, vals, self.dims)
+                system = compile_scene(scene, dict(plan.regimes))
+            except ProblemError:
+                continue
+            if len(system.equations) != len(plan.system.equations):
+                return "the number of equations depends on the parameters"
+            pv = [np.array([vals[p]]) for p in self.names]
+            exprs = [e.residual for e in plan.system.equations]
+            # compare the residuals at a common random point of the unknowns
+            rng = np.random.default_rng(12345)
+            point = {u: float(rng.uniform(0.5, 1.5)) for u in system.unknowns}
+            if set(system.unknowns) != set(plan.system.unknowns):
+                return "the unknowns depend on the parameters"
+            names = list(point)
+            fn = function(exprs, self.names, names, "probe")
+            with trace.paused():
+                got = fn(pv, [np.array([point[u]]) for u in names])
+                for e, g in zip(system.equations, got):
+                    try:
+                        want = evaluate(e.residual, point)
+                    except (ValueError, ZeroDivisionError, OverflowError, KeyError):
+                        continue
+                    g = float(np.asarray(g).ravel()[0])
+                    if not math.isclose(g, want, rel_tol=1e-9, abs_tol=1e-12 * (1 + abs(want))):
+                        return (f"a number of {e.principle} is computed outside the batch "
+                                "(not traced)")
+        return ""
+
+    def _scalar(self, i):
+        from ..solve import solve_scene
+
+        vals = {p: float(self.cols[p][i]) for p in self.names}
+        scene = build_variant(self.doc, vals, self.dims)
+        return solve_scene(scene)
+
+    # ---- a chunk of variants
+    def run_chunk(self, lo: int, hi: int) -> None:
+        m = hi - lo
+        if not self.batched:
+            for i in range(lo, hi):
+                self._fallback(i, "")
+            return
+        idx = np.arange(lo, hi)
+        groups = [((), idx, ())]
+        final_reason = np.full(m, None, dtype=object)
+        for _ in range(MAX_ROUNDS):
+            nxt = []
+            for key, ids, path in groups:
+                plan = self._plan(key)
+                if plan.reason:
+                    for i in ids:
+                        self._fallback(int(i), f"regimes {_show(key)}: {plan.reason}")
+                    continue
+                p = [self.cols[name][ids] for name in self.names]
+                v, ok, why = plan.solve(p, len(ids))
+                keys, changed = plan.next_regimes(p, v, len(ids))
+                done = ok & ~changed
+                self._store(plan, p, v, ids[done], done, key)
+                for j in np.nonzero(~ok)[0]:
+                    final_reason[ids[j] - lo] = why[j]
+                moving = ok & changed
+                by_key: dict = {}
+                for j in np.nonzero(moving)[0]:
+                    by_key.setdefault(keys[j], []).append(j)
+                for k2, js in by_key.items():
+                    js = np.array(js)
+                    if k2 in path or k2 == key:
+                        for j in js:
+                            final_reason[ids[j] - lo] = "the friction regimes do not settle"
+                        continue
+                    nxt.append((k2, ids[js], path + (key,)))
+            groups = nxt
+            if not groups:
+                break
+        for key, ids, _ in groups:
+            for i in ids:
+                final_reason[i - lo] = "the friction regimes do not settle"
+        for j in np.nonzero(final_reason != None)[0]:  # noqa: E711 - object array
+            self._fallback(lo + int(j), final_reason[j])
+
+    def _store(self, plan, p, v, ids, mask, key) -> None:
+        if not len(ids):
+            return
+        with np.errstate(all="ignore"):
+            vals = plan.find_fn(p, v)
+        comp = 0
+        for f, val in zip(plan.finds, vals):
+            val = np.broadcast_to(np.asarray(val, float), mask.shape)[mask] \
+                if np.ndim(val) else np.full(len(ids), float(val))
+            if f.name in self.answers:
+                self.answers[f.name][ids] = val
+            else:  # a vector find: its x and y answers (the scalar solve's names)
+                comp += 1
+        self.regimes[ids] = _show(key)
+        bad = ~np.all([np.isfinite(self.answers[a][ids]) for a in self.order], axis=0) \
+            if self.order else np.zeros(len(ids), bool)
+        for i in ids[bad]:
+            self._fallback(int(i), "an answer is not finite")
+
+    def _fallback(self, i: int, reason: str) -> None:
+        """The ordinary scalar solve of variant i."""
+        from ..diagnostics import ProblemError
+
+        try:
+            sol = self._scalar(i)
+        except ProblemError as exc:
+            d = exc.diagnostics[0]
+            self.status[i] = f"error: {d.message}"
+            for a in self.answers.values():
+                a[i] = np.nan
+            return
+        if not self.answers:
+            for name, _v, _u, _si in sol.answers:
+                self.order.append(name)
+            self._find_units(sol)
+            self.answers = {a: np.full(self.n, np.nan) for a in self.order}
+        for name, _v, _u, si in sol.answers:
+            if name in self.answers:
+                self.answers[name][i] = si
+        self.status[i] = reason or "ok"
+        if not self.batched:
+            self.status[i] = "ok"
+        self.regimes[i] = _show(tuple(sorted(sol.regimes.items())))
+
+    def result(self) -> BatchResult:
+        from ..units import si_label
+
+        units = {p: si_label(self.dims[p]) if p in self.dims else "" for p in self.names}
+        return BatchResult({a: self.answers[a] for a in self.order},
+                           {a: self.units.get(a, "") for a in self.order}, self.status,
+                           dict(self.cols), {a: self.display.get(a, ("", 1.0))
+                                             for a in self.order},
+                           units, self.regimes, self.batched, self.note)
+
+
+def _show(key) -> str:
+    return ", ".join(f"{k}: {v}" for k, v in key)

@@ -1,0 +1,284 @@
+"""One compiled structure solved for many variants: linear blocks and Newton blocks.
+
+In: a traced `System` (numbers that are functions of the parameters), its `Structure`
+and the blocks the scalar solve needs. Out: `Plan`, whose `run(p, values, ok)` fills
+the solved unknowns' arrays for every variant. Linear blocks are `np.linalg.solve` on
+stacked (n, k, k) matrices; energy blocks are a vectorised damped Newton from the
+scalar solve's starts with its root rules (hints; one root or a hint that separates
+them). A variant whose block is near-singular, whose Newton fails or finds another
+set of roots is marked with the reason and left to the scalar solve.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..expr import Add, Const, Fn, Known, Mul, NonLinear, Pow, Var, add_all, diff, mul
+from .kernel import function
+
+
+def affine_sym(e, block: set):
+    """`expr.affine` as trees: (coefficient tree per block unknown, constant tree)."""
+    t = type(e)
+    if t is Const or t is Known:
+        return {}, e
+    if t is Var:
+        return ({e.name: Const(1.0)}, Const(0.0)) if e.name in block else ({}, e)
+    if t is Add:
+        coef: dict = {}
+        consts = []
+        for x in e.terms:
+            c, k = affine_sym(x, block)
+            consts.append(k)
+            for n, v in c.items():
+                coef.setdefault(n, []).append(v)
+        return {n: add_all(v) for n, v in coef.items()}, add_all(consts)
+    if t is Mul:
+        if any(type(f) in (Const, Known) and type(f.value) is float and f.value == 0.0
+               for f in e.factors):
+            return {}, Const(0.0)
+        coef, const = {}, Const(1.0)
+        for f in e.factors:
+            c, k = affine_sym(f, block)
+            if c and coef:
+                raise NonLinear()
+            if c:
+                coef = {n: mul(const, v) for n, v in c.items()}
+                const = mul(k, const)
+            else:
+                coef = {n: mul(v, k) for n, v in coef.items()}
+                const = mul(const, k)
+        return coef, const
+    if t is Pow or t is Fn:
+        inner = e.base if t is Pow else e.arg
+        c, _ = affine_sym(inner, block)
+        if c:
+            raise NonLinear()
+        return {}, e
+    raise NonLinear()
+
+
+class LinearBlock:
+    def __init__(self, names, residuals, params, unknowns):
+        self.names = names
+        k = len(names)
+        bset = set(names)
+        col = {n: j for j, n in enumerate(names)}
+        exprs, where = [], []
+        for i, r in enumerate(residuals):
+            coef, const = affine_sym(r, bset)
+            for n, c in coef.items():
+                exprs.append(c)
+                where.append(("A", i, col[n]))
+            exprs.append(const)
+            where.append(("b", i, 0))
+        self.k = k
+        self.where = where
+        self.fn = function(exprs, params, unknowns, "linear")
+        self.idx = [unknowns.index(n) for n in names]
+
+    def run(self, p, v, m, ok, why):
+        k = self.k
+        A = np.zeros((m, k, k))
+        b = np.zeros((m, k))
+        for (what, i, j), val in zip(self.where, self.fn(p, v)):
+            if what == "A":
+                A[:, i, j] += val
+            else:
+                b[:, i] -= val
+        good = np.isfinite(A).all(axis=(1, 2)) & np.isfinite(b).all(axis=1)
+        # equilibrated as the scalar solve does (rows, then columns); a near-singular
+        # matrix (the scalar solve would rank-test it) is left to the scalar solve
+        r = np.abs(A).max(axis=2)
+        r[r == 0] = 1.0
+        As = A / r[:, :, None]
+        c = np.abs(As).max(axis=1)
+        c[c == 0] = 1.0
+        As = As / c[:, None, :]
+        det = np.abs(np.linalg.det(As)) if k > 1 else np.abs(As[:, 0, 0])
+        good &= det > 1e-12
+        bad = ~good
+        if bad.any():
+            A[bad] = np.eye(k)
+            b[bad] = 0.0
+            _mark(ok, why, bad, "near-singular block " + ", ".join(self.names[:3]))
+        x = np.linalg.solve(A, b[:, :, None])[:, :, 0] if k > 1 else b / A[:, 0, :]
+        for j, gi in enumerate(self.idx):
+            v[gi] = x[:, j]
+
+
+def _mark(ok, why, mask, reason):
+    new = mask & ok
+    why[new] = reason
+    ok &= ~mask
+
+
+SPREAD = (0.7, -0.7, 2.0, -2.0, 0.3, -1.3, 1.1, -0.4)
+
+
+class NewtonBlock:
+    """The scalar `_newton`: every root from the same starts, then the hints decide."""
+
+    def __init__(self, system, names, residuals, params, unknowns):
+        from ..solve import _given_states
+
+        self.names = names
+        self.k = len(names)
+        self.idx = [unknowns.index(n) for n in names]
+        self.F = function(residuals, params, unknowns, "F")
+        self.J = function([diff(f, n) for f in residuals for n in names], params, unknowns,
+                          "J")
+        givens = list(_given_states(residuals))
+        self.S = function([Fn("abs", g) for g in givens], params, unknowns, "S") \
+            if givens else None
+        self.base = []
+        self.hints = []
+        for n in names:
+            u = system.unknowns[n]
+            checked = u.kind not in ("impulse", "duration")
+            self.hints.append([(rel, float(b)) for rel, b, _ in u.hints] if checked else [])
+            if u.kind == "restitution" and not u.hints:
+                self.base.append([0.5, 0.9, 0.2])
+                continue
+            lo = max((float(b) for rel, b, _ in u.hints if rel == ">"), default=None)
+            hi = min((float(b) for rel, b, _ in u.hints if rel == "<"), default=None)
+            if lo is not None and hi is not None:
+                self.base.append([(lo + hi) / 2, lo + (hi - lo) * 0.25, lo + (hi - lo) * 0.75])
+            elif lo is not None:
+                w = max(abs(lo), 1.0)
+                self.base.append([lo + 0.5 * w, lo + 2 * w, lo + 0.05 * w])
+            elif hi is not None:
+                w = max(abs(hi), 1.0)
+                self.base.append([hi - 0.5 * w, hi - 2 * w, hi - 0.05 * w])
+            else:
+                self.base.append(None)
+        self.has_hint = any(h for h in self.hints)
+
+    def _starts(self, p, v, m):
+        S = np.ones(m)
+        if self.S is not None:
+            for s in self.S(p, v):
+                S = np.maximum(S, s)
+        starts = [[np.full(m, b[min(k, len(b) - 1)]) if b else np.full(m, SPREAD[k])
+                   for b in self.base] for k in range(3)]
+        extra = (S > 1.0) | (self.k > 1)
+        if extra.any():
+            for k in range(len(SPREAD)):
+                starts.append([np.full(m, b[0]) if b else S * SPREAD[(k + 3 * i) % len(SPREAD)]
+                               for i, b in enumerate(self.base)])
+        return starts, extra
+
+    def run(self, p, v, m, ok, why):
+        with np.errstate(all="ignore"):
+            starts, extra = self._starts(p, v, m)
+            found = []
+            for s, x0 in enumerate(starts):
+                x, conv = self._newton(p, v, m, np.array(x0))
+                if s >= 3:
+                    conv &= extra
+                found.append((x, conv))
+        k = self.k
+        # distinct roots (the scalar `_close`), in the order of the starts
+        n_roots = np.zeros(m, int)
+        n_hinted = np.zeros(m, int)
+        first = np.full((k, m), np.nan)
+        for s, (x, conv) in enumerate(found):
+            new = conv.copy()
+            for t in range(s):
+                y, cy = found[t]
+                same = cy & np.all(np.abs(x - y) <= 1e-7 * np.maximum(np.abs(x), np.abs(y))
+                                   + 1e-9, axis=0)
+                new &= ~same
+            hinted = conv & self._satisfies(x)
+            n_roots += new
+            newh = new & hinted
+            n_hinted += newh
+            take = newh & np.isnan(first[0])
+            first[:, take] = x[:, take]
+        good = (n_hinted == 1) & ~((n_roots > 1) & (not self.has_hint))
+        _mark(ok, why, ~good, f"roots of {', '.join(self.names[:3])} differ")
+        for j, gi in enumerate(self.idx):
+            v[gi] = np.where(good, first[j], np.nan)
+
+    def _satisfies(self, x):
+        out = np.ones(x.shape[1], bool)
+        for j, hs in enumerate(self.hints):
+            for rel, bound in hs:
+                out &= (x[j] > bound) if rel == ">" else (x[j] < bound)
+        return out
+
+    def _eval(self, p, v, x):
+        for j, gi in enumerate(self.idx):
+            v[gi] = x[j]
+        return np.array(np.broadcast_arrays(*self.F(p, v), x[0]))[:-1]
+
+    def _newton(self, p, v, m, x):
+        """`solve._newton_from` for every variant at once: (x, converged)."""
+        k = self.k
+        x = np.array(x, dtype=float)
+        conv = np.zeros(m, bool)
+        active = np.ones(m, bool)
+        r = self._eval(p, v, x)
+        fin = np.isfinite(r).all(axis=0)
+        active &= fin
+        for _ in range(100):
+            if not active.any():
+                break
+            scale = np.maximum(1.0, np.abs(x).max(axis=0))
+            zero = active & (np.abs(r).max(axis=0) == 0.0)
+            conv |= zero
+            active &= ~zero
+            Jv = np.array(np.broadcast_arrays(*self.J(p, v), x[0]))[:-1].reshape(k, k, m)
+            if k == 1:
+                dx = -r / Jv[0]
+            else:
+                Jm = np.moveaxis(Jv, 2, 0)
+                sing = ~np.isfinite(Jm).all(axis=(1, 2)) | (np.abs(np.linalg.det(Jm)) == 0)
+                Jm[sing] = np.eye(k)
+                dx = np.linalg.solve(Jm, -r.T[:, :, None])[:, :, 0].T
+                dx[:, sing] = np.nan
+            okdx = np.isfinite(dx).all(axis=0)
+            active &= okdx
+            norm0 = np.sqrt((r * r).sum(axis=0))
+            step = np.ones(m)
+            acc = ~active
+            xn, rn = x.copy(), r.copy()
+            while True:
+                todo = ~acc & (step > 1e-6)
+                if not todo.any():
+                    break
+                xt = x + step * dx
+                rt = self._eval(p, v, xt)
+                nt = np.sqrt((rt * rt).sum(axis=0))
+                better = todo & np.isfinite(rt).all(axis=0) & (nt < norm0 * (1 - 1e-4 * step))
+                xn[:, better] = xt[:, better]
+                rn[:, better] = rt[:, better]
+                acc |= better
+                step = np.where(~acc & todo, step / 2, step)
+            stuck = active & ~acc
+            conv |= stuck & (norm0 <= 1e-10 * scale)
+            active &= ~stuck
+            moved = active
+            x[:, moved] = xn[:, moved]
+            r[:, moved] = rn[:, moved]
+            done = moved & (np.abs(step * dx).max(axis=0) <= 1e-14 * scale)
+            conv |= done
+            active &= ~done
+        if active.any():
+            last = active & (np.abs(r).max(axis=0) < 1e-9 * np.maximum(1.0, np.abs(x).max(axis=0)))
+            conv |= last
+        return x, conv
+
+
+def block_for(system, structure, block, params, unknowns):
+    """The batched solver of one block, or None if it is of a kind the batch leaves to
+    the scalar solve."""
+    residuals = [system.equations[k].residual for k in block.equations]
+    if len(residuals) != len(block.unknowns):
+        return None
+    try:
+        return LinearBlock(block.unknowns, residuals, params, unknowns)
+    except NonLinear:
+        return NewtonBlock(system, block.unknowns, residuals, params, unknowns)
+
+
+__all__ = ["block_for", "affine_sym", "LinearBlock", "NewtonBlock", "Pow", "Var"]

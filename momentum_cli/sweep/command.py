@@ -1,0 +1,55 @@
+"""`momentum sweep`: the command's work between the CLI's options and the outputs.
+
+In: the file, the design options and the output choices. Out: the summary on
+standard output (or JSON / JSON lines), the CSV file, and an exit code: 0 when every
+variant solved, 1 when some did not (they are counted in the summary), 2 for usage
+errors (a bad design, a name the file has no `let` or given number for).
+"""
+from __future__ import annotations
+
+import sys
+
+from ..diagnostics import ExitCode
+
+
+class UsageError(ValueError):
+    """One line for the command line (exit code 2)."""
+
+
+def run(file: str, vary, sample, count, seed, csv_path, json_flag: bool, jsonl: bool,
+        digits: int, progress_factory=None) -> int:
+    from .batch import SweepError, solve_batch
+    from .output import json_document, summary_text, write_csv, write_jsonl
+    from .spec import SpecError, parse_design
+
+    try:
+        design = parse_design(vary, sample, count, seed)
+    except SpecError as exc:
+        raise UsageError(str(exc)) from None
+    columns = design.columns()
+    dims = {p.name: p.dim for p in design.params}
+    progress = progress_factory(design.size) if progress_factory else None
+    try:
+        result = solve_batch(file, columns, dims,
+                             progress=progress if progress is not None else None)
+    except SweepError as exc:
+        raise UsageError(str(exc)) from None
+    finally:
+        if progress is not None:
+            progress.close()
+    if csv_path:
+        try:
+            write_csv(result, csv_path)
+        except OSError as exc:
+            raise UsageError(f"--csv {csv_path}: {exc.strerror or exc}") from None
+    out = sys.stdout
+    if jsonl:
+        write_jsonl(result, out)
+    elif json_flag:
+        import json
+
+        out.write(json.dumps(json_document(result, file), indent=1) + "\n")
+    else:
+        out.write(summary_text(result, file, digits))
+    failed = any(s.startswith("error") for s in result.status.tolist())
+    return int(ExitCode.PROBLEM if failed else ExitCode.OK)
