@@ -1135,6 +1135,23 @@ def sweep(
     jsonl: bool = typer.Option(False, "--jsonl", help="Print one JSON object per variant."),
     digits: int = typer.Option(6, "--digits", "-p", min=1, max=17,
                                help="Significant figures in the summary."),
+    simulate: bool = typer.Option(False, "--simulate",
+                                  help="Run the file's `simulate` block for each variant and "
+                                       "sweep its outputs (stop time, impacts, energy lost, "
+                                       "each body's final state)."),
+    rtol: float = typer.Option(1e-9, "--rtol", min=1e-14, max=0.1,
+                               help="With --simulate: the integrator's relative tolerance."),
+    dask: Optional[str] = typer.Option(None, "--dask", metavar="ADDRESS",
+                                       help="Run the variants in chunks on a Dask cluster: "
+                                            "tcp://host:8786, or 'local' for a LocalCluster "
+                                            "here (needs the `dask` extra)."),
+    chunk: Optional[int] = typer.Option(None, "--chunk", min=1,
+                                        help="With --dask: variants per task (default 2000)."),
+    plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE.png",
+                                       help="Draw each answer against the --vary parameter, or "
+                                            "its histogram for --sample (needs the `plot` "
+                                            "extra: matplotlib)."),
+    force: bool = typer.Option(False, "--force", help="Let --plot overwrite an existing file."),
 ) -> None:
     """Solve a problem for many values of its `let` constants (or given numbers:
     `rod.y@1`, `e[A]`), compiled once and solved as arrays; summarise every answer.
@@ -1144,6 +1161,9 @@ def sweep(
       momentum sweep examples/seed_oblique_particles.mom --vary e=0..1:101 --csv e.csv
       momentum sweep examples/seed_rod_drop_smooth.mom --sample 'e[A]~uniform(0.5, 0.7)' \\
           --sample 'rod.y@1~normal(1 m, 0.05 m)' --count 100000 --seed 1
+      momentum sweep examples/sweep/bounce_height.mom --simulate \\
+          --sample 'e~uniform(0.6, 0.8)' --count 1000 --plot bounce.png
+      momentum sweep examples/seed_rod_drop_smooth.mom --vary e[A]=0..1:1001 --dask local
     """
     from .sweep.command import UsageError, run
 
@@ -1154,7 +1174,7 @@ def sweep(
         if sys.stderr.isatty() and not (json_flag or jsonl) else None
     try:
         code = run(file, vary or [], sample or [], count, seed, csv_path, json_flag, jsonl,
-                   digits, bar)
+                   digits, bar, simulate, dask, plot, force, {"rtol": rtol}, chunk)
     except UsageError as exc:
         sys.stderr.write(f"momentum sweep: error: {exc}\n")
         raise typer.Exit(int(ExitCode.USAGE)) from None

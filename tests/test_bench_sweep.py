@@ -3,21 +3,15 @@ from __future__ import annotations
 
 import numpy as np
 
-import sweep_standin
 from conftest import EXAMPLES, ROOT
 from momentum_cli.sweep import bench
 
 BOUNCE = str(EXAMPLES / "sweep" / "bounce_height.mom")
 
 
-def _solver(path, cols):
-    with open(path, encoding="utf-8") as fh:
-        return sweep_standin.solve_text_batch(fh.read(), path, cols)
-
-
 def test_rows_for_a_file_with_lets_and_one_without():
     files = [BOUNCE, str(EXAMPLES / "seed_plastic_collision.mom")]
-    rows = bench.run(files, count=20, loop=2, processes=0, solver=_solver)
+    rows = bench.run(files, count=20, loop=2, processes=0)
     a, b = rows
     assert a.parameters == "e, h, r" and a.variants == 20 and a.failed == 0
     assert a.batched > 0 and a.numpy_limit > 0 and a.scalar_loop > 0

@@ -1,10 +1,11 @@
-"""Sweeps on Dask: a LocalCluster of two worker processes gives byte-identical results to
+"""Sweeps on Dask: a LocalCluster of two worker processes gives byte-identical CSV to
 the local run, for `solve` sweeps and for sweeps of `simulate` scenes (issue 13).
 
 Skipped when dask.distributed is not installed (the `dask` extra; the `test` extra has it).
 """
 from __future__ import annotations
 
+import io
 import sys
 
 import numpy as np
@@ -15,19 +16,19 @@ from conftest import EXAMPLES
 distributed = pytest.importorskip("distributed", reason="dask.distributed is not installed: "
                                   "pip install 'momentum-cli[dask]' to run the Dask tests")
 
-import sweep_standin  # noqa: E402
 from momentum_cli.sweep import dask_run  # noqa: E402
+from momentum_cli.sweep.batch import solve_batch  # noqa: E402
+from momentum_cli.sweep.output import write_csv  # noqa: E402
 from momentum_cli.sweep.sim_batch import simulate_batch  # noqa: E402
+from momentum_cli.sweep.spec import parse_design  # noqa: E402
 
 BOUNCE = EXAMPLES / "sweep" / "bounce_height.mom"
+R, G = 0.033, 9.81
 
 
 @pytest.fixture(scope="module")
 def client():
     """Two worker processes, one thread each, for the whole module (start-up ~2 s)."""
-    import cloudpickle
-
-    cloudpickle.register_pickle_by_value(sweep_standin)  # the workers cannot import tests/
     c = dask_run.client_for("local", workers=2)
     yield c
     cluster = c.cluster
@@ -35,13 +36,7 @@ def client():
     cluster.close()
 
 
-def _write_csv(result) -> str:
-    try:
-        from momentum_cli.sweep.output import write_csv
-    except ImportError:
-        return sweep_standin.csv_text(result)
-    import io
-
+def _csv(result) -> str:
     buf = io.StringIO()
     write_csv(result, buf)
     return buf.getvalue()
@@ -53,44 +48,63 @@ def test_chunks_cover_the_variants_in_order():
     assert dask_run.chunks(1, 2000) == [(0, 1)]
 
 
-def test_simulate_sweep_on_two_workers_equals_the_local_run(client):
+def test_anchor_rows_go_where_a_chunks_solve_looks_and_are_dropped():
+    cols = {"x": np.arange(10.0)}
+    part = dask_run._slice(cols, 4, 6, dask_run.anchor_rows(10))["x"]
+    assert list(part) == [0.0, 4.0, 3.0, 5.0, 5.0, 9.0]  # anchors 0, 3, 5, 9 around 4, 5
+    n = len(part)
+    assert [part[0], part[n // 3], part[n // 2], part[n - 1]] == [0.0, 3.0, 5.0, 9.0]
+
+
+def test_solve_sweep_on_two_workers_is_byte_identical(client):
+    """e from 0 to 1: at e = 0 and e = 1 the structure changes (the rebound speed is 0,
+    no energy is lost) and those variants are solved on their own. A chunk holding only
+    them must still be traced at the whole run's base, or its statuses would differ."""
+    design = parse_design(["e=0..1:3", "h=1..2:2 m"], [], None, None)
+    cols, dims = design.columns(), {p.name: p.dim for p in design.params}
+    local = solve_batch(str(BOUNCE), cols, dims)
+    remote = dask_run.run("solve", BOUNCE.read_text(encoding="utf-8"), str(BOUNCE), cols,
+                          "local", {"dims": dims}, chunk=2, client=client)
+    assert len(client.scheduler_info()["workers"]) == 2
+    assert _csv(remote) == _csv(local)
+    assert [s == "ok" for s in remote.status] == [False, False, True, True, False, False]
+    e, h = cols["e"], cols["h"]
+    assert np.allclose(remote.answers["bounce"], R + e ** 2 * (h - R), rtol=1e-9, atol=1e-12)
+
+
+def test_monte_carlo_of_a_seed_on_two_workers_is_byte_identical(client):
+    path = EXAMPLES / "seed_rod_drop_smooth.mom"
+    design = parse_design([], ["e[A]~uniform(0.5, 1)", "rod.y@1~normal(1 m, 0.1 m)"], 30, 1)
+    cols, dims = design.columns(), {p.name: p.dim for p in design.params}
+    local = solve_batch(str(path), cols, dims)
+    remote = dask_run.run("solve", path.read_text(encoding="utf-8"), str(path), cols, "local",
+                          {"dims": dims}, chunk=15, client=client)
+    assert _csv(remote) == _csv(local)
+
+
+def test_simulate_sweep_on_two_workers_is_byte_identical(client):
     text = BOUNCE.read_text(encoding="utf-8")
     cols = {"e": np.linspace(0.5, 0.9, 7), "h": np.linspace(1.0, 2.0, 7)}
     local = simulate_batch(text, str(BOUNCE), cols)
     remote = dask_run.run("simulate", text, str(BOUNCE), cols, "local", chunk=2,
                           client=client)
-    assert len(client.scheduler_info()["workers"]) == 2
-    assert _write_csv(remote) == _write_csv(local)
+    assert _csv(remote) == _csv(local)
     assert list(remote.status) == ["ok"] * 7
-    # the bounce height against its closed form r + e^2 (h - r)
-    r = 0.033
-    want = r + cols["e"] ** 2 * (cols["h"] - r)
+    want = R + cols["e"] ** 2 * (cols["h"] - R)  # the top of the rebound
     assert np.allclose(remote.answers["ball.y"], want, rtol=1e-9)
 
 
-def test_solve_sweep_on_two_workers_equals_the_local_run(client):
-    text = BOUNCE.read_text(encoding="utf-8")
-    cols = {"e": np.array([0.5, 0.6, 0.7, 0.8, 0.9])}
-    local = sweep_standin.solve_text_batch(text, str(BOUNCE), cols)
-    remote = dask_run.run("solve", text, str(BOUNCE), cols, "local", chunk=2, client=client,
-                          solver=sweep_standin.solve_text_batch)
-    assert _write_csv(remote) == _write_csv(local)
-    r, h, g = 0.033, 1.5, 9.81
-    assert np.allclose(remote.answers["bounce"], r + cols["e"] ** 2 * (h - r), rtol=1e-9)
-    assert np.allclose(remote.answers["ball.vy@3"], cols["e"] * np.sqrt(2 * g * (h - r)),
-                       rtol=1e-9)
-
-
-def test_a_failed_chunk_keeps_its_place_and_reason(client):
-    """A variant that does not run (a negative drop height puts the ball below the
-    floor) keeps its row, NaN outputs and its reason; the others are unchanged."""
+def test_a_failed_variant_keeps_its_place_and_reason(client):
+    """A variant that does not run (a negative drop height makes the file's expected
+    rebound speed the root of a negative number) keeps its row, NaN outputs and its
+    reason; the others are unchanged."""
     text = BOUNCE.read_text(encoding="utf-8")
     cols = {"e": np.array([0.6, 0.7, 0.8, 0.9]), "h": np.array([1.0, 1.2, -1.0, -1.0])}
     local = simulate_batch(text, str(BOUNCE), cols)
     remote = dask_run.run("simulate", text, str(BOUNCE), cols, "local", chunk=2, client=client)
-    assert _write_csv(remote) == _write_csv(local)
+    assert _csv(remote) == _csv(local)
     assert list(remote.status[:2]) == ["ok", "ok"]
-    assert all(s != "ok" for s in remote.status[2:])
+    assert all(s.startswith("error: ") for s in remote.status[2:])
     assert np.isnan(remote.answers["ball.y"][2:]).all()
 
 

@@ -141,22 +141,27 @@ def process_per_file(path: str, text: str, cols: dict, count: int) -> float:
     return count / (time.perf_counter() - t0)
 
 
-def batched(path: str, cols: dict, solver=None, repeat: int = 1) -> tuple[float, int]:
+def batched(path: str, text: str, cols: dict, repeat: int = 1) -> tuple[float, int]:
     """(variants per second of the batched sweep, variants it did not solve)."""
-    if solver is None:
-        from .batch import solve_batch as solver
+    from ..scene import build
+    from ..source import Source
+    from ..syntax import parse
+    from .batch import solve_batch
+
+    consts = build(parse(Source(path, text))).constants
+    dims = {k: consts[k].dim for k in cols if k in consts}
     n = len(next(iter(cols.values())))
     best, failed = math.inf, 0
     for _ in range(repeat):
         t0 = time.perf_counter()
-        res = solver(path, cols)
+        res = solve_batch(path, cols, dims)
         best = min(best, time.perf_counter() - t0)
-        failed = int(sum(1 for s in res.status if s != "ok"))
+        failed = int(sum(1 for s in res.status if s.startswith("error")))
     return n / best, failed
 
 
 def run(files: list[str], count: int = 10000, loop: int = 100, processes: int = 5,
-        seed: int = SEED, design=None, solver=None, progress=None) -> list[SweepRow]:
+        seed: int = SEED, design=None, progress=None) -> list[SweepRow]:
     """One row per file. `design(text, name, n)` -> columns replaces the default (every
     `let` within +-5 %); a file with nothing to vary is reported, not swept."""
     rows = []
@@ -175,10 +180,7 @@ def run(files: list[str], count: int = 10000, loop: int = 100, processes: int = 
             continue
         if progress:
             progress(path, "batched")
-        try:
-            rate, failed = batched(path, cols, solver)
-        except ImportError:
-            rate, failed, note = None, 0, "the batched solver is not installed"
+        rate, failed = batched(path, text, cols)
         if progress:
             progress(path, "scalar loop")
         loop_rate = scalar_loop(text, path, cols, min(loop, count))

@@ -17,7 +17,9 @@ class UsageError(ValueError):
 
 
 def run(file: str, vary, sample, count, seed, csv_path, json_flag: bool, jsonl: bool,
-        digits: int, progress_factory=None) -> int:
+        digits: int, progress_factory=None, simulate: bool = False, dask: str | None = None,
+        plot: str | None = None, force: bool = False, sim_options: dict | None = None,
+        chunk: int | None = None) -> int:
     from .batch import SweepError, solve_batch
     from .output import json_document, summary_text, write_csv, write_jsonl
     from .spec import SpecError, parse_design
@@ -30,13 +32,24 @@ def run(file: str, vary, sample, count, seed, csv_path, json_flag: bool, jsonl: 
     dims = {p.name: p.dim for p in design.params}
     progress = progress_factory(design.size) if progress_factory else None
     try:
-        result = solve_batch(file, columns, dims,
-                             progress=progress if progress is not None else None)
+        if simulate or dask or plot:  # execute.py: --simulate, --dask, --plot
+            result = _run_elsewhere(file, columns, dims, simulate, dask, plot, force,
+                                    sim_options, chunk, progress)
+        else:
+            result = solve_batch(file, columns, dims,
+                                 progress=progress if progress is not None else None)
     except SweepError as exc:
         raise UsageError(str(exc)) from None
     finally:
         if progress is not None:
             progress.close()
+    if plot:
+        from .execute import RunError, draw
+
+        try:
+            draw(result, design, plot, force, title=file)
+        except RunError as exc:
+            raise UsageError(str(exc)) from None
     if csv_path:
         try:
             write_csv(result, csv_path)
@@ -53,3 +66,22 @@ def run(file: str, vary, sample, count, seed, csv_path, json_flag: bool, jsonl: 
         out.write(summary_text(result, file, digits))
     failed = any(s.startswith("error") for s in result.status.tolist())
     return int(ExitCode.PROBLEM if failed else ExitCode.OK)
+
+
+def _run_elsewhere(file, columns, dims, simulate, dask, plot, force, sim_options, chunk,
+                   progress):
+    """A sweep of simulations, or one on Dask (execute.py); --plot checked first."""
+    from ..run import SourceTextError, read_source
+    from .execute import RunError, check_dask, check_plot, run
+
+    try:
+        check_plot(plot, [file], force)
+        check_dask(dask)
+        try:
+            text = read_source(file).text
+        except (OSError, SourceTextError) as exc:
+            raise RunError(f"{file}: cannot read: {getattr(exc, 'strerror', None) or exc}") \
+                from None
+        return run(file, text, columns, dims, simulate, dask, sim_options, progress, chunk)
+    except RunError as exc:
+        raise UsageError(str(exc)) from None

@@ -53,9 +53,9 @@ def run(kind: str, text: str, name: str, columns: dict, address: str, options: d
         chunk: int = CHUNK, workers: int | None = None, progress=None, client=None,
         solver=None):
     """The sweep of one problem on a cluster. `kind`: "solve" (each chunk through
-    `solve_batch`) or "simulate" (through `simulate_batch`, with `options`); `solver`
-    (text, name, columns) -> result replaces the solve of a chunk. The result is the
-    chunks' results joined in order."""
+    `solve_batch`, `options` its `dims`) or "simulate" (through `simulate_batch`, with
+    `options`); `solver` (text, name, columns) -> result replaces the solve of a chunk.
+    The result is the chunks' results joined in order."""
     from .. import __version__
 
     cols = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
@@ -65,8 +65,9 @@ def run(kind: str, text: str, name: str, columns: dict, address: str, options: d
         client = client_for(address, workers)
     try:
         parts = chunks(n, chunk) if cols else [(0, 1)]
-        futures = [client.submit(_task, kind, text, name, {k: c[a:b] for k, c in cols.items()},
-                                 options or {}, solver, pure=False)
+        anchors = anchor_rows(n) if kind == "solve" and solver is None else []
+        futures = [client.submit(_task, kind, text, name, _slice(cols, a, b, anchors),
+                                 options or {}, solver, len(anchors), pure=False)
                    for a, b in parts]
         if progress is not None:
             from distributed import as_completed
@@ -90,7 +91,45 @@ def run(kind: str, text: str, name: str, columns: dict, address: str, options: d
     return concat([r for _, r in results])
 
 
-def _task(kind: str, text: str, name: str, columns: dict, options: dict, solver=None):
+def anchor_rows(n: int) -> list[int]:
+    """The variants `solve_batch` of all n variants looks at before the batch: its base
+    (the first of n//2, 0, n-1 that solves: the structure is traced there) and its leak
+    probes (0, n-1, n//3). Every chunk carries them at the places where `solve_batch` of
+    the chunk looks, so that each chunk is traced at the same base as the whole run and
+    its variants come out bit for bit as in the local run; they are dropped after."""
+    return [0, n // 3, n // 2, n - 1]
+
+
+def _positions(length: int) -> list[int]:
+    """Where the anchors go in a chunk of `length` rows (anchors included)."""
+    return [0, length // 3, length // 2, length - 1]
+
+
+def _slice(cols: dict, a: int, b: int, anchors: list[int]) -> dict:
+    if not anchors:
+        return {k: c[a:b] for k, c in cols.items()}
+    length = b - a + len(anchors)
+    where = _positions(length)
+    mask = np.ones(length, bool)
+    mask[where] = False
+    out = {}
+    for k, c in cols.items():
+        col = np.empty(length)
+        col[where] = c[anchors]
+        col[mask] = c[a:b]
+        out[k] = col
+    return out
+
+
+def _drop_anchors(res, m: int):
+    """The chunk's result without its anchor rows (m rows, anchors included)."""
+    mask = np.ones(m, bool)
+    mask[_positions(m)] = False
+    return _map_rows(res, lambda arr: arr[mask], m)
+
+
+def _task(kind: str, text: str, name: str, columns: dict, options: dict, solver=None,
+          anchors: int = 0):
     """On a worker: one chunk; returns (momentum's version there, the chunk's result)."""
     from .. import __version__
 
@@ -100,10 +139,13 @@ def _task(kind: str, text: str, name: str, columns: dict, options: dict, solver=
         from .sim_batch import simulate_batch
 
         return __version__, simulate_batch(text, name, columns, **options)
-    return __version__, _solve_text(text, name, columns)
+    res = _solve_text(text, name, columns, options.get("dims"))
+    if anchors:
+        res = _drop_anchors(res, len(res.status))
+    return __version__, res
 
 
-def _solve_text(text: str, name: str, columns: dict):
+def _solve_text(text: str, name: str, columns: dict, dims=None):
     """`solve_batch` on a copy of the problem text written on the worker (same file name,
     so that messages name the file as the local run does)."""
     import tempfile
@@ -114,12 +156,27 @@ def _solve_text(text: str, name: str, columns: dict):
         path = os.path.join(tmp, os.path.basename(name) or "problem.mom")
         with open(path, "w", encoding="utf-8", newline="") as fh:
             fh.write(text)
-        res = solve_batch(path, columns)
+        res = solve_batch(path, columns, dims)
     status = getattr(res, "status", None)
     if status is not None and path != name:
         res.status = np.array([s.replace(path, name) if isinstance(s, str) else s
                                for s in status], dtype=object if status.dtype == object else None)
     return res
+
+
+def _map_rows(res, fn, m: int):
+    """`res` with fn applied to every per-variant array (length m) of its fields."""
+    out = {}
+    for f in _fields(res):
+        v = getattr(res, f)
+        if isinstance(v, dict) and f not in ("units", "display", "param_units") and all(
+                np.ndim(a) >= 1 and len(a) == m for a in v.values()):
+            out[f] = {k: fn(np.asarray(a)) for k, a in v.items()}
+        elif isinstance(v, np.ndarray) and v.ndim >= 1 and len(v) == m:
+            out[f] = fn(v)
+        else:
+            out[f] = v
+    return type(res)(**out)
 
 
 def concat(results: list):
@@ -134,13 +191,13 @@ def concat(results: list):
     out = {}
     for f in fields:
         vals = [getattr(r, f) for r in results]
-        if isinstance(vals[0], dict) and f != "units" and all(
+        if isinstance(vals[0], dict) and f not in ("units", "display", "param_units") and all(
                 isinstance(v, dict) for v in vals) and _per_variant(vals, sizes):
             keys = list(dict.fromkeys(k for v in vals for k in v))
             out[f] = {k: np.concatenate([np.asarray(v[k]) if k in v else
                                          np.full(m, math.nan) for v, m in zip(vals, sizes)])
                       for k in keys}
-        elif f == "units" and isinstance(vals[0], dict):
+        elif f in ("units", "display", "param_units") and isinstance(vals[0], dict):
             merged = {}
             for v in vals:
                 for k, u in v.items():

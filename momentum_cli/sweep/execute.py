@@ -43,42 +43,53 @@ def check_plot(path: str | None, inputs, force: bool) -> None:
         raise RunError(str(exc)) from None
 
 
-def run(path: str, text: str, columns: dict, simulate: bool = False, dask: str | None = None,
-        sim_options: dict | None = None, progress=None, chunk: int | None = None,
-        workers: int | None = None):
+def run(path: str, text: str, columns: dict, dims: dict | None = None, simulate: bool = False,
+        dask: str | None = None, sim_options: dict | None = None, progress=None,
+        chunk: int | None = None, workers: int | None = None):
     """The sweep's result. Locally: `solve_batch` (or `simulate_batch`). On Dask: the same
-    per chunk on the workers, joined in order (identical to the local result)."""
+    per chunk on the workers, joined in order (identical to the local result). A name the
+    file cannot vary, or a file that does not parse, is a RunError before any work."""
+    from .batch import SweepError
+
     sim_options = dict(sim_options or {})
-    if simulate:
-        _check_lets(path, text, columns)
-    if dask is not None:
-        from .dask_run import CHUNK, DaskError, run as on_dask
+    try:
+        _check_names(path, text, columns)
+        if dask is not None:
+            from .dask_run import CHUNK, DaskError, run as on_dask
 
-        try:
-            return on_dask("simulate" if simulate else "solve", text, path, columns, dask,
-                           sim_options, chunk or CHUNK, workers, progress)
-        except DaskError as exc:
-            raise RunError(str(exc)) from None
-    if simulate:
-        from .sim_batch import simulate_batch
+            try:
+                return on_dask("simulate" if simulate else "solve", text, path, columns, dask,
+                               sim_options if simulate else {"dims": dims}, chunk or CHUNK,
+                               workers, progress)
+            except DaskError as exc:
+                raise RunError(str(exc)) from None
+        if simulate:
+            from .sim_batch import simulate_batch
 
-        return simulate_batch(text, path, columns, progress=progress, **sim_options)
-    from .batch import solve_batch
+            return simulate_batch(text, path, columns, progress=progress, **sim_options)
+        from .batch import solve_batch
 
-    return solve_batch(path, columns)
+        return solve_batch(path, columns, dims, progress=progress)
+    except SweepError as exc:
+        raise RunError(str(exc)) from None
 
 
-def _check_lets(path: str, text: str, columns: dict) -> None:
-    """`--simulate` varies `let` constants (a simulation has no given-number names)."""
-    from ..overrides import let_names
+def _check_names(path: str, text: str, columns: dict) -> None:
+    """Every parameter is a `let` or a given number of the file (`bind` says which)."""
+    from .. import syntax as S
+    from ..diagnostics import ProblemError
+    from ..source import Source
+    from .batch import SweepError
+    from .params import ParamError, bind
 
-    names = let_names(text)
-    for k in columns:
-        if k not in names:
-            from ..diagnostics import did_you_mean
-
-            raise RunError(f"--simulate varies `let` constants: {path} has no `let {k}`" +
-                           did_you_mean(k, names))
+    try:
+        bind(S.parse(Source(path, text)), list(columns), path)
+    except ParamError as exc:
+        raise SweepError(str(exc)) from None
+    except ProblemError as exc:
+        d = exc.diagnostics[0]
+        where = f":{d.span.line}:{d.span.column}" if d.span else ""
+        raise SweepError(f"{path}{where}: error: {d.message}") from None
 
 
 def draw(result, design, path: str, force: bool, title: str | None = None) -> None:

@@ -1,9 +1,10 @@
 """Sweeps of `simulate` scenes: one simulation per variant, its scalar outputs as arrays.
 
 Stage: run (parse once, then build and simulate per variant). In: the problem text and
-columns {let name: SI values}. Out: a `SimBatch` shaped like `solve_batch`'s result
-(answers, units, status, params), so that the same CSV/JSON/plot writers and the Dask
-runner take both. A variant that fails keeps NaN outputs and its reason as status.
+columns {parameter: SI values}: `let` names, or a state's given number `BODY.QTY@STATE`
+(made a `let` by the sweep's `bind`). Out: a `BatchResult`, as `solve_batch` gives, so
+that the same summary/CSV/JSON/plot writers and the Dask runner take both. A variant
+that fails keeps NaN outputs and "error: ..." as its status.
 """
 from __future__ import annotations
 
@@ -11,19 +12,9 @@ import math
 
 import numpy as np
 
-from ..records import record
-
 # The outputs of one run, in this order (the final state's per body; see `outputs`).
 BODY_OUTPUTS = (("x", "m"), ("y", "m"), ("angle", "rad"), ("vx", "m/s"), ("vy", "m/s"),
                 ("omega", "rad/s"))
-
-
-@record
-class SimBatch:
-    answers: dict  # output name -> float array (SI), one value per variant
-    units: dict  # output name -> SI unit label
-    status: np.ndarray  # "ok" or the reason the variant did not run
-    params: dict  # let name -> float array (SI): the variant's values
 
 
 def outputs(report: dict) -> list[tuple[str, float, str]]:
@@ -43,23 +34,30 @@ def outputs(report: dict) -> list[tuple[str, float, str]]:
 def simulate_batch(text: str, name: str, columns: dict, rtol: float = 1e-9,
                    dt: float | None = None, closed_forms: bool = True,
                    max_events: int = 10000, max_time: float | None = None,
-                   progress=None) -> SimBatch:
-    """Simulate every variant of one problem text; `columns` hold SI values per `let`."""
+                   progress=None):
+    """Simulate every variant of one problem text; `columns` hold SI values per
+    parameter. A name the file cannot vary raises `batch.SweepError` (one line)."""
     from .. import syntax as S
     from ..diagnostics import ProblemError
     from ..scene import build
     from ..sim.integrate import simulate
     from ..sim.output import build as build_report
     from ..source import Source
+    from .batch import BatchResult, SweepError
+    from .params import ParamError, bind
 
     cols = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
     n = len(next(iter(cols.values()))) if cols else 1
-    doc = S.parse(Source(name, text))
-    lets = {s.name: s for s in doc.statements if isinstance(s, S.Let)}
-    missing = [k for k in cols if k not in lets]
-    if missing:
-        raise ValueError(f"{name} has no `let {missing[0]}`")
-    dims = build(doc).constants  # each let's dimension, from the file as written
+    try:
+        doc = bind(S.parse(Source(name, text)), list(cols), name)
+        lets = {s.name: s for s in doc.statements if isinstance(s, S.Let)}
+        dims = build(doc).constants  # each parameter's dimension, from the file as written
+    except ParamError as exc:
+        raise SweepError(str(exc)) from None
+    except ProblemError as exc:
+        d = exc.diagnostics[0]
+        where = f":{d.span.line}:{d.span.column}" if d.span else ""
+        raise SweepError(f"{name}{where}: error: {d.message}") from None
     units = {k: _si_unit(dims[k].dim) for k in cols}
     values: dict[str, list] = {}
     found_units: dict[str, str] = {}
@@ -73,11 +71,11 @@ def simulate_batch(text: str, name: str, columns: dict, rtol: float = 1e-9,
             status.append("ok")
         except ProblemError as exc:
             d = exc.diagnostics[0]
-            where = f"line {d.span.line}: " if d.span is not None else ""
-            status.append(f"{d.code}: {where}{d.message}")
+            where = f" (line {d.span.line})" if d.span is not None else ""
+            status.append(f"error: {d.message}{where}")
             row = []
         except RecursionError:
-            status.append("too-deep: expression too long or nested too deeply")
+            status.append("error: expression too long or nested too deeply")
             row = []
         for key, v, unit in row:
             if key not in values:
@@ -89,8 +87,10 @@ def simulate_batch(text: str, name: str, columns: dict, rtol: float = 1e-9,
                 vs.append(math.nan)
         if progress is not None:
             progress(i + 1)
-    return SimBatch({k: np.array(v, dtype=float) for k, v in values.items()}, found_units,
-                    np.array(status, dtype=object), cols)
+    return BatchResult({k: np.array(v, dtype=float) for k, v in values.items()}, found_units,
+                       np.array(status, dtype=object), cols,
+                       {k: (u, 1.0) for k, u in found_units.items()}, units, None, False,
+                       "one simulation per variant")
 
 
 def _si_unit(dim) -> str:
