@@ -787,7 +787,7 @@ def bench_sweep(
                              help="Variants timed in the scalar-solve loop."),
     processes: int = typer.Option(5, "--processes", min=0,
                                   help="Variants timed as one process each (0: skip)."),
-    seed: int = typer.Option(1, "--seed", help="Seed of the drawn `let` values."),
+    seed: int = typer.Option(1, "--seed", help="Seed of the drawn values."),
     json_flag: bool = typer.Option(False, "--json", help="Print JSON."),
     markdown: bool = typer.Option(False, "--markdown",
                                   help="Print a Markdown table with the library versions."),
@@ -795,9 +795,10 @@ def bench_sweep(
     """Variants per second: the batched sweep, numpy's batched solve, a scalar loop, and
     one process per variant.
 
-    Every `let` of each file is drawn uniform within +-5 % of its value (files without
-    `let` give only the numpy limit). numpy's limit is np.linalg.solve on the file's linear
-    blocks stacked COUNT times (built first, only the solve timed).
+    Every number a file gives (its `let`s, its states' given scalars, its impacts'
+    `e[C]` and `mu[C]`) is drawn uniform within +-5 % of its value. numpy's limit is
+    np.linalg.solve on the file's linear blocks stacked COUNT times (built first, only the
+    solve timed).
 
     \b
     Examples:

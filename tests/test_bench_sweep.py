@@ -17,10 +17,19 @@ def test_rows_for_a_file_with_lets_and_one_without():
     assert a.batched > 0 and a.numpy_limit > 0 and a.scalar_loop > 0
     assert a.process_per_file is None
     assert "1 nonlinear" in a.note  # the rebound's energy equation is not in numpy's limit
-    assert b.batched is None and b.numpy_limit > 0 and "no `let`" in b.note
+    assert b.batched is None and b.numpy_limit > 0 and "nothing to vary" in b.note
     md = bench.markdown(rows)
     assert md.splitlines()[0].startswith("| problem | unknowns |")
     assert len(md.splitlines()) == 4
+
+
+def test_inputs_are_lets_given_scalars_and_coefficients():
+    path = EXAMPLES / "seed_rod_drop_smooth.mom"
+    found = bench.inputs(path.read_text(encoding="utf-8"), str(path))
+    assert sorted(found) == ["e[A]", "rod.angle@1", "rod.angle@2", "rod.y@1"]
+    assert found["rod.y@1"] == (1.0, (0, 1, 0))
+    assert abs(found["rod.angle@1"][0] - np.radians(30)) < 1e-15  # SI: radians
+    assert found["e[A]"][0] == 1.0
 
 
 def test_let_design_draws_within_five_percent_in_si():

@@ -1,6 +1,7 @@
 """`momentum bench sweep`: variants per second, the batched sweep against its limits.
 
-For each problem, four ways to solve the same N variants: the batched sweep
+For each problem, every number it gives (its `let`s, its states' given scalars, its
+impacts' coefficients) is drawn within +-5 %, and four ways solve the same N variants: the batched sweep
 (`solve_batch`: compiled once, solved as arrays); numpy's own batched solve of the same
 linear systems (the stacked matrices and right-hand sides of the file's linear blocks,
 built beforehand, only `np.linalg.solve` timed: the limit); a loop of scalar solves in
@@ -47,21 +48,55 @@ def default_files(root: str = ".") -> list[str]:
     return [os.path.normpath(f) for f in files]
 
 
-def let_design(text: str, name: str, n: int, seed: int = SEED) -> dict:
-    """Columns for every `let` of the file: uniform within +-SPREAD of its value (SI),
-    drawn from `seed` (numpy's PCG64). Empty for a file without `let`s."""
+def inputs(text: str, name: str) -> dict:
+    """{parameter: (SI value, dimension)} of every number a sweep can vary in the file:
+    its scalar `let`s, its states' given scalars (`BODY.QTY@STATE`, those written as a
+    number) and its impacts' restitution and friction coefficients (`e[C]`, `mu[C]`);
+    zeros left out (varying a zero changes the structure)."""
+    from .. import syntax as S
+    from ..diagnostics import ProblemError
     from ..scene import build
     from ..source import Source
-    from ..syntax import parse
+    from .params import ParamError, bind
 
-    consts = build(parse(Source(name, text))).constants
-    rng = np.random.Generator(np.random.PCG64(seed))
-    cols = {}
-    for k, q in consts.items():
-        if q.is_vector:
+    doc = S.parse(Source(name, text))
+    names = [s.name for s in doc.statements if isinstance(s, S.Let)]
+    for s in doc.statements:
+        if isinstance(s, S.StateDecl):
+            for it in s.items:
+                if isinstance(it, S.Given) and it.relation == "=" and \
+                        isinstance(it.value, (S.Num, S.Neg)):
+                    names.append(f"{it.body}.{it.qty}@{s.id}")
+        elif isinstance(s, S.Transition):
+            for c in s.clauses:
+                if isinstance(c, S.Contact):
+                    label = c.label or c.a.text
+                    names += [f"e[{label}]", f"mu[{label}]"]
+    out = {}
+    for k in dict.fromkeys(names):
+        try:
+            consts = build(bind(doc, [k], name)).constants
+        except (ParamError, ProblemError):  # e.g. a bare number as an angular velocity
+            continue
+        q = consts.get(k)
+        if q is None or q.is_vector:
             continue
         v = float(q.value.value) if hasattr(q.value, "value") else float(q.value)
+        if v != 0.0 and math.isfinite(v):
+            out[k] = (v, q.dim)
+    return out
+
+
+def let_design(text: str, name: str, n: int, seed: int = SEED) -> dict:
+    """Columns for every input `inputs` finds: uniform within +-SPREAD of its value (a
+    restitution between 1 - SPREAD of it and at most 1), in SI, drawn from `seed`
+    (numpy's PCG64). Empty for a file with nothing to vary."""
+    rng = np.random.Generator(np.random.PCG64(seed))
+    cols = {}
+    for k, (v, _dim) in inputs(text, name).items():
         lo, hi = sorted((v * (1 - SPREAD), v * (1 + SPREAD)))
+        if k.startswith("e[") and hi > 1.0:
+            hi = max(lo, 1.0)
         cols[k] = rng.uniform(lo, hi, n)
     return cols
 
@@ -71,13 +106,10 @@ def _sets(cols: dict, units: dict, i: int) -> list[tuple[str, str]]:
 
 
 def _units(text: str, name: str, cols: dict) -> dict:
-    from ..scene import build
-    from ..source import Source
-    from ..syntax import parse
     from ..units import si_label
 
-    consts = build(parse(Source(name, text))).constants
-    return {k: si_label(consts[k].dim) if k in consts else "" for k in cols}
+    found = inputs(text, name)
+    return {k: si_label(found[k][1]) if k in found else "" for k in cols}
 
 
 def numpy_limit(text: str, name: str, n: int, repeat: int = 3) -> tuple[float | None, int, str]:
@@ -148,8 +180,8 @@ def batched(path: str, text: str, cols: dict, repeat: int = 1) -> tuple[float, i
     from ..syntax import parse
     from .batch import solve_batch
 
-    consts = build(parse(Source(path, text))).constants
-    dims = {k: consts[k].dim for k in cols if k in consts}
+    found = inputs(text, path)
+    dims = {k: found[k][1] for k in cols if k in found}
     n = len(next(iter(cols.values())))
     best, failed = math.inf, 0
     for _ in range(repeat):
@@ -163,7 +195,8 @@ def batched(path: str, text: str, cols: dict, repeat: int = 1) -> tuple[float, i
 def run(files: list[str], count: int = 10000, loop: int = 100, processes: int = 5,
         seed: int = SEED, design=None, progress=None) -> list[SweepRow]:
     """One row per file. `design(text, name, n)` -> columns replaces the default (every
-    `let` within +-5 %); a file with nothing to vary is reported, not swept."""
+    input `inputs` finds, within +-5 %); a file with nothing to vary is reported, not
+    swept."""
     rows = []
     for path in files:
         with open(path, encoding="utf-8") as fh:
@@ -176,7 +209,7 @@ def run(files: list[str], count: int = 10000, loop: int = 100, processes: int = 
         limit, unknowns, note = numpy_limit(text, path, count)
         if not cols:
             rows.append(SweepRow(path, unknowns, count, "-", None, limit, None, None, 0,
-                                 "no `let` to vary (give --sample/--vary)"))
+                                 "nothing to vary (no `let`, no given number other than 0)"))
             continue
         if progress:
             progress(path, "batched")
