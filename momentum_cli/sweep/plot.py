@@ -5,7 +5,7 @@ Stage: report (matplotlib, the `plot` extra, imported on use). In: a sweep's res
 drawn. Out: a figure file. A grid parameter is the x axis (one line per value of a
 second grid parameter, when there are few); drawn parameters give one histogram per
 answer with its mean and 5th/95th percentiles. Variants that did not solve are left
-out and counted in the title.
+out (status "error: ...") and counted in the title.
 """
 from __future__ import annotations
 
@@ -32,7 +32,8 @@ def draw(result, path: str, grid: list[str], sampled: list[str], param_units: di
     import matplotlib.pyplot as plt
 
     param_units = param_units or {}
-    ok = np.array([s == "ok" for s in result.status], dtype=bool)
+    # solved: "ok" (in the batch) or solved on its own for a stated reason; not "error: ..."
+    ok = np.array([not str(s).startswith("error") for s in result.status], dtype=bool)
     names = list(answers) if answers else _varying(result, ok)
     names = names[:MAX_PANELS]
     failed = int((~ok).sum())
