@@ -809,6 +809,7 @@ def bench_sweep(
 
     from .sweep.bench import HEADERS, as_json, default_files, markdown as md, run, table
 
+    given = list(files or [])
     if not files:
         files = default_files()
     if not files:
@@ -830,10 +831,14 @@ def bench_sweep(
     if markdown:
         from .bench import versions
 
-        sys.stdout.write(md(rows) + f"\nProduced by `momentum bench sweep --count {count} "
-                         f"--markdown`: {count:,} variants per file for the batched sweep and "
-                         f"numpy, {loop} in the scalar loop, {processes} as processes; "
-                         f"{versions()}.\n")
+        command = "momentum bench sweep" + "".join(
+            f" {opt} {v}" for opt, v, d in (("--count", count, 10000), ("--loop", loop, 100),
+                                            ("--processes", processes, 5), ("--seed", seed, 1))
+            if v != d) + "".join(f" {f}" for f in given)
+        load = f"; load average {os.getloadavg()[0]:.1f}" if hasattr(os, "getloadavg") else ""
+        sys.stdout.write(md(rows) + f"\nProduced by `{command} --markdown`: {count:,} variants "
+                         f"per file for the batched sweep and numpy, {loop} in the scalar "
+                         f"loop, {processes} as processes{load}; {versions()}.\n")
         return
     from .report.text import table as text_table
 
