@@ -24,7 +24,8 @@ from .blocks import _mark, block_for
 from .kernel import function
 from .params import ParamError, bind, build_variant
 
-CHUNK = 100_000
+CHUNK = 32_768  # variants per chunk: arrays that stay in cache, memory bounded
+ROUNDOFF = 64 * 2.0**-53  # as bounds.ROUNDOFF: a few ulps per term
 MAX_ROUNDS = 8
 
 
@@ -43,6 +44,8 @@ class BatchResult:
     regimes: np.ndarray | None = None  # object array: the friction regimes that held
     batched: bool = True  # False: the structure could not be batched; all scalar
     note: str = ""  # why not batched
+    ok: np.ndarray | None = None  # bool: status == "ok" (kept, not recomputed)
+    failed: np.ndarray | None = None  # bool: the variant did not solve
 
 
 def solve_batch(problem_path: str, columns: dict, dims: dict | None = None,
@@ -115,6 +118,14 @@ class _Plan:
             self.finds = system.finds
             fexprs = [f.expr for f in system.finds]
             self.find_fn = function(fexprs, sweep.names, self.unknowns, "finds")
+            # each answer's terms: a value within round-off of them is zero, as in solve
+            self.find_terms = []
+            tl = []
+            for e in fexprs:
+                ts = _terms(e)
+                self.find_terms.append((len(tl), len(ts)))
+                tl.extend(ts)
+            self.find_mag = function(tl, sweep.names, self.unknowns, "magnitudes")
             # guards, friction sites, redundant rows and durations: checked per variant
             g = self.guards
             self.guard_fn = function([x.lhs for x in g] + [x.rhs for x in g], sweep.names,
@@ -128,13 +139,14 @@ class _Plan:
                 if self.sites else None
             known = set(self.unknowns)
             checks = [k for k in structure.redundant
-                      if structure.incidence[k] <= known]
+                      if structure.incidence[k] <= known] + \
+                [k for k in structure.constant_eqs if not structure.incidence[k]]
             self.check_eqs = [system.equations[k] for k in checks]
             terms = []
             self.check_terms = []
             for e in self.check_eqs:
                 r = e.residual
-                ts = list(r.terms) if type(r).__name__ == "Add" else [r]
+                ts = _terms(r)
                 self.check_terms.append((len(terms), len(ts)))
                 terms.extend(ts)
             self.check_fn = function(terms, sweep.names, self.unknowns, "checks") \
@@ -146,7 +158,7 @@ class _Plan:
     def solve(self, p, m):
         """(values per unknown, ok mask, reasons) for m variants."""
         ok = np.ones(m, bool)
-        why = np.full(m, None, dtype=object)
+        why = np.empty(m, dtype=object)
         v: list = [None] * len(self.unknowns)
         with np.errstate(all="ignore"):
             if self.guard_fn is not None:
@@ -172,18 +184,20 @@ class _Plan:
                           terms[start:start + cnt]]
                     res = np.abs(np.sum(ts, axis=0))
                     mag = np.sum(np.abs(ts), axis=0)
-                    _mark(ok, why, ~(res <= 1e-9 * mag + 1e-300),
+                    _mark(ok, why, ~((res <= ROUNDOFF * mag) | ((mag == 0) & (res == 0))),
                           f"a redundant equation does not hold ({e.principle})")
         return v, ok, why
 
     def next_regimes(self, p, v, m):
         """Each variant's regimes after the scalar solve's update rule; (keys, changed)."""
-        keys = np.full(m, None, dtype=object)
+        keys = np.empty(m, dtype=object)
         changed = np.zeros(m, bool)
         if not self.sites:
             return keys, changed
         vals = self.site_fn(p, v)
-        new = [np.full(m, s.regime, dtype=object) for s in self.sites]
+        new = [np.empty(m, dtype=object) for s in self.sites]
+        for a, s in zip(new, self.sites):
+            a.fill(s.regime)
         idx = {u: j for j, u in enumerate(self.unknowns)}
         with np.errstate(all="ignore"):
             for i, s in enumerate(self.sites):
@@ -212,6 +226,29 @@ class _Plan:
         return keys, changed
 
 
+def _terms(e, depth: int = 0) -> list:
+    """The terms of `e` multiplied out one level at a time (as `expr.magnitude` sees
+    them): the size a round-off residual is measured against."""
+    from ..expr import Add, Mul, mul
+
+    if depth > 6:
+        return [e]
+    if type(e) is Add:
+        return [t for x in e.terms for t in _terms(x, depth + 1)]
+    if type(e) is Mul:
+        sums = [f for f in e.factors if type(f) is Add]
+        if len(sums) == 1:
+            rest = [f for f in e.factors if f is not sums[0]]
+            out = []
+            for t in _terms(sums[0], depth + 1):
+                x = t
+                for f in rest:
+                    x = mul(f, x)
+                out.append(x)
+            return out
+    return [e]
+
+
 def _lift(x):
     from ..expr import Const
 
@@ -233,9 +270,6 @@ def _unbatchable(system, structure) -> str:
 
     if structure.under and _under_rows(structure):
         return "an under-determined part"
-    for k in structure.constant_eqs:
-        if not structure.incidence[k]:
-            return "an equation of given values only (a check)"
     return ""
 
 
@@ -246,8 +280,12 @@ class _Sweep:
         self.answers: dict = {}
         self.units: dict = {}
         self.display: dict = {}
-        self.status = np.full(n, "ok", dtype=object)
-        self.regimes = np.full(n, "", dtype=object)
+        self.status = np.empty(n, dtype=object)
+        self.status.fill("ok")
+        self.ok = np.ones(n, bool)
+        self.failed = np.zeros(n, bool)
+        self.regimes = np.empty(n, dtype=object)
+        self.regimes.fill("")
         self.batched = True
         self.note = ""
         self.order: list = []
@@ -369,7 +407,7 @@ class _Sweep:
             return
         idx = np.arange(lo, hi)
         groups = [((), idx, ())]
-        final_reason = np.full(m, None, dtype=object)
+        final_reason = np.empty(m, dtype=object)
         for _ in range(MAX_ROUNDS):
             nxt = []
             for key, ids, path in groups:
@@ -408,19 +446,22 @@ class _Sweep:
     def _store(self, plan, p, v, ids, mask, key) -> None:
         if not len(ids):
             return
+        m = mask.shape[0]
         with np.errstate(all="ignore"):
             vals = plan.find_fn(p, v)
-        comp = 0
-        for f, val in zip(plan.finds, vals):
-            val = np.broadcast_to(np.asarray(val, float), mask.shape)[mask] \
-                if np.ndim(val) else np.full(len(ids), float(val))
-            if f.name in self.answers:
-                self.answers[f.name][ids] = val
-            else:  # a vector find: its x and y answers (the scalar solve's names)
-                comp += 1
+            terms = plan.find_mag(p, v)
+            for f, val, (start, cnt) in zip(plan.finds, vals, plan.find_terms):
+                val = np.array(np.broadcast_to(np.asarray(val, float), (m,)))
+                mag = np.sum([np.abs(np.broadcast_to(np.asarray(t, float), (m,)))
+                              for t in terms[start:start + cnt]], axis=0)
+                val[np.abs(val) <= ROUNDOFF * mag] = 0.0
+                if f.name in self.answers:
+                    self.answers[f.name][ids] = val[mask]
         self.regimes[ids] = _show(key)
-        bad = ~np.all([np.isfinite(self.answers[a][ids]) for a in self.order], axis=0) \
-            if self.order else np.zeros(len(ids), bool)
+        fin = np.ones(len(ids), bool)
+        for a in self.order:
+            fin &= np.isfinite(self.answers[a][ids])
+        bad = ~fin
         for i in ids[bad]:
             self._fallback(int(i), "an answer is not finite")
 
@@ -433,6 +474,7 @@ class _Sweep:
         except ProblemError as exc:
             d = exc.diagnostics[0]
             self.status[i] = f"error: {d.message}"
+            self.ok[i], self.failed[i] = False, True
             for a in self.answers.values():
                 a[i] = np.nan
             return
@@ -447,6 +489,7 @@ class _Sweep:
         self.status[i] = reason or "ok"
         if not self.batched:
             self.status[i] = "ok"
+        self.ok[i] = self.status[i] == "ok"
         self.regimes[i] = _show(tuple(sorted(sol.regimes.items())))
 
     def result(self) -> BatchResult:
@@ -457,7 +500,8 @@ class _Sweep:
                            {a: self.units.get(a, "") for a in self.order}, self.status,
                            dict(self.cols), {a: self.display.get(a, ("", 1.0))
                                              for a in self.order},
-                           units, self.regimes, self.batched, self.note)
+                           units, self.regimes, self.batched, self.note, self.ok,
+                           self.failed)
 
 
 def _show(key) -> str:
