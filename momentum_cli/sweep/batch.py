@@ -457,7 +457,7 @@ class _Sweep:
                 val[np.abs(val) <= ROUNDOFF * mag] = 0.0
                 if f.name in self.answers:
                     self.answers[f.name][ids] = val[mask]
-        self.regimes[ids] = _show(key)
+        self.regimes[ids] = _regimes_text(plan.system)
         fin = np.ones(len(ids), bool)
         for a in self.order:
             fin &= np.isfinite(self.answers[a][ids])
@@ -490,7 +490,7 @@ class _Sweep:
         if not self.batched:
             self.status[i] = "ok"
         self.ok[i] = self.status[i] == "ok"
-        self.regimes[i] = _show(tuple(sorted(sol.regimes.items())))
+        self.regimes[i] = _regimes_text(sol.system)
 
     def result(self) -> BatchResult:
         from ..units import si_label
@@ -502,6 +502,11 @@ class _Sweep:
                                              for a in self.order},
                            units, self.regimes, self.batched, self.note, self.ok,
                            self.failed)
+
+
+def _regimes_text(system) -> str:
+    """The friction regimes a solution holds: `ball (1->2): stick`."""
+    return ", ".join(f"{s.label} ({s.transition}): {s.regime}" for s in system.friction)
 
 
 def _show(key) -> str:
