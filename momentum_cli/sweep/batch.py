@@ -168,8 +168,7 @@ class _Plan:
                     got = _compare(g.op, a, b)
                     bad = np.broadcast_to(got != g.outcome, (m,))
                     if bad.any():
-                        _mark(ok, why, bad, "the structure changes (a given becomes 0, a "
-                              "coefficient 1, a direction flips)")
+                        _mark(ok, why, bad, _guard_text(g))
             for blk in self.blocks:
                 blk.run(p, v, m, ok, why)
             for j, x in enumerate(v):
@@ -249,6 +248,15 @@ def _terms(e, depth: int = 0) -> list:
     return [e]
 
 
+def _guard_text(g) -> str:
+    """Why a variant leaves the batch's structure: `1 - e[A] == 0` is true there."""
+    from ..expr import to_text
+
+    with trace.paused():
+        lhs, rhs = (to_text(x).replace(trace.PREFIX, "") for x in (g.lhs, g.rhs))
+    return f"the structure changes where {lhs} {g.op} {rhs} is {not g.outcome}"
+
+
 def _lift(x):
     from ..expr import Const
 
@@ -289,13 +297,14 @@ class _Sweep:
         self.batched = True
         self.note = ""
         self.order: list = []
+        self.let_dims: dict = {}
 
     # ---- the base variant: the scalar solve decides the answers' names and units
     def prepare(self) -> None:
         from ..diagnostics import ProblemError
 
         n = self.n
-        tries = [n // 2, 0, n - 1] if n else []
+        tries = [self._generic()] + ([n // 2, 0, n - 1] if n else [])
         base = None
         self.base_error = None
         for i in dict.fromkeys(tries):
@@ -323,14 +332,64 @@ class _Sweep:
             self.order.append(name)
         self._find_units(sol)
         self.answers = {a: np.full(n, np.nan) for a in self.order}
-        self.traced = {p: trace.leaf(p, float(self.cols[p][i])) for p in self.names}
-        plan = self._plan(())
+        plan = self._trace_at(i)
         if plan.reason:
             self.batched, self.note = False, plan.reason
             return
+        # traced at a special value (e = 1 folds a term away), most variants would leave
+        # the structure: trace at one of them instead, if that keeps more
+        best = (self._leaving(plan), i)
+        for j in self._others(i):
+            if best[0] <= 0.1:
+                break
+            other = self._trace_at(j)
+            if not other.reason:
+                best = min(best, (self._leaving(other), j))
+        if best[1] != self.base_trace:
+            plan = self._trace_at(best[1])
         leak = self._leaks(plan, sol)
         if leak:
             self.batched, self.note = False, leak
+
+    def _trace_at(self, i: int) -> "_Plan":
+        """The all-stick plan traced at variant i (earlier plans are dropped)."""
+        self.base_trace = i
+        self.plans = {}
+        self.traced = {p: trace.leaf(p, float(self.cols[p][i])) for p in self.names}
+        return self._plan(())
+
+    def _leaving(self, plan) -> float:
+        """The share of (up to 256 spread) variants whose structure differs from the plan's."""
+        if plan.guard_fn is None:
+            return 0.0
+        idx = np.unique(np.linspace(0, self.n - 1, min(self.n, 256)).astype(int))
+        p = [self.cols[name][idx] for name in self.names]
+        m = len(idx)
+        bad = np.zeros(m, bool)
+        with np.errstate(all="ignore"):
+            vals = plan.guard_fn(p, [None] * len(plan.unknowns))
+        h = len(plan.guards)
+        for g, a, b in zip(plan.guards, vals[:h], vals[h:]):
+            bad |= np.broadcast_to(_compare(g.op, a, b) != g.outcome, (m,))
+        return float(bad.mean())
+
+    def _others(self, i: int) -> list:
+        n = self.n
+        return [j for j in dict.fromkeys([n // 3, (2 * n) // 3, n // 4, (3 * n) // 4])
+                if j != i and 0 <= j < n][:3]
+
+    def _generic(self) -> int:
+        """A variant to trace at whose values are not special (0 and +-1 fold terms
+        away, so the other variants' structure would differ): the middle one if it will
+        do, else the first such one of a few spread over the design."""
+        n = self.n
+        if not n:
+            return 0
+        for i in dict.fromkeys([n // 2, n // 3, (2 * n) // 3, 1 % n, n - 2 if n > 1 else 0,
+                                n // 4, (3 * n) // 4]):
+            if all(float(self.cols[p][i]) not in (0.0, 1.0, -1.0) for p in self.names):
+                return i
+        return n // 2
 
     def _find_units(self, sol) -> None:
         from ..units import si_label
@@ -393,9 +452,12 @@ class _Sweep:
 
     def _scalar(self, i):
         from ..solve import solve_scene
+        from .params import ParamBuilder
 
         vals = {p: float(self.cols[p][i]) for p in self.names}
-        scene = build_variant(self.doc, vals, self.dims)
+        builder = ParamBuilder(self.doc, vals, self.dims)
+        scene = builder.run()
+        self.let_dims = self.let_dims or dict(builder.let_dims)
         return solve_scene(scene)
 
     # ---- a chunk of variants
@@ -495,7 +557,8 @@ class _Sweep:
     def result(self) -> BatchResult:
         from ..units import si_label
 
-        units = {p: si_label(self.dims[p]) if p in self.dims else "" for p in self.names}
+        dims = {**self.let_dims, **self.dims}
+        units = {p: si_label(dims[p]) if p in dims else "" for p in self.names}
         return BatchResult({a: self.answers[a] for a in self.order},
                            {a: self.units.get(a, "") for a in self.order}, self.status,
                            dict(self.cols), {a: self.display.get(a, ("", 1.0))
