@@ -49,8 +49,14 @@ class BatchResult:
 
 
 def solve_batch(problem_path: str, columns: dict, dims: dict | None = None,
-                progress=None, chunk: int = CHUNK) -> BatchResult:
-    """Every variant of the file (columns: parameter -> SI values)."""
+                progress=None, chunk: int = CHUNK, base: dict | None = None) -> BatchResult:
+    """Every variant of the file (columns: parameter -> SI values).
+
+    `dims` (parameter -> dimension) checks the values against the file's `let`s;
+    `progress(done)` is called after each chunk. The structure is traced at one
+    variant (chosen so that most variants share it); `base` (parameter -> SI value,
+    see `choose_base`) fixes that point, so that a design split into parts (Dask)
+    gives the same bits as the whole: a variant's answer depends only on the base."""
     from ..run import SourceTextError, read_source
     from ..diagnostics import ProblemError
     from ..syntax import parse
@@ -74,13 +80,43 @@ def solve_batch(problem_path: str, columns: dict, dims: dict | None = None,
         d = exc.diagnostics[0]
         where = f":{d.span.line}:{d.span.column}" if d.span else ""
         raise SweepError(f"{problem_path}{where}: error: {d.message}") from None
+    fixed = None
+    if base is not None:
+        missing = [p for p in names if p not in base]
+        if missing:
+            raise SweepError(f"base: no value for {', '.join(missing)}")
+        cols = {p: np.append(cols[p], float(base[p])) for p in names}
+        fixed = n
     sweep = _Sweep(doc, names, dims or {}, cols, n)
+    sweep.fixed = fixed
     sweep.prepare()
     for lo in range(0, n, chunk):
         sweep.run_chunk(lo, min(n, lo + chunk))
         if progress is not None:
             progress(min(n, lo + chunk))
     return sweep.result()
+
+
+def choose_base(problem_path: str, columns: dict, dims: dict | None = None) -> dict:
+    """The parameter values `solve_batch` would trace the whole design at: pass them as
+    `base` when solving its parts separately (byte-identical results)."""
+    from ..run import read_source
+    from ..syntax import parse
+
+    names = list(columns)
+    cols = {n: np.ascontiguousarray(columns[n], dtype=float) for n in names}
+    n = len(next(iter(cols.values()))) if cols else 0
+    try:
+        doc = bind(parse(read_source(problem_path)), names, problem_path)
+    except Exception as exc:  # the sweep itself reports it, with its line
+        raise SweepError(str(exc)) from None
+    sweep = _Sweep(doc, names, dims or {}, cols, n)
+    sweep.fixed = None
+    sweep.prepare()
+    i = getattr(sweep, "base_trace", None)
+    if i is None:
+        i = n // 2 if n else 0
+    return {p: float(cols[p][i]) for p in names} if n else {}
 
 
 class _Plan:
@@ -298,6 +334,7 @@ class _Sweep:
         self.note = ""
         self.order: list = []
         self.let_dims: dict = {}
+        self.fixed = None  # the index of a given base (an extra last row), if any
 
     # ---- the base variant: the scalar solve decides the answers' names and units
     def prepare(self) -> None:
@@ -305,6 +342,8 @@ class _Sweep:
 
         n = self.n
         tries = [self._generic()] + ([n // 2, 0, n - 1] if n else [])
+        if self.fixed is not None:
+            tries = [self.fixed]
         base = None
         self.base_error = None
         for i in dict.fromkeys(tries):
@@ -339,7 +378,7 @@ class _Sweep:
         # traced at a special value (e = 1 folds a term away), most variants would leave
         # the structure: trace at one of them instead, if that keeps more
         best = (self._leaving(plan), i)
-        for j in self._others(i):
+        for j in self._others(i) if self.fixed is None else ():
             if best[0] <= 0.1:
                 break
             other = self._trace_at(j)
@@ -561,7 +600,8 @@ class _Sweep:
         units = {p: si_label(dims[p]) if p in dims else "" for p in self.names}
         return BatchResult({a: self.answers[a] for a in self.order},
                            {a: self.units.get(a, "") for a in self.order}, self.status,
-                           dict(self.cols), {a: self.display.get(a, ("", 1.0))
+                           {p: c[:self.n] for p, c in self.cols.items()},
+                           {a: self.display.get(a, ("", 1.0))
                                              for a in self.order},
                            units, self.regimes, self.batched, self.note, self.ok,
                            self.failed)

@@ -396,11 +396,11 @@ class QuadraticBlock(NewtonBlock):
             r2 = np.where(real, r2, np.nan)
             # a root where q = 0 (c0 = 0): both roots from the product form
             r2 = np.where(real & ~lin & (q == 0), 0.0, r2)
-            # polish each root by Newton steps on the residual as solve evaluates it
-            x1 = self._polish(p, v, r1)
-            x2 = self._polish(p, v, r2)
-        found = [(x1[None, :], np.isfinite(x1)), (x2[None, :], np.isfinite(x2))]
+        found = [(r1[None, :], np.isfinite(r1)), (r2[None, :], np.isfinite(r2))]
         self._choose(found, m, ok, why, v)
+        # the chosen root polished by a Newton step on the residual as solve evaluates it
+        with np.errstate(all="ignore"):
+            v[self.idx[0]] = self._polish(p, v, v[self.idx[0]])
 
     def _polish(self, p, v, x):
         """Newton steps on the residual as the scalar solve evaluates it, kept only
