@@ -128,6 +128,12 @@ FUNCS = {
 }
 
 
+def hypot(x: float, y: float) -> float:
+    """math.hypot; a sweep's traced number (sweep/trace.py) keeps its expression."""
+    traced = getattr(x, "hypot", None) or getattr(y, "hypot", None)
+    return traced(x, y) if traced is not None else math.hypot(x, y)
+
+
 def lift(x) -> E:
     if isinstance(x, E):
         return x

@@ -24,7 +24,8 @@ from .blocks import _mark, block_for
 from .kernel import function
 from .params import ParamError, bind, build_variant
 
-CHUNK = 100_000
+CHUNK = 32_768  # variants per chunk: arrays that stay in cache, memory bounded
+ROUNDOFF = 64 * 2.0**-53  # as bounds.ROUNDOFF: a few ulps per term
 MAX_ROUNDS = 8
 
 
@@ -43,11 +44,19 @@ class BatchResult:
     regimes: np.ndarray | None = None  # object array: the friction regimes that held
     batched: bool = True  # False: the structure could not be batched; all scalar
     note: str = ""  # why not batched
+    ok: np.ndarray | None = None  # bool: status == "ok" (kept, not recomputed)
+    failed: np.ndarray | None = None  # bool: the variant did not solve
 
 
 def solve_batch(problem_path: str, columns: dict, dims: dict | None = None,
-                progress=None, chunk: int = CHUNK) -> BatchResult:
-    """Every variant of the file (columns: parameter -> SI values)."""
+                progress=None, chunk: int = CHUNK, base: dict | None = None) -> BatchResult:
+    """Every variant of the file (columns: parameter -> SI values).
+
+    `dims` (parameter -> dimension) checks the values against the file's `let`s;
+    `progress(done)` is called after each chunk. The structure is traced at one
+    variant (chosen so that most variants share it); `base` (parameter -> SI value,
+    see `choose_base`) fixes that point, so that a design split into parts (Dask)
+    gives the same bits as the whole: a variant's answer depends only on the base."""
     from ..run import SourceTextError, read_source
     from ..diagnostics import ProblemError
     from ..syntax import parse
@@ -71,13 +80,43 @@ def solve_batch(problem_path: str, columns: dict, dims: dict | None = None,
         d = exc.diagnostics[0]
         where = f":{d.span.line}:{d.span.column}" if d.span else ""
         raise SweepError(f"{problem_path}{where}: error: {d.message}") from None
+    fixed = None
+    if base is not None:
+        missing = [p for p in names if p not in base]
+        if missing:
+            raise SweepError(f"base: no value for {', '.join(missing)}")
+        cols = {p: np.append(cols[p], float(base[p])) for p in names}
+        fixed = n
     sweep = _Sweep(doc, names, dims or {}, cols, n)
+    sweep.fixed = fixed
     sweep.prepare()
     for lo in range(0, n, chunk):
         sweep.run_chunk(lo, min(n, lo + chunk))
         if progress is not None:
             progress(min(n, lo + chunk))
     return sweep.result()
+
+
+def choose_base(problem_path: str, columns: dict, dims: dict | None = None) -> dict:
+    """The parameter values `solve_batch` would trace the whole design at: pass them as
+    `base` when solving its parts separately (byte-identical results)."""
+    from ..run import read_source
+    from ..syntax import parse
+
+    names = list(columns)
+    cols = {n: np.ascontiguousarray(columns[n], dtype=float) for n in names}
+    n = len(next(iter(cols.values()))) if cols else 0
+    try:
+        doc = bind(parse(read_source(problem_path)), names, problem_path)
+    except Exception as exc:  # the sweep itself reports it, with its line
+        raise SweepError(str(exc)) from None
+    sweep = _Sweep(doc, names, dims or {}, cols, n)
+    sweep.fixed = None
+    sweep.prepare()
+    i = getattr(sweep, "base_trace", None)
+    if i is None:
+        i = n // 2 if n else 0
+    return {p: float(cols[p][i]) for p in names} if n else {}
 
 
 class _Plan:
@@ -115,6 +154,14 @@ class _Plan:
             self.finds = system.finds
             fexprs = [f.expr for f in system.finds]
             self.find_fn = function(fexprs, sweep.names, self.unknowns, "finds")
+            # each answer's terms: a value within round-off of them is zero, as in solve
+            self.find_terms = []
+            tl = []
+            for e in fexprs:
+                ts = _terms(e)
+                self.find_terms.append((len(tl), len(ts)))
+                tl.extend(ts)
+            self.find_mag = function(tl, sweep.names, self.unknowns, "magnitudes")
             # guards, friction sites, redundant rows and durations: checked per variant
             g = self.guards
             self.guard_fn = function([x.lhs for x in g] + [x.rhs for x in g], sweep.names,
@@ -128,13 +175,14 @@ class _Plan:
                 if self.sites else None
             known = set(self.unknowns)
             checks = [k for k in structure.redundant
-                      if structure.incidence[k] <= known]
+                      if structure.incidence[k] <= known] + \
+                [k for k in structure.constant_eqs if not structure.incidence[k]]
             self.check_eqs = [system.equations[k] for k in checks]
             terms = []
             self.check_terms = []
             for e in self.check_eqs:
                 r = e.residual
-                ts = list(r.terms) if type(r).__name__ == "Add" else [r]
+                ts = _terms(r)
                 self.check_terms.append((len(terms), len(ts)))
                 terms.extend(ts)
             self.check_fn = function(terms, sweep.names, self.unknowns, "checks") \
@@ -146,7 +194,7 @@ class _Plan:
     def solve(self, p, m):
         """(values per unknown, ok mask, reasons) for m variants."""
         ok = np.ones(m, bool)
-        why = np.full(m, None, dtype=object)
+        why = np.empty(m, dtype=object)
         v: list = [None] * len(self.unknowns)
         with np.errstate(all="ignore"):
             if self.guard_fn is not None:
@@ -156,8 +204,7 @@ class _Plan:
                     got = _compare(g.op, a, b)
                     bad = np.broadcast_to(got != g.outcome, (m,))
                     if bad.any():
-                        _mark(ok, why, bad, "the structure changes (a given becomes 0, a "
-                              "coefficient 1, a direction flips)")
+                        _mark(ok, why, bad, _guard_text(g))
             for blk in self.blocks:
                 blk.run(p, v, m, ok, why)
             for j, x in enumerate(v):
@@ -172,18 +219,20 @@ class _Plan:
                           terms[start:start + cnt]]
                     res = np.abs(np.sum(ts, axis=0))
                     mag = np.sum(np.abs(ts), axis=0)
-                    _mark(ok, why, ~(res <= 1e-9 * mag + 1e-300),
+                    _mark(ok, why, ~((res <= ROUNDOFF * mag) | ((mag == 0) & (res == 0))),
                           f"a redundant equation does not hold ({e.principle})")
         return v, ok, why
 
     def next_regimes(self, p, v, m):
         """Each variant's regimes after the scalar solve's update rule; (keys, changed)."""
-        keys = np.full(m, None, dtype=object)
+        keys = np.empty(m, dtype=object)
         changed = np.zeros(m, bool)
         if not self.sites:
             return keys, changed
         vals = self.site_fn(p, v)
-        new = [np.full(m, s.regime, dtype=object) for s in self.sites]
+        new = [np.empty(m, dtype=object) for s in self.sites]
+        for a, s in zip(new, self.sites):
+            a.fill(s.regime)
         idx = {u: j for j, u in enumerate(self.unknowns)}
         with np.errstate(all="ignore"):
             for i, s in enumerate(self.sites):
@@ -212,6 +261,38 @@ class _Plan:
         return keys, changed
 
 
+def _terms(e, depth: int = 0) -> list:
+    """The terms of `e` multiplied out one level at a time (as `expr.magnitude` sees
+    them): the size a round-off residual is measured against."""
+    from ..expr import Add, Mul, mul
+
+    if depth > 6:
+        return [e]
+    if type(e) is Add:
+        return [t for x in e.terms for t in _terms(x, depth + 1)]
+    if type(e) is Mul:
+        sums = [f for f in e.factors if type(f) is Add]
+        if len(sums) == 1:
+            rest = [f for f in e.factors if f is not sums[0]]
+            out = []
+            for t in _terms(sums[0], depth + 1):
+                x = t
+                for f in rest:
+                    x = mul(f, x)
+                out.append(x)
+            return out
+    return [e]
+
+
+def _guard_text(g) -> str:
+    """Why a variant leaves the batch's structure: `1 - e[A] == 0` is true there."""
+    from ..expr import to_text
+
+    with trace.paused():
+        lhs, rhs = (to_text(x).replace(trace.PREFIX, "") for x in (g.lhs, g.rhs))
+    return f"the structure changes where {lhs} {g.op} {rhs} is {not g.outcome}"
+
+
 def _lift(x):
     from ..expr import Const
 
@@ -233,9 +314,6 @@ def _unbatchable(system, structure) -> str:
 
     if structure.under and _under_rows(structure):
         return "an under-determined part"
-    for k in structure.constant_eqs:
-        if not structure.incidence[k]:
-            return "an equation of given values only (a check)"
     return ""
 
 
@@ -246,18 +324,26 @@ class _Sweep:
         self.answers: dict = {}
         self.units: dict = {}
         self.display: dict = {}
-        self.status = np.full(n, "ok", dtype=object)
-        self.regimes = np.full(n, "", dtype=object)
+        self.status = np.empty(n, dtype=object)
+        self.status.fill("ok")
+        self.ok = np.ones(n, bool)
+        self.failed = np.zeros(n, bool)
+        self.regimes = np.empty(n, dtype=object)
+        self.regimes.fill("")
         self.batched = True
         self.note = ""
         self.order: list = []
+        self.let_dims: dict = {}
+        self.fixed = None  # the index of a given base (an extra last row), if any
 
     # ---- the base variant: the scalar solve decides the answers' names and units
     def prepare(self) -> None:
         from ..diagnostics import ProblemError
 
         n = self.n
-        tries = [n // 2, 0, n - 1] if n else []
+        tries = [self._generic()] + ([n // 2, 0, n - 1] if n else [])
+        if self.fixed is not None:
+            tries = [self.fixed]
         base = None
         self.base_error = None
         for i in dict.fromkeys(tries):
@@ -285,14 +371,64 @@ class _Sweep:
             self.order.append(name)
         self._find_units(sol)
         self.answers = {a: np.full(n, np.nan) for a in self.order}
-        self.traced = {p: trace.leaf(p, float(self.cols[p][i])) for p in self.names}
-        plan = self._plan(())
+        plan = self._trace_at(i)
         if plan.reason:
             self.batched, self.note = False, plan.reason
             return
+        # traced at a special value (e = 1 folds a term away), most variants would leave
+        # the structure: trace at one of them instead, if that keeps more
+        best = (self._leaving(plan), i)
+        for j in self._others(i) if self.fixed is None else ():
+            if best[0] <= 0.1:
+                break
+            other = self._trace_at(j)
+            if not other.reason:
+                best = min(best, (self._leaving(other), j))
+        if best[1] != self.base_trace:
+            plan = self._trace_at(best[1])
         leak = self._leaks(plan, sol)
         if leak:
             self.batched, self.note = False, leak
+
+    def _trace_at(self, i: int) -> "_Plan":
+        """The all-stick plan traced at variant i (earlier plans are dropped)."""
+        self.base_trace = i
+        self.plans = {}
+        self.traced = {p: trace.leaf(p, float(self.cols[p][i])) for p in self.names}
+        return self._plan(())
+
+    def _leaving(self, plan) -> float:
+        """The share of (up to 256 spread) variants whose structure differs from the plan's."""
+        if plan.guard_fn is None:
+            return 0.0
+        idx = np.unique(np.linspace(0, self.n - 1, min(self.n, 256)).astype(int))
+        p = [self.cols[name][idx] for name in self.names]
+        m = len(idx)
+        bad = np.zeros(m, bool)
+        with np.errstate(all="ignore"):
+            vals = plan.guard_fn(p, [None] * len(plan.unknowns))
+        h = len(plan.guards)
+        for g, a, b in zip(plan.guards, vals[:h], vals[h:]):
+            bad |= np.broadcast_to(_compare(g.op, a, b) != g.outcome, (m,))
+        return float(bad.mean())
+
+    def _others(self, i: int) -> list:
+        n = self.n
+        return [j for j in dict.fromkeys([n // 3, (2 * n) // 3, n // 4, (3 * n) // 4])
+                if j != i and 0 <= j < n][:3]
+
+    def _generic(self) -> int:
+        """A variant to trace at whose values are not special (0 and +-1 fold terms
+        away, so the other variants' structure would differ): the middle one if it will
+        do, else the first such one of a few spread over the design."""
+        n = self.n
+        if not n:
+            return 0
+        for i in dict.fromkeys([n // 2, n // 3, (2 * n) // 3, 1 % n, n - 2 if n > 1 else 0,
+                                n // 4, (3 * n) // 4]):
+            if all(float(self.cols[p][i]) not in (0.0, 1.0, -1.0) for p in self.names):
+                return i
+        return n // 2
 
     def _find_units(self, sol) -> None:
         from ..units import si_label
@@ -355,9 +491,12 @@ class _Sweep:
 
     def _scalar(self, i):
         from ..solve import solve_scene
+        from .params import ParamBuilder
 
         vals = {p: float(self.cols[p][i]) for p in self.names}
-        scene = build_variant(self.doc, vals, self.dims)
+        builder = ParamBuilder(self.doc, vals, self.dims)
+        scene = builder.run()
+        self.let_dims = self.let_dims or dict(builder.let_dims)
         return solve_scene(scene)
 
     # ---- a chunk of variants
@@ -369,7 +508,7 @@ class _Sweep:
             return
         idx = np.arange(lo, hi)
         groups = [((), idx, ())]
-        final_reason = np.full(m, None, dtype=object)
+        final_reason = np.empty(m, dtype=object)
         for _ in range(MAX_ROUNDS):
             nxt = []
             for key, ids, path in groups:
@@ -408,19 +547,22 @@ class _Sweep:
     def _store(self, plan, p, v, ids, mask, key) -> None:
         if not len(ids):
             return
+        m = mask.shape[0]
         with np.errstate(all="ignore"):
             vals = plan.find_fn(p, v)
-        comp = 0
-        for f, val in zip(plan.finds, vals):
-            val = np.broadcast_to(np.asarray(val, float), mask.shape)[mask] \
-                if np.ndim(val) else np.full(len(ids), float(val))
-            if f.name in self.answers:
-                self.answers[f.name][ids] = val
-            else:  # a vector find: its x and y answers (the scalar solve's names)
-                comp += 1
-        self.regimes[ids] = _show(key)
-        bad = ~np.all([np.isfinite(self.answers[a][ids]) for a in self.order], axis=0) \
-            if self.order else np.zeros(len(ids), bool)
+            terms = plan.find_mag(p, v)
+            for f, val, (start, cnt) in zip(plan.finds, vals, plan.find_terms):
+                val = np.array(np.broadcast_to(np.asarray(val, float), (m,)))
+                mag = np.sum([np.abs(np.broadcast_to(np.asarray(t, float), (m,)))
+                              for t in terms[start:start + cnt]], axis=0)
+                val[np.abs(val) <= ROUNDOFF * mag] = 0.0
+                if f.name in self.answers:
+                    self.answers[f.name][ids] = val[mask]
+        self.regimes[ids] = _regimes_text(plan.system)
+        fin = np.ones(len(ids), bool)
+        for a in self.order:
+            fin &= np.isfinite(self.answers[a][ids])
+        bad = ~fin
         for i in ids[bad]:
             self._fallback(int(i), "an answer is not finite")
 
@@ -433,6 +575,7 @@ class _Sweep:
         except ProblemError as exc:
             d = exc.diagnostics[0]
             self.status[i] = f"error: {d.message}"
+            self.ok[i], self.failed[i] = False, True
             for a in self.answers.values():
                 a[i] = np.nan
             return
@@ -447,17 +590,26 @@ class _Sweep:
         self.status[i] = reason or "ok"
         if not self.batched:
             self.status[i] = "ok"
-        self.regimes[i] = _show(tuple(sorted(sol.regimes.items())))
+        self.ok[i] = self.status[i] == "ok"
+        self.regimes[i] = _regimes_text(sol.system)
 
     def result(self) -> BatchResult:
         from ..units import si_label
 
-        units = {p: si_label(self.dims[p]) if p in self.dims else "" for p in self.names}
+        dims = {**self.let_dims, **self.dims}
+        units = {p: si_label(dims[p]) if p in dims else "" for p in self.names}
         return BatchResult({a: self.answers[a] for a in self.order},
                            {a: self.units.get(a, "") for a in self.order}, self.status,
-                           dict(self.cols), {a: self.display.get(a, ("", 1.0))
+                           {p: c[:self.n] for p, c in self.cols.items()},
+                           {a: self.display.get(a, ("", 1.0))
                                              for a in self.order},
-                           units, self.regimes, self.batched, self.note)
+                           units, self.regimes, self.batched, self.note, self.ok,
+                           self.failed)
+
+
+def _regimes_text(system) -> str:
+    """The friction regimes a solution holds: `ball (1->2): stick`."""
+    return ", ".join(f"{s.label} ({s.transition}): {s.regime}" for s in system.friction)
 
 
 def _show(key) -> str:

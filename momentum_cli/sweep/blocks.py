@@ -78,32 +78,86 @@ class LinearBlock:
 
     def run(self, p, v, m, ok, why):
         k = self.k
+        vals = self.fn(p, v)
+        if k == 1:
+            self._run1(vals, v, m, ok, why)
+            return
         A = np.zeros((m, k, k))
         b = np.zeros((m, k))
-        for (what, i, j), val in zip(self.where, self.fn(p, v)):
+        for (what, i, j), val in zip(self.where, vals):
             if what == "A":
                 A[:, i, j] += val
             else:
                 b[:, i] -= val
-        good = np.isfinite(A).all(axis=(1, 2)) & np.isfinite(b).all(axis=1)
-        # equilibrated as the scalar solve does (rows, then columns); a near-singular
-        # matrix (the scalar solve would rank-test it) is left to the scalar solve
-        r = np.abs(A).max(axis=2)
+        bad = ~(np.abs(_equilibrated_det(A, k)) > 1e-12)  # also a nan or inf in A
+        x = np.linalg.solve(A, b[:, :, None])[:, :, 0]
+        fin = np.isfinite(x[:, 0])
+        for j in range(1, k):
+            fin &= np.isfinite(x[:, j])
+        if not fin.all():
+            _mark(ok, why, ~fin, "a value that is not finite in block " +
+                  ", ".join(self.names[:3]))
+        for j, gi in enumerate(self.idx):
+            v[gi] = x[:, j]
+
+    def _run1(self, vals, v, m, ok, why):
+        a = np.zeros(m)
+        b = np.zeros(m)
+        for (what, _i, _j), val in zip(self.where, vals):
+            if what == "A":
+                a = a + val
+            else:
+                b = b - val
+        a = np.broadcast_to(a, (m,))
+        b = np.broadcast_to(b, (m,))
+        bad = ~(np.isfinite(a) & np.isfinite(b) & (a != 0))
+        if bad.any():
+            _mark(ok, why, bad, "near-singular block " + self.names[0])
+        with np.errstate(all="ignore"):
+            v[self.idx[0]] = np.where(bad, np.nan, b / np.where(bad, 1.0, a))
+
+
+def _equilibrated_det(A, k):
+    """The determinant of A scaled as the scalar solve equilibrates it (rows, then
+    columns, by their largest entries), from views (no scaled copy of A): a small one
+    marks a near-singular block."""
+    if k > 3:
+        absA = np.abs(A)
+        r = absA.max(axis=2)
         r[r == 0] = 1.0
         As = A / r[:, :, None]
         c = np.abs(As).max(axis=1)
         c[c == 0] = 1.0
-        As = As / c[:, None, :]
-        det = np.abs(np.linalg.det(As)) if k > 1 else np.abs(As[:, 0, 0])
-        good &= det > 1e-12
-        bad = ~good
-        if bad.any():
-            A[bad] = np.eye(k)
-            b[bad] = 0.0
-            _mark(ok, why, bad, "near-singular block " + ", ".join(self.names[:3]))
-        x = np.linalg.solve(A, b[:, :, None])[:, :, 0] if k > 1 else b / A[:, 0, :]
-        for j, gi in enumerate(self.idx):
-            v[gi] = x[:, j]
+        return np.linalg.det(As / c[:, None, :])
+    a = [[np.abs(A[:, i, j]) for j in range(k)] for i in range(k)]
+    scale = np.ones(A.shape[0])
+    rows = []
+    for i in range(k):
+        r = a[i][0].copy()
+        for j in range(1, k):
+            np.maximum(r, a[i][j], out=r)
+        r[r == 0] = 1.0
+        rows.append(r)
+        scale *= r
+    for j in range(k):
+        c = a[0][j] / rows[0]
+        for i in range(1, k):
+            np.maximum(c, a[i][j] / rows[i], out=c)
+        c[c == 0] = 1.0
+        scale *= c
+    return _det(A, k) / scale
+
+
+def _det(A, k):
+    """Determinants of stacked k x k matrices (closed forms for 2 and 3)."""
+    if k == 2:
+        return A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+    if k == 3:
+        a = A
+        return (a[:, 0, 0] * (a[:, 1, 1] * a[:, 2, 2] - a[:, 1, 2] * a[:, 2, 1])
+                - a[:, 0, 1] * (a[:, 1, 0] * a[:, 2, 2] - a[:, 1, 2] * a[:, 2, 0])
+                + a[:, 0, 2] * (a[:, 1, 0] * a[:, 2, 1] - a[:, 1, 1] * a[:, 2, 0]))
+    return np.linalg.det(A)
 
 
 def _mark(ok, why, mask, reason):
@@ -176,6 +230,10 @@ class NewtonBlock:
                 if s >= 3:
                     conv &= extra
                 found.append((x, conv))
+        self._choose(found, m, ok, why, v)
+
+    def _choose(self, found, m, ok, why, v):
+        """The scalar rules on the roots found: one hinted root, and no ambiguity."""
         k = self.k
         # distinct roots (the scalar `_close`), in the order of the starts
         n_roots = np.zeros(m, int)
@@ -269,6 +327,95 @@ class NewtonBlock:
         return x, conv
 
 
+class NotQuadratic(Exception):
+    pass
+
+
+def quadratic_sym(e, x: str):
+    """(c0, c1, c2) trees with e = c2 x^2 + c1 x + c0, or NotQuadratic."""
+    from ..expr import variables
+
+    t = type(e)
+    if t is Var:
+        return (Const(0.0), Const(1.0), Const(0.0)) if e.name == x else (e, Const(0.0),
+                                                                          Const(0.0))
+    if t is Const or t is Known:
+        return (e, Const(0.0), Const(0.0))
+    if x not in variables(e):
+        return (e, Const(0.0), Const(0.0))
+    if t is Add:
+        parts = [quadratic_sym(a, x) for a in e.terms]
+        return tuple(add_all([q[d] for q in parts]) for d in range(3))
+    if t is Mul:
+        if any(type(f) in (Const, Known) and type(f.value) is float and f.value == 0.0
+               for f in e.factors):
+            return (Const(0.0), Const(0.0), Const(0.0))
+        acc = (Const(1.0), Const(0.0), Const(0.0))
+        for f in e.factors:
+            q = quadratic_sym(f, x)
+            out = [[], [], []]
+            for i in range(3):
+                for j in range(3):
+                    if _zero(acc[i]) or _zero(q[j]):
+                        continue
+                    if i + j > 2:
+                        raise NotQuadratic()
+                    out[i + j].append(mul(acc[i], q[j]))
+            acc = tuple(add_all(o) if o else Const(0.0) for o in out)
+        return acc
+    if t is Pow and e.exp == 2.0:
+        q = quadratic_sym(e.base, x)
+        if not _zero(q[2]):
+            raise NotQuadratic()
+        return (mul(q[0], q[0]), mul(Const(2.0), mul(q[0], q[1])), mul(q[1], q[1]))
+    raise NotQuadratic()
+
+
+def _zero(e) -> bool:
+    return type(e) is Const and type(e.value) is float and e.value == 0.0
+
+
+class QuadraticBlock(NewtonBlock):
+    """One unknown in a quadratic: its real roots in closed form (every root the
+    scalar Newton can find), then the same root rules."""
+
+    def __init__(self, system, names, residuals, params, unknowns, coefs):
+        super().__init__(system, names, residuals, params, unknowns)
+        self.coef = function(list(coefs), params, unknowns, "quadratic")
+
+    def run(self, p, v, m, ok, why):
+        with np.errstate(all="ignore"):
+            c0, c1, c2 = (np.broadcast_to(np.asarray(c, float), (m,)) for c in self.coef(p, v))
+            disc = c1 * c1 - 4.0 * c2 * c0
+            real = disc >= 0
+            q = -0.5 * (c1 + np.copysign(np.sqrt(np.where(real, disc, 0.0)), c1))
+            lin = c2 == 0
+            r1 = np.where(lin, -c0 / c1, q / c2)
+            r2 = np.where(lin, np.nan, c0 / q)
+            r1 = np.where(real, r1, np.nan)
+            r2 = np.where(real, r2, np.nan)
+            # a root where q = 0 (c0 = 0): both roots from the product form
+            r2 = np.where(real & ~lin & (q == 0), 0.0, r2)
+        found = [(r1[None, :], np.isfinite(r1)), (r2[None, :], np.isfinite(r2))]
+        self._choose(found, m, ok, why, v)
+        # the chosen root polished by a Newton step on the residual as solve evaluates it
+        with np.errstate(all="ignore"):
+            v[self.idx[0]] = self._polish(p, v, v[self.idx[0]])
+
+    def _polish(self, p, v, x):
+        """Newton steps on the residual as the scalar solve evaluates it, kept only
+        where they reduce it (the closed form rounds differently)."""
+        r = self._eval(p, v, x[None, :])[0]
+        for _ in range(1):
+            d = np.broadcast_to(np.asarray(self.J(p, v)[0], float), x.shape)
+            xn = x - np.where(d != 0, r / d, 0.0)
+            rn = self._eval(p, v, xn[None, :])[0]
+            better = np.isfinite(rn) & (np.abs(rn) < np.abs(r))
+            x = np.where(better, xn, x)
+            r = np.where(better, rn, r)
+        return x
+
+
 def block_for(system, structure, block, params, unknowns):
     """The batched solver of one block, or None if it is of a kind the batch leaves to
     the scalar solve."""
@@ -278,7 +425,14 @@ def block_for(system, structure, block, params, unknowns):
     try:
         return LinearBlock(block.unknowns, residuals, params, unknowns)
     except NonLinear:
-        return NewtonBlock(system, block.unknowns, residuals, params, unknowns)
+        pass
+    if len(block.unknowns) == 1:
+        try:
+            coefs = quadratic_sym(residuals[0], block.unknowns[0])
+            return QuadraticBlock(system, block.unknowns, residuals, params, unknowns, coefs)
+        except NotQuadratic:
+            pass
+    return NewtonBlock(system, block.unknowns, residuals, params, unknowns)
 
 
 __all__ = ["block_for", "affine_sym", "LinearBlock", "NewtonBlock", "Pow", "Var"]

@@ -64,8 +64,9 @@ def run(file: str, vary, sample, count, seed, csv_path, json_flag: bool, jsonl: 
         out.write(json.dumps(json_document(result, file), indent=1) + "\n")
     else:
         out.write(summary_text(result, file, digits))
-    failed = any(s.startswith("error") for s in result.status.tolist())
-    return int(ExitCode.PROBLEM if failed else ExitCode.OK)
+    from .output import failed
+
+    return int(ExitCode.PROBLEM if failed(result).any() else ExitCode.OK)
 
 
 def _run_elsewhere(file, columns, dims, simulate, dask, plot, force, sim_options, chunk,

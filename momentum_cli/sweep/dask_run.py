@@ -65,9 +65,11 @@ def run(kind: str, text: str, name: str, columns: dict, address: str, options: d
         client = client_for(address, workers)
     try:
         parts = chunks(n, chunk) if cols else [(0, 1)]
-        anchors = anchor_rows(n) if kind == "solve" and solver is None else []
-        futures = [client.submit(_task, kind, text, name, _slice(cols, a, b, anchors),
-                                 options or {}, solver, len(anchors), pure=False)
+        options = dict(options or {})
+        if kind == "solve" and solver is None and cols:
+            options["base"] = base_for(name, cols, options.get("dims"))
+        futures = [client.submit(_task, kind, text, name, {k: c[a:b] for k, c in cols.items()},
+                                 options, solver, pure=False)
                    for a, b in parts]
         if progress is not None:
             from distributed import as_completed
@@ -91,45 +93,16 @@ def run(kind: str, text: str, name: str, columns: dict, address: str, options: d
     return concat([r for _, r in results])
 
 
-def anchor_rows(n: int) -> list[int]:
-    """The variants `solve_batch` of all n variants looks at before the batch: its base
-    (the first of n//2, 0, n-1 that solves: the structure is traced there) and its leak
-    probes (0, n-1, n//3). Every chunk carries them at the places where `solve_batch` of
-    the chunk looks, so that each chunk is traced at the same base as the whole run and
-    its variants come out bit for bit as in the local run; they are dropped after."""
-    return [0, n // 3, n // 2, n - 1]
+def base_for(path: str, cols: dict, dims=None) -> dict:
+    """The variant the whole design is traced at (`choose_base`, here, where the file
+    is): every chunk is solved with it as its base, so that each variant is decided as
+    in the local run and its bits are the same."""
+    from .batch import choose_base
+
+    return choose_base(path, cols, dims)
 
 
-def _positions(length: int) -> list[int]:
-    """Where the anchors go in a chunk of `length` rows (anchors included)."""
-    return [0, length // 3, length // 2, length - 1]
-
-
-def _slice(cols: dict, a: int, b: int, anchors: list[int]) -> dict:
-    if not anchors:
-        return {k: c[a:b] for k, c in cols.items()}
-    length = b - a + len(anchors)
-    where = _positions(length)
-    mask = np.ones(length, bool)
-    mask[where] = False
-    out = {}
-    for k, c in cols.items():
-        col = np.empty(length)
-        col[where] = c[anchors]
-        col[mask] = c[a:b]
-        out[k] = col
-    return out
-
-
-def _drop_anchors(res, m: int):
-    """The chunk's result without its anchor rows (m rows, anchors included)."""
-    mask = np.ones(m, bool)
-    mask[_positions(m)] = False
-    return _map_rows(res, lambda arr: arr[mask], m)
-
-
-def _task(kind: str, text: str, name: str, columns: dict, options: dict, solver=None,
-          anchors: int = 0):
+def _task(kind: str, text: str, name: str, columns: dict, options: dict, solver=None):
     """On a worker: one chunk; returns (momentum's version there, the chunk's result)."""
     from .. import __version__
 
@@ -139,13 +112,11 @@ def _task(kind: str, text: str, name: str, columns: dict, options: dict, solver=
         from .sim_batch import simulate_batch
 
         return __version__, simulate_batch(text, name, columns, **options)
-    res = _solve_text(text, name, columns, options.get("dims"))
-    if anchors:
-        res = _drop_anchors(res, len(res.status))
-    return __version__, res
+    return __version__, _solve_text(text, name, columns, options.get("dims"),
+                                    options.get("base"))
 
 
-def _solve_text(text: str, name: str, columns: dict, dims=None):
+def _solve_text(text: str, name: str, columns: dict, dims=None, base=None):
     """`solve_batch` on a copy of the problem text written on the worker (same file name,
     so that messages name the file as the local run does)."""
     import tempfile
@@ -156,27 +127,12 @@ def _solve_text(text: str, name: str, columns: dict, dims=None):
         path = os.path.join(tmp, os.path.basename(name) or "problem.mom")
         with open(path, "w", encoding="utf-8", newline="") as fh:
             fh.write(text)
-        res = solve_batch(path, columns, dims)
+        res = solve_batch(path, columns, dims, base=base)
     status = getattr(res, "status", None)
     if status is not None and path != name:
         res.status = np.array([s.replace(path, name) if isinstance(s, str) else s
                                for s in status], dtype=object if status.dtype == object else None)
     return res
-
-
-def _map_rows(res, fn, m: int):
-    """`res` with fn applied to every per-variant array (length m) of its fields."""
-    out = {}
-    for f in _fields(res):
-        v = getattr(res, f)
-        if isinstance(v, dict) and f not in ("units", "display", "param_units") and all(
-                np.ndim(a) >= 1 and len(a) == m for a in v.values()):
-            out[f] = {k: fn(np.asarray(a)) for k, a in v.items()}
-        elif isinstance(v, np.ndarray) and v.ndim >= 1 and len(v) == m:
-            out[f] = fn(v)
-        else:
-            out[f] = v
-    return type(res)(**out)
 
 
 def concat(results: list):

@@ -32,7 +32,12 @@ class Emitter:
     def value(self, x: float) -> str:
         if isinstance(x, Traced):
             return self.emit(x.expr)
-        return repr(float(x))
+        x = float(x)
+        if x != x:
+            return "np.nan"
+        if x in (np.inf, -np.inf):
+            return "np.inf" if x > 0 else "(-np.inf)"
+        return repr(x) if x >= 0 else f"({x!r})"
 
     def emit(self, e) -> str:
         """A Python expression (or temporary's name) for `e`."""

@@ -90,16 +90,38 @@ def stats(result) -> list[dict]:
     return out
 
 
+def _ok(result) -> np.ndarray:
+    return result.ok if getattr(result, "ok", None) is not None else result.status == "ok"
+
+
 def status_counts(result) -> list[tuple[str, int]]:
-    return sorted(Counter(result.status.tolist()).items(), key=lambda kv: (-kv[1], kv[0]))
+    ok = _ok(result)
+    c = Counter(result.status[~ok].tolist())
+    if ok.any():
+        c["ok"] = int(ok.sum())
+    return sorted(c.items(), key=lambda kv: (-kv[1], kv[0]))
+
+
+def failed(result) -> np.ndarray:
+    """Which variants did not solve."""
+    if getattr(result, "failed", None) is not None:
+        return result.failed
+    other = np.nonzero(~_ok(result))[0]
+    out = np.zeros(len(result.status), bool)
+    out[other] = [s.startswith("error") for s in result.status[other].tolist()]
+    return out
 
 
 def regime_counts(result) -> list[tuple[str, int]]:
+    """How many variants (that solved) ended in each set of friction regimes."""
     if result.regimes is None:
         return []
-    c = Counter(r for r, s in zip(result.regimes.tolist(), result.status.tolist())
-                if not s.startswith("error") and r)
-    return sorted(c.items(), key=lambda kv: (-kv[1], kv[0]))
+    solved = ~failed(result)
+    first = result.regimes[0] if len(result.regimes) else ""
+    same = result.regimes == first
+    c = Counter(result.regimes[solved & ~same].tolist())
+    c[first] += int((solved & same).sum())
+    return sorted(((r, n) for r, n in c.items() if r and n), key=lambda kv: (-kv[1], kv[0]))
 
 
 def summary_text(result, file: str, digits: int = 6) -> str:
@@ -118,7 +140,6 @@ def summary_text(result, file: str, digits: int = 6) -> str:
     lines += _align(table)
     lines.append("")
     lines.append("Variants")
-    batched = sum(1 for s in result.status.tolist() if s == "ok")
     for st, c in status_counts(result):
         if st == "ok":
             how = "solved in one batch" if result.batched else \
@@ -128,7 +149,6 @@ def summary_text(result, file: str, digits: int = 6) -> str:
             lines.append(f"  {c} did not solve: {st[len('error: '):]}")
         else:
             lines.append(f"  {c} solved on their own: {st}")
-    del batched
     regimes = regime_counts(result)
     if len(regimes) > 1 or (regimes and regimes[0][0]):
         lines.append("")

@@ -87,10 +87,13 @@ def simulate_batch(text: str, name: str, columns: dict, rtol: float = 1e-9,
                 vs.append(math.nan)
         if progress is not None:
             progress(i + 1)
-    return BatchResult({k: np.array(v, dtype=float) for k, v in values.items()}, found_units,
-                       np.array(status, dtype=object), cols,
-                       {k: (u, 1.0) for k, u in found_units.items()}, units, None, False,
-                       "one simulation per variant")
+    st = np.array(status, dtype=object)
+    ok = np.array([s == "ok" for s in status], dtype=bool)
+    return BatchResult(answers={k: np.array(v, dtype=float) for k, v in values.items()},
+                       units=found_units, status=st, params=cols,
+                       display={k: (u, 1.0) for k, u in found_units.items()},
+                       param_units=units, regimes=None, batched=False,
+                       note="one simulation per variant", ok=ok, failed=~ok)
 
 
 def _si_unit(dim) -> str:

@@ -144,6 +144,15 @@ class Traced(float):
 
         return Traced(float(FUNCS[name](float(self))), Fn(name, self.expr))
 
+    @staticmethod
+    def hypot(x, y) -> "Traced":
+        """math.hypot(x, y) with the expression sqrt(x^2 + y^2)."""
+        import math
+
+        ex, ey = expr_of(x), expr_of(y)
+        return Traced(math.hypot(float(x), float(y)),
+                      power(add(mul(ex, ex), mul(ey, ey)), 0.5))
+
     def __neg__(self):
         return Traced(-float(self), neg(self.expr))
 
