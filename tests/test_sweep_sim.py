@@ -148,3 +148,33 @@ def test_cli_simulate_sweep_with_plot(tmp_path):
     assert res.exit_code == 2
     assert "--plot" in res.output and "exists; add --force" in res.output
     assert not csv.exists()  # refused before any work
+
+
+def test_cli_dask_without_dask_is_one_line(monkeypatch):
+    import sys
+
+    from typer.testing import CliRunner
+
+    from momentum_cli.cli import app
+
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    res = CliRunner().invoke(app, ["sweep", str(BOUNCE), "--vary", "e=0.5..0.9:3", "--dask",
+                                   "local"])
+    assert res.exit_code == 2
+    assert res.output.strip().splitlines() == [
+        "momentum sweep: error: --dask needs dask.distributed: pip install "
+        "'momentum-cli[dask]'"]
+
+
+def test_plot_keeps_variants_solved_on_their_own_and_counts_failures(tmp_path, monkeypatch):
+    """Only "error: ..." variants are left out of the picture (and counted)."""
+    pytest.importorskip("matplotlib", reason="matplotlib is not installed (the `plot` extra)")
+    from momentum_cli.sweep import plot
+
+    drawn = {}
+    monkeypatch.setattr(plot, "_lines", lambda ax, params, grid, y, ok, units:
+                        drawn.setdefault("ok", list(ok)))
+    res = _bounce({"e": np.array([0.5, 0.6, 0.7])})
+    res.status = np.array(["ok", "the structure changes", "error: no solution"], dtype=object)
+    plot.draw(res, str(tmp_path / "p.png"), ["e"], [], answers=["ball.y"])
+    assert drawn["ok"] == [True, True, False]
