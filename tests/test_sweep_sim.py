@@ -178,3 +178,22 @@ def test_plot_keeps_variants_solved_on_their_own_and_counts_failures(tmp_path, m
     res.status = np.array(["ok", "the structure changes", "error: no solution"], dtype=object)
     plot.draw(res, str(tmp_path / "p.png"), ["e"], [], answers=["ball.y"])
     assert drawn["ok"] == [True, True, False]
+
+
+@pytest.mark.parametrize("name, message", [
+    ("e[floor]", "an impact's coefficient, which the simulation does not use"),
+    ("ball.vy@2", "given in state 2, and the simulation starts from state 1"),
+])
+def test_a_parameter_the_simulation_does_not_use_is_refused(name, message):
+    from momentum_cli.sweep.batch import SweepError
+
+    with pytest.raises(SweepError, match=message):
+        _bounce({name: np.array([0.5])})
+
+
+def test_a_file_without_a_simulation_is_refused():
+    from momentum_cli.sweep.batch import SweepError
+
+    text = (EXAMPLES / "ball_bounce_rebound.mom").read_text(encoding="utf-8")
+    with pytest.raises(SweepError, match="has no `simulate from S:` block"):
+        simulate_batch(text, "ball_bounce_rebound.mom", {"h": np.array([1.0])})

@@ -49,7 +49,9 @@ def simulate_batch(text: str, name: str, columns: dict, rtol: float = 1e-9,
     cols = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
     n = len(next(iter(cols.values()))) if cols else 1
     try:
-        doc = bind(S.parse(Source(name, text)), list(cols), name)
+        parsed = S.parse(Source(name, text))
+        _check_simulated(parsed, list(cols), name)
+        doc = bind(parsed, list(cols), name)
         lets = {s.name: s for s in doc.statements if isinstance(s, S.Let)}
         dims = build(doc).constants  # each parameter's dimension, from the file as written
     except ParamError as exc:
@@ -94,6 +96,31 @@ def simulate_batch(text: str, name: str, columns: dict, rtol: float = 1e-9,
                        display={k: (u, 1.0) for k, u in found_units.items()},
                        param_units=units, regimes=None, batched=False,
                        note="one simulation per variant", ok=ok, failed=~ok)
+
+
+def _check_simulated(doc, names: list, name: str) -> None:
+    """Every parameter must enter the simulation: a `let`, or a given number of the
+    state it starts from. An impact's `e[C]`/`mu[C]` or another state's given number
+    would change the `solve` part only, and the runs would all be alike."""
+    import re
+
+    from .. import syntax as S
+    from .batch import SweepError
+
+    sims = [s for s in doc.statements if isinstance(s, S.SimulateDecl)]
+    if not sims:
+        raise SweepError(f"--simulate: {name} has no `simulate from S:` block")
+    start = sims[0].start
+    for p in names:
+        if re.match(r"^(e|mu)\[", p):
+            raise SweepError(f"--simulate: {p} is an impact's coefficient, which the "
+                             "simulation does not use; write its contact's coefficient as a "
+                             "`let` (restitution e) and vary that")
+        m = re.match(r"^[A-Za-z_]\w*\.[A-Za-z_]+@(\w+)$", p)
+        if m and m.group(1) != start:
+            raise SweepError(f"--simulate: {p} is given in state {m.group(1)}, and the "
+                             f"simulation starts from state {start}: vary a number of state "
+                             f"{start} or a `let`")
 
 
 def _si_unit(dim) -> str:
