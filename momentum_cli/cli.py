@@ -1152,7 +1152,8 @@ def sweep(
                                             "tcp://host:8786, or 'local' for a LocalCluster "
                                             "here (needs the `dask` extra)."),
     chunk: Optional[int] = typer.Option(None, "--chunk", min=1,
-                                        help="With --dask: variants per task (default 2000)."),
+                                        help="With --dask: variants per task (default 50000; "
+                                             "500 with --simulate)."),
     plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE.png",
                                        help="Draw each answer against the --vary parameter, or "
                                             "its histogram for --sample (needs the `plot` "

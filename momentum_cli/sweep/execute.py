@@ -55,11 +55,11 @@ def run(path: str, text: str, columns: dict, dims: dict | None = None, simulate:
     try:
         _check_names(path, text, columns)
         if dask is not None:
-            from .dask_run import CHUNK, DaskError, run as on_dask
+            from .dask_run import DaskError, run as on_dask
 
             try:
                 return on_dask("simulate" if simulate else "solve", text, path, columns, dask,
-                               sim_options if simulate else {"dims": dims}, chunk or CHUNK,
+                               sim_options if simulate else {"dims": dims}, chunk,
                                workers, progress)
             except DaskError as exc:
                 raise RunError(str(exc)) from None
