@@ -451,7 +451,6 @@ class _Sweep:
         """Build and compile a second variant as the scalar solve would; every number of
         its equations must be what the traced ones give there (a number computed outside
         the trace, e.g. by math.hypot, would be the base's for every variant)."""
-        from ..analyse import analyse  # noqa: F401
         from ..compile import compile_scene
         from ..expr import evaluate
         from ..diagnostics import ProblemError

@@ -491,4 +491,4 @@ def block_for(system, structure, block, params, unknowns):
     return NewtonBlock(system, block.unknowns, residuals, params, unknowns)
 
 
-__all__ = ["block_for", "affine_sym", "LinearBlock", "NewtonBlock", "Pow", "Var"]
+__all__ = ["block_for", "affine_sym", "LinearBlock", "NewtonBlock", "QuadraticBlock"]
