@@ -148,7 +148,8 @@ class _Plan:
                 blk = block_for(system, structure, structure.blocks[b], sweep.names,
                                 self.unknowns)
                 if blk is None:
-                    self.reason = "a block with more equations than unknowns"
+                    self.reason = "a block the batch does not solve (more equations than " \
+                        "unknowns, or a hint that depends on the parameters)"
                     return
                 self.blocks.append(blk)
             self.finds = system.finds

@@ -475,9 +475,14 @@ class QuadraticBlock(NewtonBlock):
 def block_for(system, structure, block, params, unknowns):
     """The batched solver of one block, or None if it is of a kind the batch leaves to
     the scalar solve."""
+    from .trace import Traced
+
     residuals = [system.equations[k].residual for k in block.equations]
     if len(residuals) != len(block.unknowns):
         return None
+    if any(isinstance(b, Traced) for n in block.unknowns
+           for _r, b, _s in system.unknowns[n].hints):
+        return None  # a hint whose bound is a parameter: the scalar solve decides
     try:
         return LinearBlock(block.unknowns, residuals, params, unknowns)
     except NonLinear:
