@@ -298,3 +298,32 @@ def test_parts_with_a_common_base_give_the_same_bits():
         joined = np.concatenate([p.answers[name] for p in parts])
         assert np.array_equal(arr, joined, equal_nan=True), name
     assert whole.status.tolist() == sum((p.status.tolist() for p in parts), [])
+
+
+RISE = """problem "A ball thrown up: its speed at a height"
+gravity 9.81 m/s^2 down
+let v0 = 6 m/s
+let h = 1 m
+body ball: particle(mass = 0.2 kg)
+state 1 "thrown": ball.pos = (0, 0), ball.v = (0, v0)
+state 2 "at height h": ball.y = h, ball.vx = 0, ball.vy > 0
+energy 1 -> 2
+find ball.vy@2
+"""
+
+
+def test_energy_roots_and_variants_that_do_not_solve(tmp_path):
+    """vy = +sqrt(v0^2 - 2 g h) where the ball gets that high (the hint picks the
+    root); where it does not, that variant alone is an error, counted, exit code 1."""
+    path = tmp_path / "rise.mom"
+    path.write_text(RISE)
+    v0 = np.linspace(2, 8, 13)
+    h = np.full(13, 1.3)
+    r = solve_batch(str(path), {"v0": v0, "h": h})
+    reach = v0 ** 2 >= 2 * 9.81 * h
+    want = np.sqrt(np.where(reach, v0 ** 2 - 2 * 9.81 * h, np.nan))
+    assert np.allclose(r.answers["ball.vy@2"][reach], want[reach], rtol=1e-12)
+    assert all(s.startswith("error: no real solution") for s in r.status[~reach])
+    assert all(s == "ok" for s in r.status[reach])
+    res = runner.invoke(app, ["sweep", str(path), "--vary", "v0=2..8:13 m/s"])
+    assert res.exit_code == 1 and "did not solve: no real solution" in res.output

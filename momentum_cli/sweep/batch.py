@@ -148,7 +148,8 @@ class _Plan:
                 blk = block_for(system, structure, structure.blocks[b], sweep.names,
                                 self.unknowns)
                 if blk is None:
-                    self.reason = "a block with more equations than unknowns"
+                    self.reason = "a block the batch does not solve (more equations than " \
+                        "unknowns, or a hint that depends on the parameters)"
                     return
                 self.blocks.append(blk)
             self.finds = system.finds
@@ -451,7 +452,6 @@ class _Sweep:
         """Build and compile a second variant as the scalar solve would; every number of
         its equations must be what the traced ones give there (a number computed outside
         the trace, e.g. by math.hypot, would be the base's for every variant)."""
-        from ..analyse import analyse  # noqa: F401
         from ..compile import compile_scene
         from ..expr import evaluate
         from ..diagnostics import ProblemError

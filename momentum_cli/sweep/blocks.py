@@ -160,6 +160,35 @@ def _det(A, k):
     return np.linalg.det(A)
 
 
+def _cramer(J, b):
+    """x with J x = b for (k, k, n) stacks, k = 2 or 3, by the adjugate; nan where
+    J is singular (as the scalar Newton gives up there)."""
+    if J.shape[0] == 2:
+        det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
+        x0 = b[0] * J[1, 1] - J[0, 1] * b[1]
+        x1 = J[0, 0] * b[1] - b[0] * J[1, 0]
+        out = np.array([x0, x1])
+    else:
+        c00 = J[1, 1] * J[2, 2] - J[1, 2] * J[2, 1]
+        c01 = J[1, 2] * J[2, 0] - J[1, 0] * J[2, 2]
+        c02 = J[1, 0] * J[2, 1] - J[1, 1] * J[2, 0]
+        det = J[0, 0] * c00 + J[0, 1] * c01 + J[0, 2] * c02
+        x0 = b[0] * c00 + J[0, 1] * (J[1, 2] * b[2] - b[1] * J[2, 2]) + \
+            J[0, 2] * (b[1] * J[2, 1] - J[1, 1] * b[2])
+        x1 = J[0, 0] * (b[1] * J[2, 2] - J[1, 2] * b[2]) + b[0] * c01 + \
+            J[0, 2] * (J[1, 0] * b[2] - b[1] * J[2, 0])
+        x2 = J[0, 0] * (J[1, 1] * b[2] - b[1] * J[2, 1]) + \
+            J[0, 1] * (b[1] * J[2, 0] - J[1, 0] * b[2]) + b[0] * c02
+        out = np.array([x0, x1, x2])
+    with np.errstate(all="ignore"):
+        return np.where(det != 0, out / det, np.nan)
+
+
+def _take(arrays, sel):
+    """The selected variants of each input (scalars and absent ones as they are)."""
+    return [a[..., sel] if a is not None and np.ndim(a) else a for a in arrays]
+
+
 def _mark(ok, why, mask, reason):
     new = mask & ok
     why[new] = reason
@@ -269,62 +298,89 @@ class NewtonBlock:
             v[gi] = x[j]
         return np.array(np.broadcast_arrays(*self.F(p, v), x[0]))[:-1]
 
-    def _newton(self, p, v, m, x):
-        """`solve._newton_from` for every variant at once: (x, converged)."""
+    def _newton(self, p, v, m, x0):
+        """`solve._newton_from` for every variant at once: (x, converged). Each step
+        evaluates only the variants still iterating (and, in the line search, only
+        those still halving their step)."""
         k = self.k
-        x = np.array(x, dtype=float)
+        X = np.array(x0, dtype=float)
         conv = np.zeros(m, bool)
-        active = np.ones(m, bool)
-        r = self._eval(p, v, x)
-        fin = np.isfinite(r).all(axis=0)
-        active &= fin
+        idx = np.arange(m)
+        ps, vs = p, list(v)
+        x = X.copy()
+        r = self._eval(ps, vs, x)
+
+        def keep(mask):
+            nonlocal idx, x, r, ps, vs
+            idx, x, r = idx[mask], x[:, mask], r[:, mask]
+            ps, vs = _take(ps, mask), _take(vs, mask)
+
+        def finish(mask):
+            conv[idx[mask]] = True
+            X[:, idx[mask]] = x[:, mask]
+
+        keep(np.isfinite(r).all(axis=0))
         for _ in range(100):
-            if not active.any():
+            if not idx.size:
                 break
             scale = np.maximum(1.0, np.abs(x).max(axis=0))
-            zero = active & (np.abs(r).max(axis=0) == 0.0)
-            conv |= zero
-            active &= ~zero
-            Jv = np.array(np.broadcast_arrays(*self.J(p, v), x[0]))[:-1].reshape(k, k, m)
+            zero = np.abs(r).max(axis=0) == 0.0
+            if zero.any():
+                finish(zero)
+                keep(~zero)
+                scale = scale[~zero]
+                if not idx.size:
+                    break
+            for j, gi in enumerate(self.idx):  # the Jacobian at x
+                vs[gi] = x[j]
+            n = idx.size
+            Jv = np.array(np.broadcast_arrays(*self.J(ps, vs), x[0]))[:-1].reshape(k, k, n)
             if k == 1:
                 dx = -r / Jv[0]
+            elif k <= 3:
+                dx = _cramer(Jv, -r)  # a Newton step: its round-off corrects itself
             else:
-                Jm = np.moveaxis(Jv, 2, 0)
+                Jm = np.moveaxis(Jv, 2, 0).copy()
                 sing = ~np.isfinite(Jm).all(axis=(1, 2)) | (np.abs(np.linalg.det(Jm)) == 0)
                 Jm[sing] = np.eye(k)
                 dx = np.linalg.solve(Jm, -r.T[:, :, None])[:, :, 0].T
                 dx[:, sing] = np.nan
             okdx = np.isfinite(dx).all(axis=0)
-            active &= okdx
+            if not okdx.all():
+                keep(okdx)
+                dx, scale = dx[:, okdx], scale[okdx]
+                n = idx.size
             norm0 = np.sqrt((r * r).sum(axis=0))
-            step = np.ones(m)
-            acc = ~active
+            step = np.ones(n)
+            acc = np.zeros(n, bool)
             xn, rn = x.copy(), r.copy()
             while True:
-                todo = ~acc & (step > 1e-6)
-                if not todo.any():
+                t = np.nonzero(~acc & (step > 1e-6))[0]
+                if not t.size:
                     break
-                xt = x + step * dx
-                rt = self._eval(p, v, xt)
+                xt = x[:, t] + step[t] * dx[:, t]
+                rt = self._eval(_take(ps, t), _take(vs, t), xt)
                 nt = np.sqrt((rt * rt).sum(axis=0))
-                better = todo & np.isfinite(rt).all(axis=0) & (nt < norm0 * (1 - 1e-4 * step))
-                xn[:, better] = xt[:, better]
-                rn[:, better] = rt[:, better]
-                acc |= better
-                step = np.where(~acc & todo, step / 2, step)
-            stuck = active & ~acc
-            conv |= stuck & (norm0 <= 1e-10 * scale)
-            active &= ~stuck
-            moved = active
-            x[:, moved] = xn[:, moved]
-            r[:, moved] = rn[:, moved]
-            done = moved & (np.abs(step * dx).max(axis=0) <= 1e-14 * scale)
-            conv |= done
-            active &= ~done
-        if active.any():
-            last = active & (np.abs(r).max(axis=0) < 1e-9 * np.maximum(1.0, np.abs(x).max(axis=0)))
-            conv |= last
-        return x, conv
+                better = np.isfinite(rt).all(axis=0) & (nt < norm0[t] * (1 - 1e-4 * step[t]))
+                tb = t[better]
+                xn[:, tb] = xt[:, better]
+                rn[:, tb] = rt[:, better]
+                acc[tb] = True
+                step[t[~better]] /= 2
+            stuck = ~acc
+            if stuck.any():
+                finish(stuck & (norm0 <= 1e-10 * scale))
+                keep(acc)
+                xn, rn, step, dx, scale = xn[:, acc], rn[:, acc], step[acc], dx[:, acc], \
+                    scale[acc]
+            x, r = xn, rn
+            done = np.abs(step * dx).max(axis=0) <= 1e-14 * scale
+            if done.any():
+                finish(done)
+                keep(~done)
+        if idx.size:
+            finish(np.abs(r).max(axis=0) < 1e-9 * np.maximum(1.0, np.abs(x).max(axis=0)))
+        return X, conv
 
 
 class NotQuadratic(Exception):
@@ -419,9 +475,14 @@ class QuadraticBlock(NewtonBlock):
 def block_for(system, structure, block, params, unknowns):
     """The batched solver of one block, or None if it is of a kind the batch leaves to
     the scalar solve."""
+    from .trace import Traced
+
     residuals = [system.equations[k].residual for k in block.equations]
     if len(residuals) != len(block.unknowns):
         return None
+    if any(isinstance(b, Traced) for n in block.unknowns
+           for _r, b, _s in system.unknowns[n].hints):
+        return None  # a hint whose bound is a parameter: the scalar solve decides
     try:
         return LinearBlock(block.unknowns, residuals, params, unknowns)
     except NonLinear:
@@ -435,4 +496,4 @@ def block_for(system, structure, block, params, unknowns):
     return NewtonBlock(system, block.unknowns, residuals, params, unknowns)
 
 
-__all__ = ["block_for", "affine_sym", "LinearBlock", "NewtonBlock", "Pow", "Var"]
+__all__ = ["block_for", "affine_sym", "LinearBlock", "NewtonBlock", "QuadraticBlock"]
