@@ -824,6 +824,75 @@ def bench_simulate(
     sys.stdout.write("\n".join(text_table(HEADERS, table(rows))) + "\n")
 
 
+@bench_app.command("sweep")
+def bench_sweep(
+    files: List[str] = typer.Argument(None, metavar="[FILE...]",
+                                      help="Problem files (default: the seed and sweep "
+                                           "examples when run from the repository)."),
+    count: int = typer.Option(10000, "--count", "-n", min=1,
+                              help="Variants of each file for the batched sweep and numpy."),
+    loop: int = typer.Option(100, "--loop", min=1,
+                             help="Variants timed in the scalar-solve loop."),
+    processes: int = typer.Option(5, "--processes", min=0,
+                                  help="Variants timed as one process each (0: skip)."),
+    seed: int = typer.Option(1, "--seed", help="Seed of the drawn values."),
+    json_flag: bool = typer.Option(False, "--json", help="Print JSON."),
+    markdown: bool = typer.Option(False, "--markdown",
+                                  help="Print a Markdown table with the library versions."),
+) -> None:
+    """Variants per second: the batched sweep, numpy's batched solve, a scalar loop, and
+    one process per variant.
+
+    Every number a file gives (its `let`s, its states' given scalars, its impacts'
+    `e[C]` and `mu[C]`) is drawn uniform within +-5 % of its value. numpy's limit is
+    np.linalg.solve on the file's linear blocks stacked COUNT times (built first, only the
+    solve timed).
+
+    \b
+    Examples:
+      momentum bench sweep
+      momentum bench sweep --count 100000 --markdown
+    """
+    import json
+
+    from .sweep.bench import HEADERS, as_json, default_files, markdown as md, run, table
+
+    given = list(files or [])
+    if not files:
+        files = default_files()
+    if not files:
+        raise typer.BadParameter("no problem files given, and no examples/seed_*.mom here")
+    for f in files:
+        if not os.path.isfile(f):
+            raise typer.BadParameter(f"no such file: {f}")
+    err = sys.stderr
+    rows = run(files, count, loop, processes, seed,
+               progress=lambda f, s: err.write(f"  {f}: {s}\n") if err.isatty() else None)
+    if json_flag:
+        from .bench import versions
+        from .report.json_out import clean
+
+        sys.stdout.write(json.dumps({"schema_version": "1", "versions": versions(),
+                                     "sweep": clean(as_json(rows))}, indent=2,
+                                    allow_nan=False) + "\n")
+        return
+    if markdown:
+        from .bench import versions
+
+        command = "momentum bench sweep" + "".join(
+            f" {opt} {v}" for opt, v, d in (("--count", count, 10000), ("--loop", loop, 100),
+                                            ("--processes", processes, 5), ("--seed", seed, 1))
+            if v != d) + "".join(f" {f}" for f in given)
+        load = f"; load average {os.getloadavg()[0]:.1f}" if hasattr(os, "getloadavg") else ""
+        sys.stdout.write(md(rows) + f"\nProduced by `{command} --markdown`: {count:,} variants "
+                         f"per file for the batched sweep and numpy, {loop} in the scalar "
+                         f"loop, {processes} as processes{load}; {versions()}.\n")
+        return
+    from .report.text import table as text_table
+
+    sys.stdout.write("\n".join(text_table(HEADERS, table(rows))) + "\n")
+
+
 # ---- problem sets: test, expect, variants, grade; --set -------------------------------------
 
 def _overrides_for(sets: Optional[List[str]], sources) -> tuple:
@@ -1096,6 +1165,76 @@ def variants(
     sys.stdout.write(f"{len(rows)} variants of {key} in {out_dir} (index: "
                      f"{out_dir.rstrip('/')}/index.csv)\n")
     raise typer.Exit(int(ExitCode.PROBLEM if failed else ExitCode.OK))
+
+
+@app.command()
+def sweep(
+    file: str = typer.Argument(..., metavar="FILE", help="The problem file (.mom)."),
+    vary: Optional[List[str]] = typer.Option(None, "--vary", metavar="NAME=LO..HI:N",
+                                             help="A grid of N values from LO to HI "
+                                                  "(several make a product): e=0..1:101, "
+                                                  "'h=0.5..2:16 m'."),
+    sample: Optional[List[str]] = typer.Option(None, "--sample", metavar="NAME~DIST(...)",
+                                               help="Draws: uniform(lo, hi), normal(mean, "
+                                                    "sd), lognormal(mean, sd), "
+                                                    "triangular(lo, mode, hi), with units: "
+                                                    "'m~normal(2 kg, 0.05 kg)'."),
+    count: Optional[int] = typer.Option(None, "--count", "-n", help="How many draws."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="The random seed (numpy PCG64; "
+                                                            "default 0)."),
+    csv_path: Optional[str] = typer.Option(None, "--csv", metavar="FILE",
+                                           help="One row per variant: parameters (SI), "
+                                                "answers (the find's unit), status."),
+    json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
+    jsonl: bool = typer.Option(False, "--jsonl", help="Print one JSON object per variant."),
+    digits: int = typer.Option(6, "--digits", "-p", min=1, max=17,
+                               help="Significant figures in the summary."),
+    simulate: bool = typer.Option(False, "--simulate",
+                                  help="Run the file's `simulate` block for each variant and "
+                                       "sweep its outputs (stop time, impacts, energy lost, "
+                                       "each body's final state)."),
+    rtol: float = typer.Option(1e-9, "--rtol", min=1e-14, max=0.1,
+                               help="With --simulate: the integrator's relative tolerance."),
+    dask: Optional[str] = typer.Option(None, "--dask", metavar="ADDRESS",
+                                       help="Run the variants in chunks on a Dask cluster: "
+                                            "tcp://host:8786, or 'local' for a LocalCluster "
+                                            "here (needs the `dask` extra)."),
+    chunk: Optional[int] = typer.Option(None, "--chunk", min=1,
+                                        help="With --dask: variants per task (default 50000; "
+                                             "500 with --simulate)."),
+    plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE.png",
+                                       help="Draw each answer against the --vary parameter, or "
+                                            "its histogram for --sample (needs the `plot` "
+                                            "extra: matplotlib)."),
+    force: bool = typer.Option(False, "--force", help="Let --plot overwrite an existing file."),
+) -> None:
+    """Solve a problem for many values of its `let` constants (or given numbers:
+    `rod.y@1`, `e[A]`), compiled once and solved as arrays; summarise every answer.
+
+    \b
+    Examples:
+      momentum sweep examples/seed_oblique_particles.mom --vary e=0..1:101 --csv e.csv
+      momentum sweep examples/seed_rod_drop_smooth.mom --sample 'e[A]~uniform(0.5, 0.7)' \\
+          --sample 'rod.y@1~normal(1 m, 0.05 m)' --count 100000 --seed 1
+      momentum sweep examples/sweep/bounce_height.mom --simulate \\
+          --sample 'e~uniform(0.6, 0.8)' --count 1000 --plot bounce.png
+      momentum sweep examples/seed_rod_drop_smooth.mom --vary e[A]=0..1:1001 --dask local
+    """
+    from .sweep.command import UsageError, run
+
+    if json_flag and jsonl:
+        raise typer.BadParameter("--json and --jsonl ask for different outputs; give one")
+    _safe_streams()
+    bar = (lambda total: _FileProgress(total, "variants")) \
+        if sys.stderr.isatty() and not (json_flag or jsonl) else None
+    try:
+        code = run(file, vary or [], sample or [], count, seed, csv_path, json_flag, jsonl,
+                   digits, bar, simulate, dask, plot, force, {"rtol": rtol}, chunk)
+    except UsageError as exc:
+        sys.stderr.write(f"momentum sweep: error: {exc}\n")
+        raise typer.Exit(int(ExitCode.USAGE)) from None
+    sys.stdout.flush()
+    raise typer.Exit(code)
 
 
 @app.command()

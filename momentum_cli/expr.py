@@ -128,9 +128,17 @@ FUNCS = {
 }
 
 
+def hypot(x: float, y: float) -> float:
+    """math.hypot; a sweep's traced number (sweep/trace.py) keeps its expression."""
+    traced = getattr(x, "hypot", None) or getattr(y, "hypot", None)
+    return traced(x, y) if traced is not None else math.hypot(x, y)
+
+
 def lift(x) -> E:
     if isinstance(x, E):
         return x
+    if isinstance(x, float):  # a float subclass (a sweep's traced number) stays itself
+        return Const(x)
     return Const(float(x))
 
 
@@ -217,6 +225,9 @@ def power(a: E, p: float) -> E:
 
 def fn(name: str, a: E) -> E:
     if isinstance(a, Const):
+        traced = getattr(a.value, "apply", None)  # a sweep's traced number (sweep/trace.py)
+        if traced is not None:
+            return Const(traced(name))
         try:
             return Const(float(FUNCS[name](a.value)))
         except (ValueError, OverflowError):

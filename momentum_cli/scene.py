@@ -14,7 +14,7 @@ from . import syntax as S
 from .diagnostics import Collector, ProblemError, did_you_mean
 from .elements.kinds import Clause, JointKind, Prop, Restitution, Tangential, TransitionKind
 from .elements.geometry import centre, line_of_centres
-from .expr import Const
+from .expr import Const, hypot
 from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
 from .records import record
 from .source import Span
@@ -271,10 +271,10 @@ def unit_direction(x: float, y: float, node, what: str) -> tuple[float, float]:
                            notes=["write the direction with components near 1"])
     if scale == 0:
         raise ProblemError(f"{what} must be a non-zero direction", node.span, code="number")
-    n = math.hypot(x, y)
+    n = hypot(x, y)  # math.hypot, also for a sweep's traced numbers
     if not (TINY < n < math.inf):  # scaled first only where the length itself would not be
         x, y = x / scale, y / scale  # a normal float (as x / hypot rounds best elsewhere)
-        n = math.hypot(x, y)
+        n = hypot(x, y)
     return (x / n, y / n)
 
 

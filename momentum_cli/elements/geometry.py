@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import math
 
+from ..expr import hypot
+
 
 def rot(theta: float, r: tuple[float, float]) -> tuple[float, float]:
     c, s = math.cos(theta), math.sin(theta)
@@ -25,7 +27,7 @@ def line_of_centres(pa: tuple[float, float], pb: tuple[float, float]):
     """(unit normal on a, distance) from b's centre (or point) to a's: the normal of two
     round bodies, or of a round body and a point it touches. None for coincident points."""
     dx, dy = pa[0] - pb[0], pa[1] - pb[1]
-    d = math.hypot(dx, dy)
+    d = hypot(dx, dy)  # math.hypot, also for a sweep's traced numbers
     if d == 0 or not math.isfinite(d):
         return None, d
     return (dx / d, dy / d), d
