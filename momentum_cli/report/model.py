@@ -45,6 +45,7 @@ class Report:
     counts: dict = field(default_factory=dict)
     flows: list = field(default_factory=list)  # control-volume flux rows (evaluated)
     expectations: list = field(default_factory=list)  # the `expect` lines, checked (dicts)
+    diagrams: list = field(default_factory=list)  # diagram.ImpulseDiagram per impact/interval
 
 
 def _finite(x: float | None) -> float | None:
@@ -145,8 +146,16 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
                   blocks=len(st.blocks), solved_blocks=len(sol.blocks),
                   redundant=len(st.redundant) + len(st.constant_eqs),
                   undetermined=len(st.under))
+    from .diagram import build_diagrams
+
     return Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
-                  checks, answers, regimes, list(sol.diagnostics), counts, flows)
+                  checks, answers, regimes, list(sol.diagnostics), counts, flows,
+                  diagrams=build_diagrams(sol))
+
+
+def diagram_for(rep: Report, t: dict):
+    """The impulse diagram of a transition of the report (None: an energy phase)."""
+    return next((d for d in rep.diagrams if d.kind == t["kind"] and d.key == t["key"]), None)
 
 
 def expectation_dict(c) -> dict:
