@@ -88,6 +88,7 @@ class ImpulseDiagram:
     dropped: list[Dropped]
     surfaces: list[DiagramSurface] = field(default_factory=list)
     pins: list = field(default_factory=list)  # (name, (x, y)): pins to the ground
+    links: list = field(default_factory=list)  # (label, kind, (x, y), (x, y)): joints between bodies
     notes: list = field(default_factory=list)
 
     def lines(self) -> list[str]:
@@ -233,7 +234,7 @@ class _Builder:
         impulses.sort(key=lambda i: order[i.body])  # stable: grouped by body
         return ImpulseDiagram(title, t.kind, t.key, t.before, t.after, bodies, impulses,
                               self._dropped(), self._surfaces(bodies), self._pins(),
-                              self.notes)
+                              self._links(where), self.notes)
 
     def _bodies(self) -> list[DiagramBody]:
         i, j = self.t.before, self.t.after
@@ -486,6 +487,18 @@ class _Builder:
                 rim = _rim(b, p)  # the centre of a round part: it touches at its rim
                 p = (p[0] - rim * c.normal[0], p[1] - rim * c.normal[1])
             out.append(DiagramSurface(c.surface or "ground", p, c.normal))
+        return out
+
+    def _links(self, where: dict) -> list:
+        """Joints and springs between two drawn bodies whose points lie apart: a light
+        pole, a link, a spring, drawn from one point to the other."""
+        out = []
+        for jt in self.sc.joints:
+            if jt.b.body is None or jt.a.body not in where or jt.b.body not in where:
+                continue
+            pa, pb = self._world(jt.a, where, jt.a.body), self._world(jt.b, where, jt.b.body)
+            if pa and pb and math.hypot(pa[0] - pb[0], pa[1] - pb[1]) > 1e-9:
+                out.append((jt.label, str(jt.kind), pa, pb))
         return out
 
     def _pins(self) -> list:

@@ -74,6 +74,7 @@ def _box(d) -> tuple:
         for part in b.parts:
             pts.extend(_part_points(b, part))
     pts += [i.at for i in d.impulses] + [s.at for s in d.surfaces] + [p for _, p in d.pins]
+    pts += [p for link in d.links for p in link[2:]]
     xs, ys = [p[0] for p in pts] or [0.0], [p[1] for p in pts] or [0.0]
     x0, x1, y0, y1 = min(xs), max(xs), min(ys), max(ys)
     size = max(x1 - x0, y1 - y0, 1e-9)
@@ -91,7 +92,9 @@ class _Layout:
         self.circles: list = []  # ((cx, cy), r)
         self.boxes: list = []  # label boxes (x0, y0, x1, y1)
 
-    def hits(self, x: float, y: float) -> bool:
+    def hits(self, x: float, y: float, labels: bool = False) -> bool:
+        if labels and any(b[0] <= x <= b[2] and b[1] <= y <= b[3] for b in self.boxes):
+            return True
         for (a, b, w) in self.segments:
             if _dist_seg((x, y), a, b) <= w:
                 return True
@@ -100,12 +103,14 @@ class _Layout:
     def crossing(self, p, q) -> int:
         """How many of 6 samples of the shaft p -> q (its head end excluded) lie on
         something drawn."""
-        return sum(self.hits(p[0] + (q[0] - p[0]) * f, p[1] + (q[1] - p[1]) * f)
+        return sum(self.hits(p[0] + (q[0] - p[0]) * f, p[1] + (q[1] - p[1]) * f, True)
                    for f in (0.0, 0.15, 0.3, 0.45, 0.6, 0.75))
 
     def label(self, x: float, y: float, text: str, anchor: str) -> tuple:
         """A free place near (x, y) for a label (nudged down, then up)."""
         w = 7.2 * len(text)
+        x0 = x - (w if anchor == "end" else w / 2 if anchor == "middle" else 0)
+        x += max(0.0, 4 - x0) - max(0.0, x0 + w - (W - 4))  # inside the picture
         for dy in (0, 15, -15, 30, -30, 45, -45):
             x0 = x - (w if anchor == "end" else w / 2 if anchor == "middle" else 0)
             box = (x0, y + dy - 12, x0 + w, y + dy + 3)
@@ -146,6 +151,8 @@ def render_svg(d) -> str:
         out.extend(_surface(frame, s, 0.9 * size, lay))
     for name, at in d.pins:
         out.extend(_pin(frame, name, at, lay))
+    for label, kind, a, b in d.links:
+        out.extend(_link(frame, label, kind, a, b))
     names = []
     for b in d.bodies:
         out.extend(_body(frame, b, lay))
@@ -204,7 +211,7 @@ def _place_impulse(frame, lay, i, arrow: float) -> tuple:
             a, b = frame.p(*t2), frame.p(*h2)
             # the end at the point may touch it; measure the shaft away from the point
             c = lay.crossing(b, a) if (tail, head) == push else lay.crossing(a, b)
-            c += 1 if shift else 0
+            c += 0.5 if shift else 0
             if score is None or c < score:
                 best, score = (t2, h2), c
     return best
@@ -292,6 +299,27 @@ def _surface(frame, s, length: float, lay) -> list[str]:
     out.append(f'<text x="{_n(lx)}" y="{_n(ly)}" fill="{GROUND}">{escape(s.name)}</text>')
     out.append("</g>")
     return out
+
+
+def _link(frame, label: str, kind: str, a, b) -> list[str]:
+    """A joint between two bodies' points: a spring as a zigzag, others a thin bar."""
+    (x1, y1), (x2, y2) = frame.p(*a), frame.p(*b)
+    if kind != "spring":
+        return [f'<g class="joint"><line x1="{_n(x1)}" y1="{_n(y1)}" x2="{_n(x2)}" '
+                f'y2="{_n(y2)}" stroke="{GROUND}" stroke-width="2" stroke-dasharray="2 3"/>'
+                f'<title>{escape(kind + " " + label)}</title></g>']
+    L = math.hypot(x2 - x1, y2 - y1)
+    ux, uy = (x2 - x1) / L, (y2 - y1) / L
+    pts = [(x1, y1)]
+    m = 10
+    for q in range(1, m):
+        s = (-1) ** q * 6
+        f = q / m
+        pts.append((x1 + ux * L * f - uy * s, y1 + uy * L * f + ux * s))
+    pts.append((x2, y2))
+    return [f'<g class="joint"><polyline points="{" ".join(f"{_n(x)},{_n(y)}" for x, y in pts)}" '
+            f'fill="none" stroke="{GROUND}" stroke-width="1.5"/>'
+            f'<title>{escape(kind + " " + label)}</title></g>']
 
 
 def _pin(frame, name: str, at, lay) -> list[str]:
