@@ -208,3 +208,38 @@ def test_every_example_renders_a_diagram():
             assert d.lines()[0] == d.title
             seen += 1
     assert seen >= 60
+
+
+PLATE = """
+problem "A plate's corner hits the floor"
+gravity 9.81 m/s^2 down
+body p: plate(mass = 2 kg, width = 0.4 m, height = 0.2 m)
+point C = p at (-0.2 m, -0.1 m)
+state 1 "before": p.angle = 20 deg, p.pos = (0, 0.3 m), p.v = (0, -2 m/s), p.omega = 0
+state 2 "after"
+impact 1 -> 2:
+    contact C with ground normal (0, 1): restitution 0.5, friction 0.3
+find p.omega@2
+"""
+
+
+def test_plate_corner_in_its_configuration_and_to_scale():
+    from helpers import solve_text
+
+    from momentum_cli.report.diagram import build_diagrams
+
+    (d,) = build_diagrams(solve_text(PLATE))
+    on = impulses_on(d, "p")
+    assert set(on) == {"J_n[C]", "J_t[C]"}  # friction: a tangential impulse
+    a = math.radians(20)
+    corner = (-0.2 * math.cos(a) + 0.1 * math.sin(a), 0.3 - 0.2 * math.sin(a) - 0.1 * math.cos(a))
+    assert on["J_n[C]"].at == pytest.approx(corner, abs=1e-12)
+    root = _parse(d)
+    k = float(root.get("data-scale"))
+    poly = next(e for e in root.iter(SVG + "polygon") if "plate" in (e.get("class") or ""))
+    pts = [tuple(map(float, p.split(","))) for p in poly.get("points").split()]
+    sides = sorted(math.dist(pts[i], pts[(i + 1) % 4]) for i in range(4))
+    assert sides == pytest.approx([0.2 * k, 0.2 * k, 0.4 * k, 0.4 * k], abs=0.15)
+    # the surface is drawn through the corner it touches
+    (s,) = d.surfaces
+    assert s.at == pytest.approx(corner, abs=1e-12)

@@ -143,7 +143,8 @@ def render_svg(d) -> str:
     height = TOP + PLOT_H + 20 + 18 * (len(legend) + 2)
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {W} {height}" '
            f'width="{W}" height="{height}" font-family="sans-serif" font-size="13" '
-           f'data-scale="{k:.6g}" role="img" aria-label="{escape(d.title)}">',
+           f'style="max-width:100%;height:auto" data-scale="{k:.6g}" role="img" '
+           f'aria-label="{escape(d.title, {chr(34): "&quot;"})}">',
            f'<rect x="0" y="0" width="{W}" height="{height}" fill="#ffffff"/>',
            f'<text x="{SIDE}" y="26" font-size="16" font-weight="bold">{escape(d.title)}</text>']
     lay = _Layout()
