@@ -88,7 +88,7 @@ class ImpulseDiagram:
     dropped: list[Dropped]
     surfaces: list[DiagramSurface] = field(default_factory=list)
     pins: list = field(default_factory=list)  # (name, (x, y)): pins to the ground
-    links: list = field(default_factory=list)  # (label, kind, (x, y), (x, y)): joints between bodies
+    links: list = field(default_factory=list)  # (label, kind, a, b): joints between bodies
     notes: list = field(default_factory=list)
 
     def lines(self) -> list[str]:

@@ -361,11 +361,10 @@ def _body(frame, b, lay) -> list[str]:
                        f'stroke-linecap="butt" data-length="{dims.get("length", 0.0):.6g}"/>')
         elif kind == "plate":
             w, h = dims.get("width", 0.0) / 2, dims.get("height", 0.0) / 2
-            pts = " ".join(f"{_n(q[0])},{_n(q[1])}" for q in (
-                frame.p(b.x + cw[0] + r[0], b.y + cw[1] + r[1]) for r in
-                (_rot((sx * w, sy * h), a) for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1)))))
+            signs = ((1, 1), (-1, 1), (-1, -1), (1, -1))
             corners = [frame.p(b.x + cw[0] + r[0], b.y + cw[1] + r[1]) for r in
-                       (_rot((sx * w, sy * h), a) for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1)))]
+                       (_rot((sx * w, sy * h), a) for sx, sy in signs)]
+            pts = " ".join(f"{_n(q[0])},{_n(q[1])}" for q in corners)
             lay.circles.append(((cx, cy), min(w, h) * k))
             lay.segments.extend((corners[q], corners[(q + 1) % 4], 3.0) for q in range(4))
             out.append(f'<polygon class="part plate" points="{pts}" fill="{BODY_FILL}" '
