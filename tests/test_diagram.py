@@ -243,3 +243,20 @@ def test_plate_corner_in_its_configuration_and_to_scale():
     # the surface is drawn through the corner it touches
     (s,) = d.surfaces
     assert s.at == pytest.approx(corner, abs=1e-12)
+
+
+def test_json_carries_the_diagram_and_fits_the_schema():
+    import json
+    from importlib.resources import files
+
+    jsonschema = pytest.importorskip("jsonschema")
+    from momentum_cli.report.json_out import document, result_dict
+
+    res = solve_source(read_source(str(EXAMPLES / "seed_pendulum_wall.mom")))
+    doc = json.loads(document([result_dict(res.name, res.status, res.report)], "test"))
+    schema = json.loads(files("momentum_cli").joinpath(
+        "schema/momentum-result.schema.json").read_text(encoding="utf-8"))
+    jsonschema.validate(doc, schema)
+    (d,) = doc["results"][0]["diagrams"]
+    assert {i["name"] for i in d["impulses"]} == {"J_n[B]", "Jx[O]", "Jy[O]"}
+    assert d["lines"][0] == "Impulse diagram, impact 2 -> 3"
