@@ -167,7 +167,7 @@ def test_svg_has_an_arrow_per_impulse(name, arrows):
     (d,) = [x for x in diagrams(EXAMPLES / f"{name}.mom")]
     root = _parse(d)
     assert len(_groups(root, "impulse")) == arrows == len(d.impulses)
-    labels = [t.text for g in _groups(root, "impulse") for t in g.iter(SVG + "text")]
+    labels = [t.text for g in _groups(root, "labels") for t in g.iter(SVG + "text")]
     for i in d.impulses:
         assert any(x.startswith(i.name + " = ") for x in labels)
     assert not any(e.tag.endswith("script") for e in root.iter())

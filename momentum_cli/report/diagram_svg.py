@@ -19,6 +19,7 @@ BODY_FILL, BODY_LINE, GROUND = "#cfd8dc", "#37474f", "#555555"
 ROUND_FILLED = {"disk", "cylinder", "sphere"}
 ROUND_RINGS = {"ring", "hoop", "shell"}
 DOT = 5.0  # px: a particle, a point
+HALO = ' stroke="#ffffff" stroke-width="3" paint-order="stroke"'  # a label over lines
 
 
 def _n(x: float) -> str:
@@ -101,26 +102,29 @@ class _Layout:
         return any(math.hypot(x - c[0], y - c[1]) <= r for c, r in self.circles)
 
     def crossing(self, p, q) -> int:
-        """How many of 6 samples of the shaft p -> q (its head end excluded) lie on
-        something drawn."""
+        """How many of 6 samples of the shaft from p (the point it acts at, where it may
+        touch the body) to q lie on something drawn."""
         return sum(self.hits(p[0] + (q[0] - p[0]) * f, p[1] + (q[1] - p[1]) * f, True)
-                   for f in (0.0, 0.15, 0.3, 0.45, 0.6, 0.75))
+                   for f in (0.25, 0.4, 0.55, 0.7, 0.85, 1.0))
 
     def label(self, x: float, y: float, text: str, anchor: str) -> tuple:
         """A free place near (x, y) for a label (nudged down, then up)."""
         w = 7.2 * len(text)
         x0 = x - (w if anchor == "end" else w / 2 if anchor == "middle" else 0)
         x += max(0.0, 4 - x0) - max(0.0, x0 + w - (W - 4))  # inside the picture
-        for dy in (0, 15, -15, 30, -30, 45, -45):
-            x0 = x - (w if anchor == "end" else w / 2 if anchor == "middle" else 0)
-            box = (x0, y + dy - 12, x0 + w, y + dy + 3)
-            if any(self.hits(px, py) for px in (box[0], (box[0] + box[2]) / 2, box[2])
-                   for py in (box[1] + 2, box[3] - 2)):
-                continue
-            if not any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
-                       for b in self.boxes):
-                self.boxes.append(box)
-                return x, y + dy
+        x0 = x - (w if anchor == "end" else w / 2 if anchor == "middle" else 0)
+        shifts = (0, 15, -15, 30, -30, 45, -45, 60, -60)
+        for strict in (True, False):  # off the shapes too if it can, else off labels only
+            for dy in shifts:
+                box = (x0, y + dy - 12, x0 + w, y + dy + 3)
+                if strict and any(self.hits(px, py) for px in (box[0], (box[0] + box[2]) / 2,
+                                                                box[2])
+                                  for py in (box[1] + 2, box[3] - 2)):
+                    continue
+                if not any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
+                           for b in self.boxes):
+                    self.boxes.append(box)
+                    return x, y + dy
         self.boxes.append((x, y - 12, x + w, y + 3))
         return x, y
 
@@ -190,8 +194,12 @@ def render_svg(d) -> str:
                           at_head=pull))
     for name, (gx, gy) in names:  # last: in a free place
         lx, ly = lay.label(gx + 8, gy - 8, name, "start")
-        out.append(f'<text x="{_n(lx)}" y="{_n(ly)}" font-weight="bold" '
-                   f'fill="{BODY_LINE}">{escape(name)}</text>')
+        out.append(f'<text class="label" x="{_n(lx)}" y="{_n(ly)}" font-weight="bold" '
+                   f'fill="{BODY_LINE}"{HALO}>{escape(name)}</text>')
+    # labels last, with a white halo: on top of every line
+    labels = [x for x in out if x.startswith('<text class="label"')]
+    out = [x for x in out if not x.startswith('<text class="label"')]
+    out += ['<g class="labels">'] + labels + ['</g>']
     out.extend(_legend(d, legend, TOP + PLOT_H + 20))
     out.append("</svg>")
     return "\n".join(out) + "\n"
@@ -205,14 +213,14 @@ def _place_impulse(frame, lay, i, arrow: float) -> tuple:
     pull = (p, (p[0] + arrow * d[0], p[1] + arrow * d[1]))
     best, score = None, None
     side = 9.0 / frame.k  # a small shift across the arrow, in m
-    for shift in (0.0, side, -side):
+    for shift in (0.0, side, -side, 2 * side, -2 * side):
         for tail, head in (push, pull):
             o = (-d[1] * shift, d[0] * shift)
             t2, h2 = (tail[0] + o[0], tail[1] + o[1]), (head[0] + o[0], head[1] + o[1])
             a, b = frame.p(*t2), frame.p(*h2)
             # the end at the point may touch it; measure the shaft away from the point
             c = lay.crossing(b, a) if (tail, head) == push else lay.crossing(a, b)
-            c += 0.5 if shift else 0
+            c += 0.6 * abs(shift) / side
             if score is None or c < score:
                 best, score = (t2, h2), c
     return best
@@ -240,7 +248,8 @@ def _arrow(frame, tail, head, colour, width, dash, label, cls, lay, at_head=Fals
             f'<line x1="{_n(x1)}" y1="{_n(y1)}" x2="{_n(bx)}" y2="{_n(by)}" stroke="{colour}" '
             f'stroke-width="{width}"{dash}/>',
             f'<polygon points="{poly}" fill="{colour}"/>',
-            f'<text x="{_n(tx)}" y="{_n(ty)}" fill="{colour}" text-anchor="{anchor}">'
+            f'<text class="label" x="{_n(tx)}" y="{_n(ty)}" fill="{colour}" '
+            f'text-anchor="{anchor}"{HALO}>'
             f'{escape(label)}</text>',
             '</g>']
 
@@ -268,7 +277,8 @@ def _moment(frame, i, radius: float, lay) -> list[str]:
             f'<path d="M {_n(p0[0])} {_n(p0[1])} A {_n(r)} {_n(r)} 0 1 {sweep} '
             f'{_n(p1[0])} {_n(p1[1])}" fill="none" stroke="{MOMENT}" stroke-width="2.5"/>',
             f'<polygon points="{poly}" fill="{MOMENT}"/>',
-            f'<text x="{_n(lx)}" y="{_n(ly)}" fill="{MOMENT}" text-anchor="middle">'
+            f'<text class="label" x="{_n(lx)}" y="{_n(ly)}" fill="{MOMENT}" '
+            f'text-anchor="middle"{HALO}>'
             f'{escape(label)}</text>',
             '</g>']
 
