@@ -113,10 +113,13 @@ class _Layout:
         x0 = x - (w if anchor == "end" else w / 2 if anchor == "middle" else 0)
         x += max(0.0, 4 - x0) - max(0.0, x0 + w - (W - 4))  # inside the picture
         x0 = x - (w if anchor == "end" else w / 2 if anchor == "middle" else 0)
-        shifts = (0, 15, -15, 30, -30, 45, -45, 60, -60)
+        shifts = [(0, dy) for dy in (0, 15, -15, 30, -30, 45, -45, 60, -60)]
+        shifts += [(dx, dy) for dx in (-(w + 12), w + 12) for dy in (0, 15, -15)]
         for strict in (True, False):  # off the shapes too if it can, else off labels only
-            for dy in shifts:
-                box = (x0, y + dy - 12, x0 + w, y + dy + 3)
+            for dx, dy in shifts:
+                box = (x0 + dx, y + dy - 12, x0 + dx + w, y + dy + 3)
+                if box[0] < 4 or box[2] > W - 4:
+                    continue
                 if strict and any(self.hits(px, py) for px in (box[0], (box[0] + box[2]) / 2,
                                                                 box[2])
                                   for py in (box[1] + 2, box[3] - 2)):
@@ -124,7 +127,7 @@ class _Layout:
                 if not any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
                            for b in self.boxes):
                     self.boxes.append(box)
-                    return x, y + dy
+                    return x + dx, y + dy
         self.boxes.append((x, y - 12, x + w, y + 3))
         return x, y
 
@@ -152,16 +155,17 @@ def render_svg(d) -> str:
            f'<rect x="0" y="0" width="{W}" height="{height}" fill="#ffffff"/>',
            f'<text x="{SIDE}" y="26" font-size="16" font-weight="bold">{escape(d.title)}</text>']
     lay = _Layout()
+    bodies, names = [], []
+    for b in d.bodies:  # first, so that the labels below keep off them
+        bodies.extend(_body(frame, b, lay))
+        names.append((b.name, frame.p(b.x, b.y)))
     for s in d.surfaces:
         out.extend(_surface(frame, s, 0.9 * size, lay))
     for name, at in d.pins:
         out.extend(_pin(frame, name, at, lay))
     for label, kind, a, b in d.links:
         out.extend(_link(frame, label, kind, a, b))
-    names = []
-    for b in d.bodies:
-        out.extend(_body(frame, b, lay))
-        names.append((b.name, frame.p(b.x, b.y)))
+    out.extend(bodies)
     vmax = max([math.hypot(*v) for b in d.bodies for v in (b.v_before, b.v_after)
                 if v is not None] + [0.0])
     for b in d.bodies:
