@@ -113,6 +113,20 @@ class TransitionInfo:
     energy: tuple[E, E] | None = None  # kinetic energy of the bodies it moves, before/after
     bodies: tuple[str, ...] = ()  # the bodies it moves (whose T its energy and T_lost cover)
     laws: list = field(default_factory=list)  # system_laws.SystemLaw: shown, not solved
+    impulses: list = field(default_factory=list)  # Applied: each impulse on a body (diagrams)
+
+
+@record
+class Applied:
+    """One impulse (and angular impulse) applied to a body in an impact or interval, with
+    the world arm from its G at the start: what the impulse diagram draws."""
+
+    body: str
+    point: PointOn
+    J: V2
+    torque: E | None
+    arm: V2
+    what: str = ""  # the impulse source it belongs to (`contact A`, `pin O`, `weight of rod`)
 
 
 @record
@@ -472,6 +486,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         ang: dict[str, list[E]] = defaultdict(list)
         sources: list[ImpulseSource] = []
         hits: dict[str, list] = defaultdict(list)  # per body: (point, arm, J, torque)
+        applied: list[tuple[int, Applied]] = []  # (index of the source it precedes, impulse)
         contacts_info = []
         duration: E | None = None
         if is_interval:
@@ -492,6 +507,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                 return
             r = self.arm(p, i, normal, sign)
             hits[p.body].append((p, r, J, torque))
+            applied.append((len(sources), Applied(p.body, p, J, torque, r)))
             lin[p.body].append(J)
             m = r.cross(J)
             if torque is not None:
@@ -514,6 +530,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                     W = V2(mul(Const(sc.gravity[0] / sc.g), mg),
                            mul(Const(sc.gravity[1] / sc.g), mg))
                     lin[b].append(W.scale(dur()))
+                    applied.append((len(sources), Applied(b, PointOn(b, (0.0, 0.0), b, t.span),
+                                                          W.scale(dur()), None,
+                                                          V2(ZERO, ZERO))))
                     sources.append(ImpulseSource((b, None), b, _unit(sc.gravity), False,
                                            f"weight of {b}"))
             for F, p, span in t.forces:
@@ -526,6 +545,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             for M, b, span in t.moments:
                 Mv = self.symbolic(M) if isinstance(M, Symbolic) else Const(M)
                 ang[b].append(mul(Mv, dur()))
+                applied.append((len(sources), Applied(b, PointOn(b, (0.0, 0.0), b, span),
+                                                      V2(ZERO, ZERO), mul(Mv, dur()),
+                                                      V2(ZERO, ZERO))))
                 sources.append(ImpulseSource((b, None), b, None, True, f"moment on {b}"))
         if t.duration_expr is not None:
             self.eq(dur(), self.symbolic(t.duration_expr), "the duration as stated", group,
@@ -571,8 +593,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         moved = [b for b in sc.bodies if b in busy]
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
         laws = system_laws(self, t, sources, moved, hits) if not is_interval else []
+        for k, a in applied:  # each element applies its impulses, then names its source
+            a.what = sources[k].what if k < len(sources) else ""
         self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info,
-                                               energy, tuple(moved), laws))
+                                               energy, tuple(moved), laws,
+                                               [a for _, a in applied]))
 
     def holds_at(self, from_state: str | None, sid: str) -> bool:
         """Whether something that holds from state `from_state` on (None: always) holds

@@ -59,6 +59,9 @@ class Body:
     is_particle: bool = False  # no rotation unknowns
     origin: tuple[float, float] = (0.0, 0.0)  # the user's body-frame origin, from G
     weight_given: bool = False
+    # its shapes, for drawing: (kind, centre from G in the body frame, ((dim, value), ...),
+    # rotation in rad); one for a simple body, each part of a composite
+    outline: tuple = ()
 
 
 @record(frozen=True)
@@ -717,23 +720,33 @@ class _Builder:
             point_mass = kind == "particle" or (kind == "rigid" and inertia == 0)
             self.bodies[s.name] = Body(s.name, s.span, kind, m, inertia, formula,
                                        r if kind in ROUND or kind in ("particle", "rigid") else None,
-                                       L, point_mass, (0.0, 0.0), w)
+                                       L, point_mass, (0.0, 0.0), w,
+                                       ((kind, (0.0, 0.0), self._dims(shape), 0.0),))
             return
         parts = []
+        turns = []
         for shape in s.shapes:
             m, inertia, formula, r, L, w = self._simple(shape)
             at = self.vector(shape.at, LENGTH, "a part's position") if shape.at is not None \
                 else (0.0, 0.0)
-            if shape.rotated is not None:
-                self.value(shape.rotated, NONE, "a part's rotation")
+            turns.append(self.value(shape.rotated, NONE, "a part's rotation")
+                         if shape.rotated is not None else 0.0)
             parts.append((shape.kind, m, inertia, at, w))
         M = sum(p[1] for p in parts)
         gx = sum(p[1] * p[3][0] for p in parts) / M
         gy = sum(p[1] * p[3][1] for p in parts) / M
         inertia = sum(p[2] + p[1] * ((p[3][0] - gx) ** 2 + (p[3][1] - gy) ** 2) for p in parts)
         formula = "sum(I_i + m_i*d_i^2)  (parallel axes: " + " + ".join(p[0] for p in parts) + ")"
+        outline = tuple((p[0], (p[3][0] - gx, p[3][1] - gy), self._dims(shape), turn)
+                        for p, shape, turn in zip(parts, s.shapes, turns))
         self.bodies[s.name] = Body(s.name, s.span, "composite", M, inertia, formula, None, None,
-                                   False, (-gx, -gy), any(p[4] for p in parts))
+                                   False, (-gx, -gy), any(p[4] for p in parts), outline)
+
+    def _dims(self, shape: S.Shape) -> tuple:
+        """A shape's sizes (radius, length, width, height) in m, for drawing it."""
+        args = self._shape_args(shape)
+        return tuple((k, args[k][0]) for k in ("radius", "length", "width", "height")
+                     if k in args)
 
     def _surface(self, s: S.SurfaceDecl) -> None:
         if s.name in self.bodies or s.name in self.surfaces:

@@ -47,6 +47,8 @@ def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=N
         d["counts"] = dict(rep.counts)
         if rep.flows:
             d["flows"] = [dict(r) for r in rep.flows]
+        if rep.diagrams:
+            d["diagrams"] = [x.to_dict() for x in rep.diagrams]
         if rep.expectations:
             d["expectations"] = [dict(e) for e in rep.expectations]
         if rep.sensitivities:

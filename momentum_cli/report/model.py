@@ -62,6 +62,7 @@ class Report:
     # unknowns' value/shown_unit, answers without `in UNIT` and numeric lines are in them
     units: dict = field(default_factory=dict)
     sensitivities: dict | None = None  # `--sensitivity`: report/sensitivity.section
+    diagrams: list = field(default_factory=list)  # diagram.ImpulseDiagram per impact/interval
 
 
 def _finite(x: float | None) -> float | None:
@@ -192,13 +193,21 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
                   blocks=len(st.blocks), solved_blocks=len(sol.blocks),
                   redundant=len(st.redundant) + len(st.constant_eqs),
                   undetermined=len(st.under))
+    from .diagram import build_diagrams
+
     rep = Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
-                 checks, answers, regimes, list(sol.diagnostics), counts, flows)
+                 checks, answers, regimes, list(sol.diagnostics), counts, flows,
+                 diagrams=build_diagrams(sol))
     rep.units = dict(system=reader.system, degrees=reader.degrees,
                      name="US customary" if reader.system == "us" else "SI",
                      mass=reader.label(MASS), inertia=reader.label(INERTIA),
                      length=reader.label(LENGTH), velocity=reader.label(VELOCITY))
     return rep
+
+
+def diagram_for(rep: Report, t: dict):
+    """The impulse diagram of a transition of the report (None: an energy phase)."""
+    return next((d for d in rep.diagrams if d.kind == t["kind"] and d.key == t["key"]), None)
 
 
 def expectation_dict(c) -> dict:

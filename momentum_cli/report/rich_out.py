@@ -6,7 +6,7 @@ import, which plain and JSON output never pay.
 from __future__ import annotations
 
 from ..numbers import fmt_num
-from .model import Report
+from .model import Report, diagram_for
 from .text import _items
 
 
@@ -56,10 +56,13 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True,
                               f"({f(x['flux_x'])}, {f(x['flux_y'])})", f(x["moment"]))
             console.print(t)
         sections = [(f"{t['kind'].capitalize()} {t['before']} → {t['after']} (line {t['line']})",
-                     t["why"], t["equations"]) for t in rep.transitions]
-        sections += [(g[0].upper() + g[1:], [], rows) for g, rows in rep.other_equations.items()]
-        for title, why, rows in sections:
+                     t["why"], t["equations"], diagram_for(rep, t)) for t in rep.transitions]
+        sections += [(g[0].upper() + g[1:], [], rows, None)
+                     for g, rows in rep.other_equations.items()]
+        for title, why, rows, diagram in sections:
             console.print(Text(title, style="bold cyan"))
+            if diagram is not None:
+                _diagram(console, diagram)
             for w in why:
                 console.print(f"  [green]why:[/green] {escape(w)}")
             t = Table(box=box.SIMPLE, show_header=True, pad_edge=False)
@@ -164,3 +167,17 @@ def render_brief(rep: Report, console, sig: int = 6) -> None:
             console.print(f"  [{colours.get(status, 'white')}]{status}[/] {escape(rest)}")
         elif line == "Checks":
             console.print(Text(line, style="bold cyan"))
+
+
+def _diagram(console, d) -> None:
+    """The impulse diagram's list: its title, each body's impulses, what is dropped."""
+    from rich.markup import escape
+
+    lines = d.lines()
+    console.print(f"  [bold magenta]{escape(lines[0])}[/bold magenta]")
+    for x in lines[1:]:
+        s = x.strip()
+        style = "dim" if s.startswith(("dropped:", "note:")) else \
+            ("bold" if not x.startswith("    ") else "")
+        body = escape(x)
+        console.print(f"  [{style}]{body}[/{style}]" if style else f"  {body}")

@@ -6,7 +6,7 @@ rich report, laid out with spaces so that locale and terminal width cannot chang
 from __future__ import annotations
 
 from ..numbers import fmt_num, fmt_tiny
-from .model import Report
+from .model import Report, diagram_for
 
 
 def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list[str]:
@@ -68,6 +68,9 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
         for t in rep.transitions:
             out.append("")
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
+            d = diagram_for(rep, t)
+            if d is not None:
+                out.extend("  " + x for x in d.lines())
             for w in t["why"]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))

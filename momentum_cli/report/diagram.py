@@ -1,0 +1,589 @@
+"""The impulse diagram of each impact and interval, as plain data (report stage).
+
+In: a solved `Solution` (the compiled transitions record every impulse they apply to a
+body, `compile.Applied`). Out: one `ImpulseDiagram` per impact or interval: per body the
+impulses on it (where, which way, how large), what is dropped and why, and the scene's
+configuration at the start of the transition, for the terminal list and the SVG drawing.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import field
+
+from ..elements.keys import Key, state_key
+from ..elements.kinds import Component, JointKind, KeyKind, Tangential
+from ..expr import evaluate, variables
+from ..numbers import fmt_num
+from ..records import record
+
+POSITION = ("x", "y", "angle")  # unchanged by an impact
+SIG = 4  # significant figures in the diagram (short lines, stable drawings)
+UNIT = {False: "N*s", True: "N*m*s"}
+
+
+@record
+class DiagramBody:
+    """A body in its configuration at the start of the transition."""
+
+    name: str
+    shape: str  # rod, disk, ring, sphere, plate, particle, rigid, composite, ...
+    x: float
+    y: float
+    angle: float
+    placed: bool  # its position is known (else it is drawn where its contacts put it)
+    parts: list  # (kind, centre from G in the body frame, {dim: m}, rotation)
+    v_before: tuple | None = None
+    v_after: tuple | None = None
+    omega_before: float | None = None
+    omega_after: float | None = None
+    particle: bool = False
+
+
+@record
+class DiagramImpulse:
+    """One impulse (or angular impulse) on one body."""
+
+    body: str
+    name: str  # J_n[A], Jx[O], m g t, M[bearing]
+    what: str  # the element it comes from: contact A, pin O, weight of rod
+    point: str  # where it acts
+    at: tuple  # world position (m)
+    direction: tuple | None  # its assumed positive direction (unit); None: a moment
+    words: str  # up, to the left, along n = (0.866, 0.5), counter-clockwise
+    value: float | None  # along `direction` (N*s) or counter-clockwise (N*m*s); None: unsolved
+    moment: bool = False
+
+    @property
+    def unit(self) -> str:
+        return UNIT[self.moment]
+
+
+@record
+class Dropped:
+    """A force that is not impulsive here (or not in this phase's balance), and why."""
+
+    body: str | None
+    what: str
+    why: str
+
+
+@record
+class DiagramSurface:
+    name: str
+    at: tuple
+    normal: tuple
+
+
+@record
+class ImpulseDiagram:
+    """The impulse diagram of one impact or interval."""
+
+    title: str
+    kind: str  # impact | interval
+    key: str  # 2->3
+    before: str
+    after: str
+    bodies: list[DiagramBody]
+    impulses: list[DiagramImpulse]
+    dropped: list[Dropped]
+    surfaces: list[DiagramSurface] = field(default_factory=list)
+    pins: list = field(default_factory=list)  # (name, (x, y)): pins to the ground
+    links: list = field(default_factory=list)  # (label, kind, a, b): joints between bodies
+    notes: list = field(default_factory=list)
+
+    def lines(self) -> list[str]:
+        """The terminal list: per body its impulses, then what is dropped (plain ASCII)."""
+        out = [self.title]
+        for b in self.bodies:
+            mine = [i for i in self.impulses if i.body == b.name]
+            out.append(f"  {b.name}:" + ("" if mine else " no impulse"))
+            for i in mine:
+                v = "?" if i.value is None else fmt_num(_clean(i.value), SIG)
+                where = f" at {i.point} {_xy(i.at)}" if not i.moment else f" on {b.name}"
+                out.append(f"    {i.name} = {v} {i.unit}{where}, {i.words}")
+        for d in self.dropped:
+            on = f" ({d.body})" if d.body and d.body not in d.what else ""
+            out.append(f"  dropped: {d.what}{on}: {d.why}")
+        return out  # the notes (what is drawn schematically) belong to the drawing
+
+    def svg(self) -> str:
+        """One self-contained <svg> element: the scene, the impulses, the velocities."""
+        from .diagram_svg import render_svg
+
+        return render_svg(self)
+
+    def to_dict(self) -> dict:
+        return dict(
+            title=self.title, kind=self.kind, before=self.before, after=self.after,
+            bodies=[dict(name=b.name, shape=b.shape, x=b.x, y=b.y, angle=b.angle,
+                         placed=b.placed, v_before=_list(b.v_before), v_after=_list(b.v_after),
+                         omega_before=b.omega_before, omega_after=b.omega_after)
+                    for b in self.bodies],
+            impulses=[dict(body=i.body, name=i.name, what=i.what, point=i.point,
+                           at=_list(i.at), direction=_list(i.direction), words=i.words,
+                           value=i.value, unit=i.unit, moment=i.moment)
+                      for i in self.impulses],
+            dropped=[dict(body=d.body, what=d.what, why=d.why) for d in self.dropped],
+            lines=self.lines())
+
+
+def _list(v):
+    return None if v is None else [float(x) for x in v]
+
+
+def _clean(x: float) -> float:
+    return 0.0 if abs(x) < 1e-12 else x
+
+
+def _xy(p) -> str:
+    return f"({fmt_num(_clean(p[0]), SIG)}, {fmt_num(_clean(p[1]), SIG)})"
+
+
+def direction_words(d: tuple, symbol: str | None = None) -> str:
+    """`up`, `to the left`, or `along n = (0.866, 0.5)` for a unit vector."""
+    x, y = (_clean(round(c, 12)) for c in d)
+    axis = {(0.0, 1.0): "up", (0.0, -1.0): "down", (1.0, 0.0): "to the right",
+            (-1.0, 0.0): "to the left"}.get((x, y))
+    along = f"along {symbol + ' = ' if symbol else ''}{_xy((x, y))}"
+    if axis and symbol:
+        return f"{axis} ({along})"
+    return axis or along
+
+
+# ---- building ----------------------------------------------------------------------------------
+def build_diagrams(sol) -> list[ImpulseDiagram]:
+    """One diagram per impact and interval of the solved system, in its order."""
+    system = sol.system
+    shared = _Shared(sol)
+    return [_Builder(shared, t).build() for t in system.transitions
+            if t.kind in ("impact", "interval")]
+
+
+class _Shared:
+    """What every diagram of one solution looks up: transitions by key, the states an
+    impact ties (positions unchanged), a schematic length; computed once."""
+
+    def __init__(self, sol):
+        self.sol = sol
+        sc = sol.system.scene
+        self.specs = {(str(s.kind), s.key): s for s in sc.transitions}
+        parent: dict = {}
+
+        def root(x):
+            while parent.get(x, x) != x:
+                parent[x] = parent.get(parent[x], parent[x])
+                x = parent[x]
+            return x
+
+        for tr in sc.transitions:
+            if str(tr.kind) == "impact":
+                a, b = root(tr.before), root(tr.after)
+                if a != b:
+                    parent[a] = b
+        self.root = root
+        # a position or angle known anywhere among the states an impact ties
+        self.placed: dict = {}
+        for sid, st in sc.states.items():
+            r = root(sid)
+            for (b, q), (v, _) in st.givens.items():
+                if q in POSITION:
+                    self.placed.setdefault((b, q, r), v)
+        for k, v in sol.values.items():
+            if isinstance(k, Key) and k.kind is KeyKind.STATE and k.qty in POSITION and \
+                    k.state is not None:
+                self.placed.setdefault((k.body, k.qty, root(k.state)), v)
+        sizes = [_extent(b) for b in sc.bodies.values()]
+        self.size = max([x for x in sizes if x > 0] or [1.0])
+
+
+class _Builder:
+    def __init__(self, shared: _Shared, t):
+        self.shared, self.sol, self.t = shared, shared.sol, t
+        self.sc = self.sol.system.scene
+        self.values = self.sol.values
+        self.spec = shared.specs.get((t.kind, t.key))
+        self.notes: list[str] = []
+
+    def _value(self, body: str, q: str, s: str):
+        v = self.values.get(state_key(body, q, s))
+        if v is None:
+            st = self.sc.states.get(s)
+            g = st.givens.get((body, q)) if st is not None else None
+            v = g[0] if g is not None else None
+        return v
+
+    # -- state values: solved, given, or shared across the impacts that keep positions
+    def known(self, body: str, q: str, sid: str):
+        v = self._value(body, q, sid)
+        if v is not None or q not in POSITION:
+            return v
+        sh = self.shared
+        return sh.placed.get((body, q, sh.root(sid)))
+
+    def build(self) -> ImpulseDiagram:
+        t = self.t
+        kind_word = "impact" if t.kind == "impact" else "interval"
+        title = f"Impulse diagram, {kind_word} {t.before} -> {t.after}"
+        bodies = self._bodies()
+        self._place(bodies)
+        where = {b.name: b for b in bodies}
+        impulses = []
+        for a in t.impulses:
+            impulses.extend(self._impulses(a, where[a.body]))
+        order = {b.name: k for k, b in enumerate(bodies)}
+        impulses.sort(key=lambda i: order[i.body])  # stable: grouped by body
+        return ImpulseDiagram(title, t.kind, t.key, t.before, t.after, bodies, impulses,
+                              self._dropped(), self._surfaces(bodies), self._pins(),
+                              self._links(where), self.notes)
+
+    def _bodies(self) -> list[DiagramBody]:
+        i, j = self.t.before, self.t.after
+        out = []
+        for name in self.t.bodies:
+            b = self.sc.bodies[name]
+            x, y, ang = (self.known(name, q, i) for q in ("x", "y", "angle"))
+            vel = lambda s: (None if None in (v := (self.known(name, "vx", s),  # noqa: E731
+                                                   self.known(name, "vy", s))) else v)
+            parts = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
+            out.append(DiagramBody(
+                name, b.kind, x if x is not None else math.nan, y if y is not None else math.nan,
+                ang or 0.0, x is not None and y is not None, parts, vel(i), vel(j),
+                None if b.is_particle else self.known(name, "omega", i),
+                None if b.is_particle else self.known(name, "omega", j), b.is_particle))
+            if ang is None and not b.is_particle and _turns(b):
+                self.notes.append(f"{name}'s angle is not known at state {i}: drawn at 0")
+        return out
+
+    # -- positions: known, or from the pins, joints and contacts that tie a body to another
+    def _place(self, bodies: list[DiagramBody]) -> None:
+        """Known positions first; then what pins, welds and contacts tie to a placed body;
+        a group that nothing places starts at a schematic spot, in a row beside the rest."""
+        where = {b.name: b for b in bodies}
+        ties = self._ties()
+        size = self._size()
+        row = 0.0
+        guessed = []
+        while True:
+            self._propagate(bodies, where, ties)
+            loose = [b for b in bodies if not b.placed]
+            if not loose:
+                break
+            b = loose[0]
+            missing = [q for q, v in (("x", b.x), ("y", b.y)) if math.isnan(v)]
+            if len(missing) == 1:  # one coordinate given: the other one does not matter here
+                self.notes.append(f"{b.name}.{missing[0]} at state {self.t.before} is not "
+                                  "known: drawn at 0")
+            else:
+                guessed.append(b.name)
+            b.x = row if math.isnan(b.x) else b.x
+            b.y = 0.0 if math.isnan(b.y) else b.y
+            row = max(row, b.x) + 2.5 * size
+            b.placed = True
+        if guessed:
+            self.notes.append(f"positions at state {self.t.before} are not known: "
+                              f"{', '.join(guessed)} drawn schematically"
+                              + (" (the rest where contacts and joints put them)"
+                                 if len(guessed) < len(bodies) else ""))
+
+    def _propagate(self, bodies, where, ties) -> None:
+        moved = True
+        while moved:
+            moved = False
+            for b in bodies:
+                if b.placed:
+                    continue
+                for other, mine, theirs, normal, gap in ties.get(b.name, ()):
+                    anchor = self._world(theirs, where, other) if other else theirs.offset
+                    if anchor is None:
+                        continue
+                    r = _rot(mine.offset, b.angle) if not mine.round_contact else (0.0, 0.0)
+                    sep = (normal[0] * gap, normal[1] * gap) if normal else (0.0, 0.0)
+                    b.x, b.y = anchor[0] - r[0] + sep[0], anchor[1] - r[1] + sep[1]
+                    b.placed = moved = True
+                    break
+
+    def _size(self) -> float:
+        """A length for schematic spacing: the largest body, or 1 m."""
+        return self.shared.size
+
+    def _ties(self) -> dict:
+        """body -> [(other body or None, its point, the other's point, normal, gap)]."""
+        ties: dict = {}
+        size = self._size()
+        for jt in self.sc.joints:
+            if jt.kind not in (JointKind.PIN, JointKind.WELD):
+                continue
+            ties.setdefault(jt.a.body, []).append((jt.b.body, jt.a, jt.b, None, 0.0))
+            if jt.b.body:
+                ties.setdefault(jt.b.body, []).append((jt.a.body, jt.b, jt.a, None, 0.0))
+        for c in (self.spec.contacts if self.spec else ()):
+            if c.b is None or c.b.body is None or c.normal is None:
+                continue
+            ra = self.sc.bodies[c.a.body].radius if c.a.round_contact else None
+            rb = self.sc.bodies[c.b.body].radius if c.b.round_contact else None
+            gap = (ra or 0.0) + (rb or 0.0) if (ra or rb) else 0.6 * size
+            n = c.normal  # a is on the +n side of b
+            ties.setdefault(c.a.body, []).append((c.b.body, c.a, c.b, n, gap))
+            ties.setdefault(c.b.body, []).append((c.a.body, c.b, c.a, (-n[0], -n[1]), gap))
+        return ties
+
+    def _world(self, p, where: dict, body: str | None):
+        b = where.get(body)
+        if b is None or not b.placed:
+            return None
+        r = (0.0, 0.0) if p.round_contact else _rot(p.offset, b.angle)
+        return (b.x + r[0], b.y + r[1])
+
+    # -- the impulses of one application, split into their unknowns
+    def _impulses(self, a, body: DiagramBody) -> list[DiagramImpulse]:
+        t, vals = self.t, self.values
+        names = variables(a.J.x) | variables(a.J.y)
+        base = _Over(vals)  # an unknown nothing solved (an angle not needed) reads 0
+        for n in names | variables(a.arm.x) | variables(a.arm.y) | \
+                (variables(a.torque) if a.torque is not None else set()):
+            if not _impulse(n):
+                base.setdefault(n, 0.0)
+        p = a.point
+        if p.round_contact or p.located_by is not None:
+            try:
+                arm = (evaluate(a.arm.x, base), evaluate(a.arm.y, base))
+            except (KeyError, ValueError, ZeroDivisionError):
+                arm = (0.0, 0.0)
+        else:
+            arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
+        at = (body.x + arm[0], body.y + arm[1])
+        if p.round_contact and p.name == a.body:
+            point = f"{a.body}'s contact point" if arm != (0.0, 0.0) else f"{a.body}'s centre"
+        else:
+            point = "G" if p.name == a.body else p.name
+        out = []
+        imp = sorted((n for n in names if _impulse(n)), key=str)
+        contact = next((c for c in (self.spec.contacts if self.spec else ())
+                        if f"contact {c.label}" == a.what), None)
+        if imp:
+            zero = base.over({n: 0.0 for n in imp})
+            for n in imp:
+                one = zero.over({n: 1.0})
+                try:
+                    d = (evaluate(a.J.x, one) - evaluate(a.J.x, zero),
+                         evaluate(a.J.y, one) - evaluate(a.J.y, zero))
+                except (KeyError, ValueError, ZeroDivisionError):
+                    continue
+                size = math.hypot(*d)
+                if size == 0:
+                    continue
+                d = (d[0] / size, d[1] / size)
+                symbol = _symbol(n, d, contact)
+                val = vals.get(n)
+                where, pos = point, at
+                c = self._moment_of(a, n, zero)
+                if c:  # applied at G with its moment: drawn on its line of action
+                    pos = (at[0] + c / size * d[1], at[1] - c / size * d[0])
+                    where = "its line of action"
+                out.append(DiagramImpulse(a.body, _local(n), a.what, where, pos, d,
+                                          direction_words(d, symbol),
+                                          None if val is None else val * size))
+        elif not _zero_vec(a.J):
+            try:
+                J = (evaluate(a.J.x, vals), evaluate(a.J.y, vals))
+            except (KeyError, ValueError, ZeroDivisionError):
+                J = None
+            name = _applied_name(a.what, t.kind)
+            if J is None or math.hypot(*J) == 0:
+                out.append(DiagramImpulse(a.body, name, a.what, point, at, None, "unknown",
+                                          None))
+            else:
+                m = math.hypot(*J)
+                d = (J[0] / m, J[1] / m)
+                out.append(DiagramImpulse(a.body, name, a.what, point, at, d,
+                                          direction_words(d), m))
+        if a.torque is not None:
+            out.extend(self._moments(a, body, at, point, base))
+        return out
+
+    @staticmethod
+    def _moment_of(a, n, zero) -> float:
+        """The moment about G per unit of impulse n that an element adds to its
+        application (a slider's reaction acts where the collar is, not at G)."""
+        if a.torque is None or n not in variables(a.torque):
+            return 0.0
+        try:
+            return evaluate(a.torque, zero.over({n: 1.0})) - evaluate(a.torque, zero)
+        except (KeyError, ValueError, ZeroDivisionError):
+            return 0.0
+
+    def _moments(self, a, body, at, point, base) -> list[DiagramImpulse]:
+        names = sorted((n for n in variables(a.torque)
+                        if getattr(n, "kind", None) is KeyKind.ANGULAR_IMPULSE), key=str)
+        out = []
+        for n in names:
+            val = self.values.get(n)
+            zero = base.over({k: 0.0 for k in names})
+            try:
+                s = evaluate(a.torque, zero.over({n: 1.0})) - evaluate(a.torque, zero)
+            except (KeyError, ValueError, ZeroDivisionError):
+                continue
+            if s == 0:
+                continue
+            words = "counter-clockwise" if s > 0 else "clockwise"
+            out.append(DiagramImpulse(a.body, _local(n), a.what, point, at, None, words,
+                                      None if val is None else val * abs(s), True))
+        if not names and not any(_impulse(n) for n in variables(a.torque)):
+            # a known moment integrated over the interval
+            try:
+                m = evaluate(a.torque, self.values)
+            except (KeyError, ValueError, ZeroDivisionError):
+                m = None
+            out.append(DiagramImpulse(a.body, _applied_name(a.what, self.t.kind), a.what,
+                                      point, at, None, "counter-clockwise", m, True))
+        return out
+
+    # -- what is not impulsive
+    def _dropped(self) -> list[Dropped]:
+        t, sc = self.t, self.sc
+        moved = set(t.bodies)
+        out = []
+        impact = t.kind == "impact"
+        zero = "finite force x zero duration = no impulse"
+        if impact:
+            if sc.gravity is not None:
+                for b in t.bodies:
+                    W = sc.bodies[b].mass * math.hypot(*sc.gravity)
+                    out.append(Dropped(b, f"weight of {b} ({fmt_num(W, SIG)} N, "
+                                          f"{direction_words(_unit(sc.gravity))})", zero))
+            for _, p, _ in (self.spec.forces if self.spec else ()):
+                out.append(Dropped(p.body, f"force at {p.name}", zero))
+        if sc.gravity is None and sc.g is not None:
+            out.append(Dropped(None, "weights", "act into the plane: no impulse in it"))
+        for jt in sc.joints:
+            if jt.kind in (JointKind.SPRING, JointKind.DAMPER) and \
+                    ({jt.a.body, jt.b.body} & moved):
+                why = zero if impact else ("not a constant force: its work enters the energy "
+                                           "phases")
+                out.append(Dropped(None, f"{jt.kind} {jt.label}", why))
+        for c in (self.spec.contacts if self.spec else ()):
+            if c.normal is not None and Tangential(c.mode) is Tangential.SMOOTH:
+                out.append(Dropped(c.a.body, f"friction at {c.label}",
+                                   "smooth contact: no tangential impulse"))
+        return out
+
+    def _surfaces(self, bodies) -> list[DiagramSurface]:
+        """The ground or surface each contact of the transition pushes from, through the
+        point it touches."""
+        out = []
+        where = {b.name: b for b in bodies}
+        for c in (self.spec.contacts if self.spec else ()):
+            if c.b is not None and c.b.body is not None or c.normal is None:
+                continue
+            b = where.get(c.a.body)
+            if b is None:
+                continue
+            if c.a.round_contact and self.sc.bodies[c.a.body].radius:
+                r = self.sc.bodies[c.a.body].radius
+                p = (b.x - r * c.normal[0], b.y - r * c.normal[1])
+            else:
+                r = (0.0, 0.0) if b.particle else _rot(c.a.offset, b.angle)
+                p = (b.x + r[0], b.y + r[1])
+                rim = _rim(b, p)  # the centre of a round part: it touches at its rim
+                p = (p[0] - rim * c.normal[0], p[1] - rim * c.normal[1])
+            out.append(DiagramSurface(c.surface or "ground", p, c.normal))
+        return out
+
+    def _links(self, where: dict) -> list:
+        """Joints and springs between two drawn bodies whose points lie apart: a light
+        pole, a link, a spring, drawn from one point to the other."""
+        out = []
+        for jt in self.sc.joints:
+            if jt.b.body is None or jt.a.body not in where or jt.b.body not in where:
+                continue
+            pa, pb = self._world(jt.a, where, jt.a.body), self._world(jt.b, where, jt.b.body)
+            if pa and pb and math.hypot(pa[0] - pb[0], pa[1] - pb[1]) > 1e-9:
+                out.append((jt.label, str(jt.kind), pa, pb))
+        return out
+
+    def _pins(self) -> list:
+        return [(jt.label, jt.b.offset) for jt in self.sc.joints
+                if jt.kind in (JointKind.PIN, JointKind.WELD) and jt.b.body is None
+                and jt.a.body in self.t.bodies]
+
+
+class _Over(dict):
+    """Values with a few overridden (a dict over another, without copying it)."""
+
+    def __init__(self, under, over=None):
+        super().__init__(over or {})
+        self.under = under
+
+    def __missing__(self, k):
+        return self.under[k]
+
+    def setdefault(self, k, v):
+        if k not in self and k not in self.under:
+            self[k] = v
+        return self[k]
+
+    def over(self, more: dict) -> "_Over":
+        return _Over(self, more)
+
+
+def _symbol(n, d: tuple, contact) -> str | None:
+    """`n` or `t` (or `-n`, `-t` on the contact's second body) for a contact's impulse."""
+    comp = getattr(n, "comp", None)
+    if contact is None or comp not in (Component.JN, Component.JT):
+        return None
+    nx, ny = contact.normal
+    ref = (nx, ny) if comp is Component.JN else (-ny, nx)
+    sym = "n" if comp is Component.JN else "t"
+    return sym if ref[0] * d[0] + ref[1] * d[1] > 0 else "-" + sym
+
+
+def _rim(b: DiagramBody, p: tuple) -> float:
+    """The radius of the round part of b centred at p (0 if none)."""
+    for kind, c, dims, _ in b.parts:
+        w = _rot(c, b.angle)
+        if dims.get("radius") and math.hypot(b.x + w[0] - p[0], b.y + w[1] - p[1]) < \
+                1e-9 * max(1.0, dims["radius"]):
+            return dims["radius"]
+    return 0.0
+
+
+def _impulse(n) -> bool:
+    return isinstance(n, Key) and n.kind is KeyKind.IMPULSE
+
+
+def _local(n) -> str:
+    return n.local if isinstance(n, Key) else str(n)
+
+
+def _zero_vec(J) -> bool:
+    return J.is_zero()
+
+
+def _applied_name(what: str, kind: str) -> str:
+    """The impulse of a finite force over an interval: `weight of rod x t`."""
+    return f"{what} x t" if kind == "interval" else what
+
+
+def _unit(v) -> tuple:
+    n = math.hypot(*v)
+    return (v[0] / n, v[1] / n)
+
+
+def _rot(r, angle: float) -> tuple:
+    c, s = math.cos(angle), math.sin(angle)
+    return (r[0] * c - r[1] * s, r[0] * s + r[1] * c)
+
+
+def _turns(b) -> bool:
+    return b.kind != "particle"
+
+
+def _extent(b) -> float:
+    """The largest size of a body's shapes (m)."""
+    out = 0.0
+    for _, (cx, cy), dims, _ in b.outline:
+        d = dict(dims)
+        half = max(d.get("radius", 0.0), d.get("length", 0.0) / 2,
+                   math.hypot(d.get("width", 0.0), d.get("height", 0.0)) / 2)
+        out = max(out, 2 * (half + math.hypot(cx, cy)))
+    return out
