@@ -43,6 +43,17 @@ class Format(str, Enum):
     json = "json"
 
 
+class SolveFormat(str, Enum):
+    """`solve`'s outputs: the terminal and data formats, and the documents."""
+    auto = "auto"
+    rich = "rich"
+    plain = "plain"
+    json = "json"
+    markdown = "markdown"
+    latex = "latex"
+    html = "html"
+
+
 def _version_callback(value: bool) -> None:
     if value:
         from . import __version__
@@ -294,11 +305,18 @@ def _color_option():
 def solve(
     files: List[str] = typer.Argument(..., metavar="FILE",
                                       help="Problem files (.mom); '-' reads standard input."),
-    fmt: Format = typer.Option(Format.auto, "--format", "-f",
-                               help="auto: rich on a terminal, plain when piped."),
+    fmt: SolveFormat = typer.Option(SolveFormat.auto, "--format", "-f",
+                                    help="auto: rich on a terminal, plain when piped (with "
+                                         "--output: from its suffix, .md .tex .html .json); "
+                                         "markdown, latex and html write one document."),
     json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
     plain: bool = typer.Option(False, "--plain", help="Deterministic plain text (the golden "
                                                       "format)."),
+    output: Optional[str] = typer.Option(None, "--output", "-o", metavar="FILE",
+                                         help="Write the output to FILE (whole, or not at "
+                                              "all) instead of standard output."),
+    force: bool = typer.Option(False, "--force", help="Let --output overwrite an existing "
+                                                      "file."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only `name = value unit`."),
     solve_all: bool = typer.Option(False, "--all", help="Solve every determined block, not only "
                                                         "those the `find` lines need."),
@@ -326,8 +344,21 @@ def solve(
     """
     from .run import solve_many
 
+    from .report.document import output_format
+
+    if fmt == SolveFormat.auto and output and not (json_flag or plain or jsonl):
+        fmt = SolveFormat(output_format(output))
     mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
     _safe_streams()
+    if output is not None:
+        from .outputs import OutputError, check_path
+
+        try:  # before any work: a path that would lose data is refused
+            check_path(output, files, force, "--output")
+        except OutputError as exc:
+            sys.stderr.write(f"momentum: error: {exc}\n")
+            raise typer.Exit(int(ExitCode.USAGE)) from None
+        screen, sys.stdout = sys.stdout, _Captured()
     out = sys.stdout
     results = []
     many = len(files) > 1
@@ -348,8 +379,47 @@ def solve(
         from .report.json_out import document
 
         out.write(document(results, __version__, not _is_utf8(out)))
+    elif mode in ("markdown", "latex", "html") and results:
+        from .report.document import render_document
+
+        out.write(render_document(mode, results, digits))
     out.flush()
+    if output is not None:
+        worst = max(worst, _write_output(output, screen, force))
     raise typer.Exit(int(worst))
+
+
+class _Captured:
+    """Standard output collected for --output (UTF-8: written to a file as such)."""
+
+    encoding = "utf-8"
+
+    def __init__(self):
+        import io
+
+        self._buf = io.StringIO()
+        self.write, self.getvalue = self._buf.write, self._buf.getvalue
+
+    def flush(self):
+        pass
+
+    def isatty(self):
+        return False
+
+
+def _write_output(path: str, screen, force: bool) -> ExitCode:
+    """The collected output to `path` (whole or not at all); stdout is put back."""
+    from .outputs import OutputError, write_text
+
+    text, sys.stdout = sys.stdout.getvalue(), screen
+    if not text:
+        return ExitCode.OK  # nothing solved: no file (the errors said why)
+    try:
+        write_text(path, text, force, "--output")
+    except OutputError as exc:
+        sys.stderr.write(f"momentum: error: {exc}\n")
+        return ExitCode.USAGE
+    return ExitCode.OK
 
 
 def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
@@ -404,7 +474,9 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 else c.message) + "\n")
         if res.report is None:
             continue
-        if quiet:
+        if mode in ("markdown", "latex", "html") and not quiet:
+            results.append(res.report)  # one document for all files, written at the end
+        elif quiet:
             from .report.text import render_quiet
 
             if many:

@@ -25,6 +25,7 @@ class EquationRow:
     numeric: str
     kind: str
     role: str  # solved | check | not needed | undetermined
+    math: tuple = ()  # (symbolic, numeric) typeset boxes (report.math_tree), for documents
 
 
 @record
@@ -45,6 +46,14 @@ class Report:
     counts: dict = field(default_factory=dict)
     flows: list = field(default_factory=list)  # control-volume flux rows (evaluated)
     expectations: list = field(default_factory=list)  # the `expect` lines, checked (dicts)
+
+
+def _typeset(e, sig: int) -> tuple:
+    """The equation as typeset boxes, symbolic and with numbers (the document formats'
+    LaTeX and MathML are written from these, not parsed back from text)."""
+    from .math_tree import equation_box
+
+    return (equation_box(e.lhs, e.rhs, False, sig), equation_box(e.lhs, e.rhs, True, sig))
 
 
 def _finite(x: float | None) -> float | None:
@@ -70,7 +79,7 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
         else:
             role[k] = "not needed"
     rows = [EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
-                        e.text(), e.text(numeric=True), e.kind, role[k])
+                        e.text(), e.text(numeric=True), e.kind, role[k], _typeset(e, sig))
             for k, e in enumerate(system.equations)]
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
                    formula=b.inertia_formula, particle=b.is_particle,

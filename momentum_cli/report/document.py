@@ -1,0 +1,174 @@
+"""The solution sheet as a list of blocks that Markdown, LaTeX and HTML each write out.
+
+Stage: report. In: a `Report` (the one model every format renders). Out: blocks --
+headings, paragraphs, lists, tables, display equations, impulse diagrams -- whose text
+is a list of inline pieces (plain text, math boxes, code). The three document formats
+share this outline, so they show the same content in the same order; no physics here.
+"""
+from __future__ import annotations
+
+from ..numbers import fmt_num, fmt_tiny
+from .math_tree import name_box, number_box
+from .model import Report
+
+# Inline pieces: a str is plain text; ("math", box), ("code", text), ("strong", text),
+# ("em", text), ("unit", unit label).
+# Blocks: ("heading", level, inlines), ("para", inlines), ("list", [inlines, ...]),
+# ("table", headers, rows, aligns) with cells as inlines and aligns "l"/"r" per column,
+# ("equation", box or None, plain text), ("diagram", diagram object), ("rule",).
+
+
+def math(box) -> tuple:
+    return ("math", box)
+
+
+def qty(name: str, value, unit: str, sig: int) -> list:
+    """`name = value unit` as one math piece."""
+    items = (name_box(name), ("mo", "="), number_box(value, sig) if value is not None
+             else ("mtext", "-"))
+    if unit:
+        items += (("space",), ("unit", unit))
+    return [math(("row", items))]
+
+
+def outline(rep: Report, sig: int = 6) -> list[tuple]:
+    """Every block of one report, in the order of the plain report."""
+    f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
+    out: list[tuple] = [("heading", 1, [rep.title or "(untitled problem)"]),
+                        ("para", ["Problem file ", ("code", rep.file), "."])]
+    if rep.bodies:
+        out.append(("heading", 2, ["Bodies"]))
+        rows = [[[b["name"]], [b["shape"]], [f(b["mass"])],
+                 ["-" if b["particle"] else f(b["inertia"])],
+                 [("code", b["formula"]), " (mass = W/g)" if b["weight"] else ""]]
+                for b in rep.bodies]
+        out.append(("table", [["body"], ["shape"], ["mass (", ("unit", "kg"), ")"],
+                              [math(("sub", ("mi", "I"), ("mi", "G"))), " (", ("unit", "kg*m^2"),
+                               ")"], ["inertia formula"]], rows, "llrrl"))
+    out.append(("heading", 2, ["Effects and constraints"]))
+    out.append(("list", [[e] for e in rep.effects]))
+    if rep.knowns:
+        out.append(("heading", 2, ["Knowns (SI)"]))
+        rows = []
+        for k in rep.knowns:
+            given: list = []
+            for n, v, u in k["items"]:
+                if given:
+                    given.append(", ")
+                if u == "hint":
+                    name, _, rel = n.partition(" ")
+                    given += [math(("row", (name_box(f"{name}@{k['id']}"), ("mo", rel),
+                                            number_box(v, sig)))), " (hint)"]
+                else:
+                    given += qty(f"{n}@{k['id']}", v, u, sig)
+            rows.append([[str(k["id"])], [k["label"]], given or ["(nothing given)"]])
+        out.append(("table", [["state"], ["label"], ["given"]], rows, "lll"))
+    out += _flows(rep, f)
+    diagrams = list(getattr(rep, "diagrams", None) or [])
+    if diagrams:
+        out.append(("heading", 2, ["Impulse diagrams"]))
+        for d in diagrams:
+            out.append(("diagram", d))
+    for t in rep.transitions:
+        arrow = [t["kind"].capitalize() + " ", math(("row", (("mn", str(t["before"])), ("mo", "→"),
+                                                            ("mn", str(t["after"]))))),
+                 f" (line {t['line']})"]
+        out.append(("heading", 2, arrow))
+        if t["why"]:
+            out.append(("list", [[("em", "why: "), w] for w in t["why"]]))
+        for r in t["equations"]:
+            out += _equation(r)
+    for group, rows in rep.other_equations.items():
+        out.append(("heading", 2, [group[0].upper() + group[1:]]))
+        for r in rows:
+            out += _equation(r)
+    out += _blocks(rep, f)
+    out.append(("heading", 2, ["Solution (SI)"]))
+    out.append(("table", [["unknown"], ["value"], ["unit"]],
+                [[[math(name_box(u["name"]))], [f(u["si_value"])], [("unit", u["unit"])]]
+                 for u in rep.unknowns], "lrl"))
+    if rep.regimes:
+        out.append(("heading", 2, ["Friction regimes"]))
+        out.append(("list", [[f"{r['contact']} ({r['transition']}): ", ("strong", r["regime"])]
+                             for r in rep.regimes]))
+    out.append(("heading", 2, ["Checks"]))
+    if rep.checks:
+        out.append(("table", [["check"], ["status"], ["detail"]],
+                    [[[c.name], [("strong", c.status)] if c.status != "ok" else [c.status],
+                      [c.detail]] for c in rep.checks], "lll"))
+    else:
+        out.append(("para", ["None: no impact, control volume or redundant equation to check."]))
+    out.append(("heading", 2, ["Answers"]))
+    out.append(("table", [["quantity"], ["value"], ["unit"]],
+                [[[math(name_box(a["name"]))], [("strong", f(a["value"]))], [("unit", a["unit"])]]
+                 for a in rep.answers], "lrl"))
+    return out
+
+
+def _equation(r) -> list[tuple]:
+    line = f"line {r.line}" if r.line else "scene"
+    tag = [] if r.role == "solved" else [" ", ("em", f"[{r.role}]")]
+    out: list[tuple] = [("para", [("strong", f"({r.index + 1})"), f" {r.principle} ({line})"]
+                         + tag)]
+    symbolic, numeric = r.math if r.math else (None, None)
+    out.append(("equation", symbolic, r.symbolic))
+    if r.numeric != r.symbolic:
+        out.append(("equation", numeric, r.numeric))
+    return out
+
+
+def _flows(rep: Report, f) -> list[tuple]:
+    out: list[tuple] = []
+    for volume in dict.fromkeys(r["volume"] for r in rep.flows):
+        out.append(("heading", 2, [f"Control volume {volume}: momentum fluxes (+ in, - out) "
+                                   "and forces"]))
+        rows = [[[r["what"]], [str(r["line"])], [f(r["rate"])],
+                 [f"({f(r['vx'])}, {f(r['vy'])})" if r["rate"] is not None else "-"],
+                 [f"({f(r['flux_x'])}, {f(r['flux_y'])})"], [f(r["moment"])]]
+                for r in rep.flows if r["volume"] == volume]
+        out.append(("table", [[""], ["line"], ["ṁ (", ("unit", "kg/s"), ")"],
+                              ["v (", ("unit", "m/s"), ")"], ["ṁv or F (", ("unit", "N"), ")"],
+                              ["r × (ṁv or F) (", ("unit", "N*m"), ")"]], rows, "lrrrrr"))
+    return out
+
+
+def _blocks(rep: Report, f) -> list[tuple]:
+    out: list[tuple] = [("heading", 2, ["Solving, block by block"])]
+    for b in rep.blocks:
+        how = (f"linear, condition number {f(b['condition_number'])}"
+               if b["method"] == "linear" else
+               "integrated numerically from its inputs" if b["method"] == "integrated" else
+               f"Newton, {b['iterations']} iterations, residual {fmt_tiny(b['residual'] or 0)}")
+        names: list = []
+        for u in b["unknowns"]:
+            names += ([", "] if names else []) + [math(name_box(u))]
+        lines = ", ".join(map(str, b["lines"]))
+        out.append(("para", [("strong", f"Block {b['index']}: ")] + names +
+                    [f" ({how}; lines {lines})"]))
+        if "matrix" in b:
+            headers = [[math(name_box(u))] for u in b["unknowns"]] + [["rhs"]]
+            rows = [[[f(x)] for x in row] + [[f(rhs)]] for row, rhs in zip(b["matrix"], b["rhs"])]
+            out.append(("table", headers, rows, "r" * len(headers)))
+    return out
+
+
+DOCUMENT_SUFFIXES = {".md": "markdown", ".markdown": "markdown", ".tex": "latex",
+                     ".html": "html", ".htm": "html", ".json": "json"}
+
+
+def output_format(path: str) -> str:
+    """The format an --output file's suffix names (plain text for any other)."""
+    import os
+
+    return DOCUMENT_SUFFIXES.get(os.path.splitext(path)[1].lower(), "plain")
+
+
+def render_document(mode: str, reports: list, sig: int = 6) -> str:
+    """One document (markdown, latex or html) holding every report."""
+    if mode == "markdown":
+        from .markdown_out import render
+    elif mode == "latex":
+        from .latex_out import render
+    else:
+        from .html_out import render
+    return render(reports, sig)
