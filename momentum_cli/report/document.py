@@ -15,6 +15,7 @@ from .model import Report
 # ("em", text), ("unit", unit label).
 # Blocks: ("heading", level, inlines), ("para", inlines), ("list", [inlines, ...]),
 # ("table", headers, rows, aligns) with cells as inlines and aligns "l"/"r" per column,
+# ("eqlabel", number, text, role or None) an equation's number, principle and role;
 # ("equation", box or None, plain text), ("diagram", diagram object), ("rule",).
 
 
@@ -107,9 +108,8 @@ def outline(rep: Report, sig: int = 6) -> list[tuple]:
 
 def _equation(r) -> list[tuple]:
     line = f"line {r.line}" if r.line else "scene"
-    tag = [] if r.role == "solved" else [" ", ("em", f"[{r.role}]")]
-    out: list[tuple] = [("para", [("strong", f"({r.index + 1})"), f" {r.principle} ({line})"]
-                         + tag)]
+    out: list[tuple] = [("eqlabel", f"({r.index + 1})", f"{r.principle} ({line})",
+                         None if r.role == "solved" else f"[{r.role}]")]
     symbolic, numeric = r.math if r.math else (None, None)
     out.append(("equation", symbolic, r.symbolic))
     if r.numeric != r.symbolic:

@@ -49,6 +49,9 @@ def block(b) -> list[str]:
         return ["#" * b[1] + " " + inline(b[2]), ""]
     if kind == "para":
         return [inline(b[1]), ""]
+    if kind == "eqlabel":
+        role = f" *{text(b[3])}*" if b[3] else ""
+        return [f"**{text(b[1])}** {text(b[2])}{role}", ""]
     if kind == "list":
         return [f"- {inline(item)}" for item in b[1]] + [""]
     if kind == "table":

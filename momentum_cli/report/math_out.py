@@ -18,23 +18,25 @@ _LATEX_FUNCS = {"sin", "cos", "tan", "arcsin", "arccos", "arctan", "exp", "ln"}
 
 # text that pdflatex cannot take as it is (its default fonts are 7-bit): commands
 _TEXT_CHARS = {
-    "\\": "\\textbackslash{}", "{": "\\{", "}": "\\}", "$": "\\$", "&": "\\&", "#": "\\#",
-    "_": "\\_", "%": "\\%", "~": "\\textasciitilde{}", "^": "\\textasciicircum{}",
-    "<": "\\textless{}", ">": "\\textgreater{}", "|": "\\textbar{}",
+    "\\": "$\\backslash$", "{": "\\{", "}": "\\}", "$": "\\$", "&": "\\&", "#": "\\#",
+    "_": "\\_", "%": "\\%", "~": "$\\sim$", "^": "\\^{}",
+    "<": "$<$", ">": "$>$", "|": "$|$",
     "→": "$\\to$", "←": "$\\leftarrow$", "×": "$\\times$", "·": "$\\cdot$",
     "°": "$^{\\circ}$", "±": "$\\pm$", "−": "-", "≤": "$\\le$", "≥": "$\\ge$",
     "≈": "$\\approx$", "²": "$^2$", "³": "$^3$", "µ": "$\\mu$", "′": "$'$", "″": "$''$",
     "‘": "`", "’": "'", "“": "``", "”": "''", "–": "--", "—": "---", "…": "\\ldots{}",
     "•": "$\\bullet$", "√": "$\\surd$", "∞": "$\\infty$", "Δ": "$\\Delta$",
-    "\u00a0": "~",
+    "ṁ": "$\\dot{m}$", "\u00a0": "~",
 }
 
 
 def latex_text(s: str) -> str:
     """Plain text for a LaTeX document: special characters escaped, symbols and Greek
-    letters as commands, any other non-ASCII character by its code point."""
+    letters as commands (math mode: the default OT1 fonts lack them, and a TS1 font
+    would be made as a bitmap at compile time), any other non-ASCII character by its
+    code point."""
     out = []
-    for ch in str(s):
+    for ch in str(s).replace("->", "→"):
         if ch in _TEXT_CHARS:
             out.append(_TEXT_CHARS[ch])
         elif ch in _LATEX_GREEK:
@@ -111,8 +113,33 @@ def _tall(b: tuple) -> bool:
 # ---- MathML ---------------------------------------------------------------------------
 def to_mathml(box: tuple, display: bool = False) -> str:
     """A box tree as one `<math>` element (MathML Core: what browsers render)."""
-    attr = ' display="block"' if display else ""
+    # display style, but laid out inline: a block <math> is centred by browsers
+    attr = ' displaystyle="true"' if display else ""
     return f'<math xmlns="http://www.w3.org/1998/Math/MathML"{attr}>{_ml(box)}</math>'
+
+
+def to_mathml_broken(box: tuple) -> list[str]:
+    """An equation as several `<math>` elements, split before its top-level =, + and −
+    signs: the page can then wrap a long equation like text (a browser never breaks a
+    line inside one `<math>`)."""
+    items: list[tuple] = []
+    for part in (box[1] if box[0] == "row" else (box,)):
+        items += list(part[1]) if part[0] == "row" and _is_sum(part) else [part]
+    chunks: list[list[str]] = []
+    for b in items:
+        if b[0] == "mo" and b[1] in ("=", "+", "−") and chunks and chunks[-1]:
+            chunks.append([f'<mo form="infix">{escape(b[1])}</mo>'])
+            continue
+        if not chunks:
+            chunks.append([])
+        chunks[-1].append(_ml(b))
+    return [f'<math xmlns="http://www.w3.org/1998/Math/MathML" displaystyle="true">'
+            f"<mrow>{''.join(c)}</mrow></math>" for c in chunks]
+
+
+def _is_sum(b: tuple) -> bool:
+    """A row of terms joined by + and − (not a product, whose row has no such sign)."""
+    return any(x[0] == "mo" and x[1] in ("+", "−") for x in b[1][1:])
 
 
 def _ml(box: tuple) -> str:
@@ -142,7 +169,11 @@ def _ml(box: tuple) -> str:
     if kind == "sqrt":
         return f"<msqrt>{_ml(box[1])}</msqrt>"
     if kind == "paren":
-        return f"<mrow><mo>(</mo>{_ml(box[1])}<mo>)</mo></mrow>"
+        if _tall(box[1]):
+            return f"<mrow><mo>(</mo>{_ml(box[1])}<mo>)</mo></mrow>"
+        # not stretched around sub- and superscripts (as LaTeX's plain parentheses)
+        return (f'<mrow><mo stretchy="false">(</mo>{_ml(box[1])}'
+                f'<mo stretchy="false">)</mo></mrow>')
     if kind == "abs":
         return f"<mrow><mo>|</mo>{_ml(box[1])}<mo>|</mo></mrow>"
     if kind == "space":

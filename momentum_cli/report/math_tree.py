@@ -160,8 +160,7 @@ def _box(e, numeric: bool, sig: int) -> tuple[tuple, int]:
         if e.exp < 0:
             den = _box(power(e.base, -e.exp), numeric, sig)[0]
             return ("frac", ("mn", "1"), den), _PREC["atom"]
-        base = b if p > _PREC["pow"] else ("paren", b)
-        return ("sup", base, number_box(e.exp, sig)), _PREC["pow"]
+        return ("sup", _power_base(b, p), number_box(e.exp, sig)), _PREC["pow"]
     a, _ = _box(e.arg, numeric, sig)
     if e.name == "abs":
         return ("abs", a), _PREC["atom"]
@@ -192,9 +191,9 @@ def _product(factors, numeric: bool, sig: int, in_frac: bool) -> tuple:
         if p <= _PREC["add"] and not (in_frac and len(factors) == 1):
             b = ("paren", b)
         if boxes and boxes[-1] == b:
-            boxes[-1] = ("sup", b, ("mn", "2"))
-        elif boxes and boxes[-1][0] == "sup" and boxes[-1][1] == b and boxes[-1][2] == ("mn", "2"):
-            boxes[-1] = ("sup", b, ("mn", "3"))
+            boxes[-1] = ("sup", _power_base(b, _PREC["atom"]), ("mn", "2"))
+        elif boxes and boxes[-1] == ("sup", _power_base(b, _PREC["atom"]), ("mn", "2")):
+            boxes[-1] = ("sup", _power_base(b, _PREC["atom"]), ("mn", "3"))
         else:
             boxes.append(b)
     if not boxes:
@@ -205,6 +204,14 @@ def _product(factors, numeric: bool, sig: int, in_frac: bool) -> tuple:
             items.append(("mo", "·"))
         items.append(b)
     return items[0] if len(items) == 1 else ("row", tuple(items))
+
+
+def _power_base(b: tuple, prec: int) -> tuple:
+    """A power's base: in parentheses when it is a sum or product, or already carries a
+    superscript (the state of v^(2) squared is (v^(2))^2, not a stacked v^(2)^2)."""
+    if prec <= _PREC["pow"] or b[0] in ("sup", "subsup"):
+        return ("paren", b)
+    return b
 
 
 def _starts_with_number(b: tuple) -> bool:
