@@ -11,7 +11,7 @@ import re
 from .document import outline
 from .math_out import to_latex, unit_latex
 
-_SPECIAL = re.compile(r"([\\`*_\[\]<>$|#~])")
+_SPECIAL = re.compile(r"([\\`*_\[\]<$|#~])")
 
 
 def text(s: str) -> str:

@@ -7,6 +7,7 @@ that `math_out` writes as LaTeX or MathML, so both formats typeset the same stru
 from __future__ import annotations
 
 import re
+from functools import lru_cache
 
 from ..expr import Add, Const, Fn, Known, Mul, Pow, Var, power
 from ..numbers import fmt_num
@@ -49,6 +50,7 @@ def _word_or_text(s: str) -> tuple:
     return symbol(s) if re.fullmatch(r"[A-Za-z][A-Za-z0-9]*", s) else ("mtext", s)
 
 
+@lru_cache(maxsize=16384)  # a name recurs in many equations; boxes are immutable
 def name_box(name: str) -> tuple:
     """A quantity's name typeset: `A.vx@2` is v with subscript (A, x) and superscript (2),
     `m_rod` is m with subscript rod, `J_n[A-B]@1->2` is J with subscript (n, A-B) and
