@@ -255,12 +255,13 @@ def load(browser: Chromium, path: str | Path, width: int = 1000) -> dict:
 
 
 def screenshot(browser: Chromium, png: str | Path, height: int | None = None,
-               width: int = 1000) -> bytes:
-    """The loaded page as PNG (its whole height, or the top `height` pixels)."""
+               width: int = 1000, scale: float = 1.0) -> bytes:
+    """The loaded page as PNG (its whole height, or the top `height` pixels), at
+    `scale` (a small one is enough to tell a drawn page from a blank one)."""
     full = browser.page("Page.getLayoutMetrics")["cssContentSize"]
     h = min(full["height"], height) if height else full["height"]
     shot = browser.page("Page.captureScreenshot", format="png", captureBeyondViewport=True,
-                        clip=dict(x=0, y=0, width=width, height=h, scale=1))
+                        clip=dict(x=0, y=0, width=width, height=h, scale=scale))
     data = base64.b64decode(shot["data"])
     Path(png).write_bytes(data)
     return data

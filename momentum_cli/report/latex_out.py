@@ -89,7 +89,7 @@ def block(b) -> list[str]:
         return [inline(b[1]), ""]
     if kind == "eqlabel":
         role = f" \\emph{{{latex_text(b[3])}}}" if b[3] else ""
-        return [f"\\textbf{{{latex_text(b[1])}}} {latex_text(b[2])}{role}", ""]
+        return [f"\\smallskip\\textbf{{{latex_text(b[1])}}} {latex_text(b[2])}{role}", ""]
     if kind == "list":
         return ["\\begin{itemize}"] + [f"  \\item {inline(i)}" for i in b[1]] + \
             ["\\end{itemize}", ""]
