@@ -344,7 +344,7 @@ def solve(
     """
     from .run import solve_many
 
-    from .report.document import output_format
+    from .report.formats import output_format
 
     if fmt == SolveFormat.auto and output and not (json_flag or plain or jsonl):
         fmt = SolveFormat(output_format(output))
@@ -380,7 +380,7 @@ def solve(
 
         out.write(document(results, __version__, not _is_utf8(out)))
     elif mode in ("markdown", "latex", "html") and results:
-        from .report.document import render_document
+        from .report.formats import render_document
 
         out.write(render_document(mode, results, digits))
     out.flush()

@@ -151,24 +151,3 @@ def _blocks(rep: Report, f) -> list[tuple]:
             out.append(("table", headers, rows, "r" * len(headers)))
     return out
 
-
-DOCUMENT_SUFFIXES = {".md": "markdown", ".markdown": "markdown", ".tex": "latex",
-                     ".html": "html", ".htm": "html", ".json": "json"}
-
-
-def output_format(path: str) -> str:
-    """The format an --output file's suffix names (plain text for any other)."""
-    import os
-
-    return DOCUMENT_SUFFIXES.get(os.path.splitext(path)[1].lower(), "plain")
-
-
-def render_document(mode: str, reports: list, sig: int = 6) -> str:
-    """One document (markdown, latex or html) holding every report."""
-    if mode == "markdown":
-        from .markdown_out import render
-    elif mode == "latex":
-        from .latex_out import render
-    else:
-        from .html_out import render
-    return render(reports, sig)
