@@ -8,6 +8,7 @@ Each part skips, saying why, when its tool is not installed (`.ci/run` installs 
 """
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -81,6 +82,18 @@ def test_an_impulse_diagram_svg_is_drawn_in_the_browser(chromium, tmp_path):
     page.write_text(html_out.render([rep]), encoding="utf-8")
     info = _check_page(chromium, page, 1)
     assert info["svg"] == 1
+
+
+@needs_chromium
+def test_html_prints(chromium, tmp_path):
+    """Printed (the page's print styles, A4) it makes a PDF of several pages."""
+    rep = _report(EXAMPLES / "seed_pendulum_wall.mom")
+    page = tmp_path / "print.html"
+    page.write_text(html_out.render([rep]), encoding="utf-8")
+    assert browser.load(chromium, page)["errors"] == []
+    pdf = browser.print_pdf(chromium, tmp_path / "print.pdf")
+    assert pdf[:5] == b"%PDF-"
+    assert len(re.findall(rb"/Type\s*/Page\b", pdf)) >= 2
 
 
 @needs_chromium

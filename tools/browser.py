@@ -267,6 +267,15 @@ def screenshot(browser: Chromium, png: str | Path, height: int | None = None,
     return data
 
 
+def print_pdf(browser: Chromium, pdf: str | Path) -> bytes:
+    """The loaded page printed (A4, with its print styles) to PDF."""
+    res = browser.page("Page.printToPDF", paperWidth=8.27, paperHeight=11.69,
+                       printBackground=True, preferCSSPageSize=True)
+    data = base64.b64decode(res["data"])
+    Path(pdf).write_bytes(data)
+    return data
+
+
 # ---- PNG: enough decoding to count colours ---------------------------------------------
 def png_colours(data: bytes, limit: int = 16) -> int:
     """Distinct pixel values of an 8-bit RGB/RGBA/grey PNG (counting stops at `limit`)."""

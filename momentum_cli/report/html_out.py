@@ -34,7 +34,7 @@ em.why { color: var(--muted); font-style: normal; font-weight: 600; }
 table { border-collapse: collapse; font-size: 0.92rem; }
 th, td { padding: 0.3rem 0.7rem; border-bottom: 1px solid var(--rule); vertical-align: top;
          text-align: left; }
-th { background: var(--soft); font-weight: 600; }
+th { background: var(--soft); font-weight: 600; white-space: nowrap; }
 td.r, th.r { text-align: right; font-variant-numeric: tabular-nums; }
 p.eqlabel { margin: 1rem 0 0.2rem; }
 p.eqlabel .num { font-weight: 700; color: var(--accent); }
