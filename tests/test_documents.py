@@ -108,16 +108,28 @@ def test_a_page_that_fetches_is_caught(chromium, tmp_path):
     assert info["errors"], "a blocked request was not reported"
 
 
-@needs_pdflatex
-@pytest.mark.parametrize("problem", SEEDS, ids=lambda p: p.stem)
-def test_latex_compiles_with_pdflatex(problem, tmp_path):
-    (tmp_path / "sheet.tex").write_text(latex_out.render([_report(problem)]),
-                                        encoding="utf-8")
+def _pdflatex(tmp_path: Path, source: str) -> None:
+    (tmp_path / "sheet.tex").write_text(source, encoding="utf-8")
     proc = subprocess.run([PDFLATEX, "-interaction=nonstopmode", "-halt-on-error",
                            "sheet.tex"], cwd=tmp_path, stdin=subprocess.DEVNULL,
                           capture_output=True, text=True, errors="replace", timeout=300)
-    log = proc.stdout
-    assert proc.returncode == 0, log[-3000:]
+    assert proc.returncode == 0, proc.stdout[-3000:]
     pdf = tmp_path / "sheet.pdf"
     assert pdf.exists() and pdf.read_bytes()[:5] == b"%PDF-"
     assert "Missing character" not in (tmp_path / "sheet.log").read_text(errors="replace")
+
+
+@needs_pdflatex
+@pytest.mark.parametrize("problem", SEEDS, ids=lambda p: p.stem)
+def test_latex_compiles_with_pdflatex(problem, tmp_path):
+    _pdflatex(tmp_path, latex_out.render([_report(problem)]))
+
+
+@needs_pdflatex
+def test_latex_of_text_full_of_tex_specials_compiles(tmp_path):
+    from types import SimpleNamespace
+
+    rep = _report(EXAMPLES / "seed_plastic_collision.mom")
+    fields = {f: getattr(rep, f) for f in type(rep)._fields}
+    fields["title"] = "Test \\ {a_b} $x$ 50% #1 & ~ ^ | <> → ω ° µ ‘q’ “q” – — ṁ ✓"
+    _pdflatex(tmp_path, latex_out.render([SimpleNamespace(**fields)]))

@@ -256,3 +256,19 @@ def test_several_files_make_one_document(tmp_path):
     assert res.stdout.count("\\section*{") == 2
     md = cli(["solve", "--format", "markdown", GOOD, GOOD2]).stdout
     assert md.count("\n# ") + md.startswith("# ") == 2 and "\n---\n" in md
+
+
+def test_text_from_the_file_is_escaped_in_every_format():
+    """A title is the user's text: markup in it stays text in every format."""
+    fields = {f: getattr(_report(GOOD), f) for f in type(_report(GOOD))._fields}
+    fields["title"] = "<script>alert(1)</script> & $x$ 50% #1 {a_b} \\ ~ ^ | *y* → ω"
+    rep = SimpleNamespace(**fields)
+    page = html_out.render([rep])
+    assert "<script>" not in page and "&lt;script&gt;" in page
+    md = markdown_out.render([rep])
+    assert md.splitlines()[0] == ("# \\<script\\>alert(1)\\</script\\> & \\$x\\$ 50% \\#1 "
+                                  "{a\\_b} \\\\ \\~ ^ \\| \\*y\\* → ω").replace("\\>", ">")
+    latex = latex_out.render([rep])
+    head = next(line for line in latex.splitlines() if line.startswith("\\section*"))
+    assert head == ("\\section*{$<$script$>$alert(1)$<$/script$>$ \\& \\$x\\$ 50\\% \\#1 "
+                    "\\{a\\_b\\} $\\backslash$ $\\sim$ \\^{} $|$ *y* $\\to$ $\\omega$}")
