@@ -272,3 +272,45 @@ def test_text_from_the_file_is_escaped_in_every_format():
     head = next(line for line in latex.splitlines() if line.startswith("\\section*"))
     assert head == ("\\section*{$<$script$>$alert(1)$<$/script$>$ \\& \\$x\\$ 50\\% \\#1 "
                     "\\{a\\_b\\} $\\backslash$ $\\sim$ \\^{} $|$ *y* $\\to$ $\\omega$}")
+
+
+# ---- lines that reach the report only as text ------------------------------------------
+@pytest.mark.parametrize("problem", sorted(EXAMPLES.glob("seed_*.mom")), ids=lambda p: p.stem)
+def test_a_line_read_back_is_typeset_like_its_tree(problem):
+    """`line_box` (for a line with no tree, e.g. a statement for the system) reads the
+    printer's text back: on every equation of the seeds it gives what the tree gives."""
+    from momentum_cli.report.math_tree import line_box
+
+    rep = _report(problem)
+    rows = [r for t in rep.transitions for r in t["equations"]]
+    rows += [r for rs in rep.other_equations.values() for r in rs]
+    pairs = [(text, box) for r in rows for text, box in r.math]
+    assert len(pairs) >= len(rows)
+    for text, box in pairs:
+        assert to_latex(line_box(text)) == to_latex(box), text
+
+
+def test_statements_for_the_system_are_typeset():
+    """A transition may carry principles stated for the system (`system`: dicts with
+    principle, why, steps, symbolic, numeric, result); each format shows them."""
+    from momentum_cli.report.math_tree import line_box
+
+    rep = _report(GOOD)
+    fields = {f: getattr(rep, f) for f in type(rep)._fields}
+    t = dict(rep.transitions[0])
+    t["system"] = [dict(kind="linear", principle="linear momentum of {A, B} along x",
+                        why="no external impulse acts on the system", steps=[],
+                        symbolic="m_A*A.vx@1 + m_B*B.vx@1 = (m_A + m_B)*vx'@2",
+                        numeric="2*3 + 3*0 = (2 + 3)*vx'@2",
+                        result=["vx'@2 = 1.2 m/s: the bodies move together"])]
+    fields["transitions"] = [t]
+    rep2 = SimpleNamespace(**fields)
+    md = markdown_out.render([rep2])
+    assert "m_{A}v_{A,x}^{(1)}+m_{B}v_{B,x}^{(1)}=(m_{A}+m_{B}){v'}_{x}^{(2)}" in md
+    assert "the bodies move together" in md
+    latex = latex_out.render([rep2])
+    assert "{v'}_{x}^{(2)}" in latex
+    page = html_out.render([rep2])
+    assert "because" in page and "<mo>′</mo>" in page
+    assert to_latex(line_box("a = integrated from the given start")) == \
+        r"a=\text{integrated from the given start}"

@@ -8,7 +8,7 @@ share this outline, so they show the same content in the same order; no physics 
 from __future__ import annotations
 
 from ..numbers import fmt_num, fmt_tiny
-from .math_tree import name_box, number_box
+from .math_tree import line_box, name_box, number_box
 from .model import Report
 
 # Inline pieces: a str is plain text; ("math", box), ("code", text), ("strong", text),
@@ -77,6 +77,7 @@ def outline(rep: Report, sig: int = 6) -> list[tuple]:
         out.append(("heading", 2, arrow))
         if t["why"]:
             out.append(("list", [[("em", "why: "), w] for w in t["why"]]))
+        out += _system(t)
         for r in t["equations"]:
             out += _equation(r)
     for group, rows in rep.other_equations.items():
@@ -110,10 +111,36 @@ def _equation(r) -> list[tuple]:
     line = f"line {r.line}" if r.line else "scene"
     out: list[tuple] = [("eqlabel", f"({r.index + 1})", f"{r.principle} ({line})",
                          None if r.role == "solved" else f"[{r.role}]")]
-    symbolic, numeric = r.math if r.math else (None, None)
-    out.append(("equation", symbolic, r.symbolic))
+    out.append(("equation", typeset(r.symbolic, r.math), r.symbolic))
     if r.numeric != r.symbolic:
-        out.append(("equation", numeric, r.numeric))
+        out.append(("equation", typeset(r.numeric, r.math), r.numeric))
+    return out
+
+
+def typeset(text: str, known=()) -> tuple | None:
+    """The box for a printed line: the one typeset from its tree when the model has it
+    for exactly this text, else the text read back (`line_box`); None: show it as is."""
+    for t, box in known:
+        if t == text:
+            return box
+    return line_box(text)
+
+
+def _system(t: dict) -> list[tuple]:
+    """A transition's principles stated for the system (a `system` list of dicts with
+    principle, why, steps, symbolic, numeric, result), before the body-by-body rows."""
+    out: list[tuple] = []
+    for s in t.get("system", ()) or ():
+        out.append(("eqlabel", "Σ", s.get("principle", ""), None))
+        if s.get("why"):
+            out.append(("para", [("em", "because "), s["why"]]))
+        out += [("para", [x]) for x in s.get("steps", ())]
+        out.append(("equation", typeset(s["symbolic"]), s["symbolic"]))
+        if s.get("numeric") and s["numeric"] != s["symbolic"]:
+            out.append(("equation", typeset(s["numeric"]), s["numeric"]))
+        out += [("para", [x]) for x in s.get("result", ())]
+    if out:
+        out.append(("para", [("em", "Body by body:")]))
     return out
 
 

@@ -60,7 +60,7 @@ def to_latex(box: tuple) -> str:
     if kind == "mn":
         return box[1].replace("−", "-")
     if kind == "mo":
-        return _LATEX_OPS.get(box[1], box[1])
+        return _LATEX_OPS.get(box[1], box[1].replace("′", "'"))
     if kind == "mtext":
         return f"\\text{{{latex_text(box[1])}}}"
     if kind == "fn":

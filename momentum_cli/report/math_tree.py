@@ -31,7 +31,7 @@ QUANTITY = {"vx": ("v", "x"), "vy": ("v", "y"), "x": ("x", None), "y": ("y", Non
 FUNCTIONS = {"sin": "sin", "cos": "cos", "tan": "tan", "asin": "arcsin", "acos": "arccos",
              "atan": "arctan", "exp": "exp", "ln": "ln", "log": "ln"}
 
-_NAME = re.compile(r"""^(?P<base>[A-Za-z][A-Za-z0-9]*)
+_NAME = re.compile(r"""^(?P<base>[A-Za-z][A-Za-z0-9]*)(?P<prime>'*)
                        (?:_(?P<sub>[A-Za-z0-9]+))?
                        (?:\.(?P<q>[A-Za-z]+))?
                        (?:\[(?P<label>.+)\])?
@@ -58,7 +58,7 @@ def name_box(name: str) -> tuple:
     m = _NAME.match(str(name))
     if m is None:
         return ("mtext", str(name))
-    base, sub, q, label, at = m.group("base", "sub", "q", "label", "at")
+    base, prime, sub, q, label, at = m.group("base", "prime", "sub", "q", "label", "at")
     subs: list[tuple] = []
     if label is not None and _NAME.match(label) and base == "integral":
         body = ("row", (("mo", "∫"), name_box(label)))
@@ -69,11 +69,13 @@ def name_box(name: str) -> tuple:
         subs.append(_word_or_text(base if sub is None else f"{base}_{sub}"))
     else:
         comp = None
-        if len(base) == 2 and base[1] in "xy" and base[0].isalpha():
+        if len(base) == 2 and base[1] in "xy" and (base[0].isupper() or prime):
             base, comp = base[0], base[1]  # Jx, Fy: a component of J, F
         head = symbol(base)
         if sub is not None:
             subs.append(_word_or_text(sub))
+    if prime:  # v' : the common velocity after (a prime on the letter itself)
+        head = ("row", (head, ("mo", "′" * len(prime))))
     if label is not None:
         subs.append(_word_or_text(label))
     if comp is not None:
@@ -227,3 +229,134 @@ def _starts_with_number(b: tuple) -> bool:
         else:
             b = b[1]
     return b[0] == "mn" or b == ("mo", "−")
+
+
+# ---- a printed line back to a tree: for lines that come without one --------------------
+_TOKEN = re.compile(r"""\s*(?:
+    (?P<num>\d+(?:\.\d*)?(?:e[+-]?\d+)?|\.\d+(?:e[+-]?\d+)?)
+  | (?P<name>[A-Za-z_][A-Za-z0-9_.']*(?:\[[^\]]*\])?(?:@[A-Za-z0-9]+(?:->[A-Za-z0-9]+)?)?)
+  | (?P<op>[-+*/^(),])
+)""", re.X)
+
+
+class _Unparsable(Exception):
+    pass
+
+
+def line_box(text: str, sig: int = 6) -> tuple | None:
+    """A line printed by `expr.to_text` (`lhs = rhs`, or an expression) typeset by
+    reading it back into a tree: for equations that reach the report only as text.
+    None when the text is not in that form (the caller shows it verbatim)."""
+    note = None
+    m = re.search(r"\s+(\([A-Za-z ]+\))$", text)  # a trailing note, e.g. "(SI)"
+    if m:
+        text, note = text[:m.start()], m.group(1)
+    items: list[tuple] = []
+    for i, side in enumerate(text.split(" = ")):
+        if i:
+            items.append(("mo", "="))
+        try:
+            items.append(expr_box(_parse(side), True, sig))
+        except (_Unparsable, RecursionError, ValueError):
+            if i == 0 or not re.fullmatch(r"[A-Za-z ,;:'()-]+", side):
+                return None
+            items.append(("mtext", side))  # words: "integrated from the given start"
+    if note:
+        items += [("space",), ("mtext", note)]
+    return items[0] if len(items) == 1 else ("row", tuple(items))
+
+
+def _parse(text: str):
+    tokens = []
+    pos = 0
+    text = text.rstrip()
+    while pos < len(text):
+        m = _TOKEN.match(text, pos)
+        if m is None or m.end() == pos:
+            raise _Unparsable(text[pos:])
+        kind = m.lastgroup
+        tokens.append((kind, m.group(kind)))
+        pos = m.end()
+    p = _Parser(tokens)
+    e = p.sum()
+    if p.i != len(tokens):
+        raise _Unparsable(text)
+    return e
+
+
+class _Parser:
+    """Recursive descent over the printer's grammar: sums of products of powers."""
+
+    def __init__(self, tokens):
+        self.t, self.i = tokens, 0
+
+    def peek(self, value=None):
+        if self.i < len(self.t) and (value is None or self.t[self.i][1] == value):
+            return self.t[self.i]
+        return None
+
+    def take(self, value=None):
+        tok = self.peek(value)
+        if tok is None:
+            raise _Unparsable(value or "end")
+        self.i += 1
+        return tok
+
+    def sum(self):
+        terms = [self.product()]
+        while self.peek("+") or self.peek("-"):
+            op = self.take()[1]
+            t = self.product()
+            terms.append(t if op == "+" else Mul((Const(-1.0), t)))
+        return terms[0] if len(terms) == 1 else Add(tuple(terms))
+
+    def product(self):
+        if self.peek("-"):
+            self.take()
+            return _negated(self.product())
+        factors = [self.power()]
+        while self.peek("*") or self.peek("/"):
+            op = self.take()[1]
+            f = self.power()
+            if op == "/":
+                dens = f.factors if type(f) is Mul and self._grouped else (f,)
+                factors += [Pow(d, -1.0) for d in dens]
+            else:
+                factors.append(f)
+        return factors[0] if len(factors) == 1 else Mul(tuple(factors))
+
+    def power(self):
+        base = self.atom()
+        if self.peek("^"):
+            self.take()
+            neg = bool(self.peek("-")) and self.take()
+            exp = float(self.take()[1])
+            return Pow(base, -exp if neg else exp)
+        return base
+
+    def atom(self):
+        self._grouped = False
+        kind, value = self.take()
+        if kind == "num":
+            return Const(float(value))
+        if kind == "name":
+            if self.peek("("):
+                self.take()
+                arg = self.sum()
+                self.take(")")
+                if value == "sqrt":
+                    return Pow(arg, 0.5)
+                return Fn(value, arg)
+            return Var(value)
+        if value == "(":
+            inner = self.sum()
+            self.take(")")
+            self._grouped = True
+            return inner
+        raise _Unparsable(value)
+
+
+def _negated(e):
+    if type(e) is Const and e.value != 0:
+        return Const(-e.value)
+    return Mul((Const(-1.0), e))

@@ -25,7 +25,9 @@ class EquationRow:
     numeric: str
     kind: str
     role: str  # solved | check | not needed | undetermined
-    math: tuple = ()  # (symbolic, numeric) typeset boxes (report.math_tree), for documents
+    # ((text, box), ...): the equation typeset from its tree (report.math_tree) for the
+    # document formats, each box beside the text it shows (symbolic, numeric)
+    math: tuple = ()
 
 
 @record
@@ -51,9 +53,17 @@ class Report:
 def _typeset(e, sig: int) -> tuple:
     """The equation as typeset boxes, symbolic and with numbers (the document formats'
     LaTeX and MathML are written from these, not parsed back from text)."""
+    from ..expr import to_text
     from .math_tree import equation_box
 
-    return (equation_box(e.lhs, e.rhs, False, sig), equation_box(e.lhs, e.rhs, True, sig))
+    out = []
+    for numeric in (False, True):
+        text = e.text(numeric=numeric)
+        # an equation that prints itself otherwise (an integration's "integrated from
+        # the given start") is read from its text instead (report.document.typeset)
+        if text == f"{to_text(e.lhs, numeric)} = {to_text(e.rhs, numeric)}":
+            out.append((text, equation_box(e.lhs, e.rhs, numeric, sig)))
+    return tuple(out)
 
 
 def _finite(x: float | None) -> float | None:
