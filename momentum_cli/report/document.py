@@ -37,31 +37,37 @@ def outline(rep: Report, sig: int = 6) -> list[tuple]:
     f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
     out: list[tuple] = [("heading", 1, [rep.title or "(untitled problem)"]),
                         ("para", ["Problem file ", ("code", rep.file), "."])]
+    # the reader's units where the model has them (`units`, shown_* and value beside SI)
+    u = getattr(rep, "units", None) or {}
     if rep.bodies:
         out.append(("heading", 2, ["Bodies"]))
-        rows = [[[b["name"]], [b["shape"]], [f(b["mass"])],
-                 ["-" if b["particle"] else f(b["inertia"])],
+        rows = [[[b["name"]], [b["shape"]], [f(b.get("shown_mass", b["mass"]))],
+                 ["-" if b["particle"] else f(b.get("shown_inertia", b["inertia"]))],
                  [("code", b["formula"]), " (mass = W/g)" if b["weight"] else ""]]
                 for b in rep.bodies]
-        out.append(("table", [["body"], ["shape"], ["mass (", ("unit", "kg"), ")"],
-                              [math(("sub", ("mi", "I"), ("mi", "G"))), " (", ("unit", "kg*m^2"),
-                               ")"], ["inertia formula"]], rows, "llrrl"))
+        out.append(("table", [["body"], ["shape"], ["mass (", ("unit", u.get("mass", "kg")), ")"],
+                              [math(("sub", ("mi", "I"), ("mi", "G"))), " (",
+                               ("unit", u.get("inertia", "kg*m^2")), ")"], ["inertia formula"]],
+                    rows, "llrrl"))
     out.append(("heading", 2, ["Effects and constraints"]))
     out.append(("list", [[e] for e in rep.effects]))
     if rep.knowns:
-        out.append(("heading", 2, ["Knowns (SI)"]))
+        out.append(("heading", 2, [f"Knowns ({u.get('name', 'SI')})"]))
         rows = []
         for k in rep.knowns:
             given: list = []
-            for n, v, u in k["items"]:
+            units = k.get("units") or [""] * len(k["items"])
+            for (n, v, unit), hint_unit in zip(k["items"], units):
                 if given:
                     given.append(", ")
-                if u == "hint":
+                if unit == "hint":
                     name, _, rel = n.partition(" ")
-                    given += [math(("row", (name_box(f"{name}@{k['id']}"), ("mo", rel),
-                                            number_box(v, sig)))), " (hint)"]
+                    items = (name_box(f"{name}@{k['id']}"), ("mo", rel), number_box(v, sig))
+                    if hint_unit:
+                        items += (("space",), ("unit", hint_unit))
+                    given += [math(("row", items)), " (hint)"]
                 else:
-                    given += qty(f"{n}@{k['id']}", v, u, sig)
+                    given += qty(f"{n}@{k['id']}", v, unit, sig)
             rows.append([[str(k["id"])], [k["label"]], given or ["(nothing given)"]])
         out.append(("table", [["state"], ["label"], ["given"]], rows, "lll"))
     out += _flows(rep, f)
@@ -85,10 +91,10 @@ def outline(rep: Report, sig: int = 6) -> list[tuple]:
         for r in rows:
             out += _equation(r)
     out += _blocks(rep, f)
-    out.append(("heading", 2, ["Solution (SI)"]))
+    out.append(("heading", 2, [f"Solution ({u.get('name', 'SI')})"]))
     out.append(("table", [["unknown"], ["value"], ["unit"]],
-                [[[math(name_box(u["name"]))], [f(u["si_value"])], [("unit", u["unit"])]]
-                 for u in rep.unknowns], "lrl"))
+                [[[math(name_box(x["name"]))], [f(x.get("value", x["si_value"]))],
+                  [("unit", x.get("shown_unit", x["unit"]))]] for x in rep.unknowns], "lrl"))
     if rep.regimes:
         out.append(("heading", 2, ["Friction regimes"]))
         out.append(("list", [[f"{r['contact']} ({r['transition']}): ", ("strong", r["regime"])]
@@ -101,9 +107,11 @@ def outline(rep: Report, sig: int = 6) -> list[tuple]:
     else:
         out.append(("para", ["None: no impact, control volume or redundant equation to check."]))
     out.append(("heading", 2, ["Answers"]))
-    out.append(("table", [["quantity"], ["value"], ["unit"]],
+    way = any(a.get("direction") for a in rep.answers)  # clockwise, to the left, ...
+    out.append(("table", [["quantity"], ["value"], ["unit"]] + ([["direction"]] if way else []),
                 [[[math(name_box(a["name"]))], [("strong", f(a["value"]))], [("unit", a["unit"])]]
-                 for a in rep.answers], "lrl"))
+                 + ([[a.get("direction") or ""]] if way else []) for a in rep.answers],
+                "lrll" if way else "lrl"))
     return out
 
 
