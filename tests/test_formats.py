@@ -314,3 +314,15 @@ def test_statements_for_the_system_are_typeset():
     assert "because" in page and "<mo>′</mo>" in page
     assert to_latex(line_box("a = integrated from the given start")) == \
         r"a=\text{integrated from the given start}"
+
+
+def test_the_readers_units_and_directions_when_the_model_has_them():
+    rep = _report(GOOD)
+    fields = {f: getattr(rep, f) for f in type(rep)._fields}
+    fields["units"] = {"name": "US customary", "mass": "slug", "inertia": "slug*ft^2"}
+    fields["answers"] = [dict(a, direction="to the right") for a in rep.answers]
+    fields["unknowns"] = [dict(u, value=1.0, shown_unit="ft/s") for u in rep.unknowns]
+    md = markdown_out.render([SimpleNamespace(**fields)])
+    assert "## Knowns (US customary)" in md and "## Solution (US customary)" in md
+    assert "mass ($\\mathrm{slug}$)" in md and "| to the right |" in md
+    assert "| 1 | $\\mathrm{ft}/\\mathrm{s}$ |" in md
