@@ -326,3 +326,11 @@ def test_the_readers_units_and_directions_when_the_model_has_them():
     assert "## Knowns (US customary)" in md and "## Solution (US customary)" in md
     assert "mass ($\\mathrm{slug}$)" in md and "| to the right |" in md
     assert "| 1 | $\\mathrm{ft}/\\mathrm{s}$ |" in md
+
+
+def test_lines_in_the_readers_units_are_typeset():
+    from momentum_cli.report.math_tree import line_box
+
+    assert to_latex(line_box("x@2 = 0.5*cos(-30 deg)*J   (SI)")) == \
+        r"x^{(2)}=0.5\cos (-30^{\circ})J\,\text{(SI)}"
+    assert line_box("T = 3 + 2 -") is None  # not the printer's form: shown as it is

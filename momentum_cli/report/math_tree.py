@@ -55,6 +55,8 @@ def name_box(name: str) -> tuple:
     """A quantity's name typeset: `A.vx@2` is v with subscript (A, x) and superscript (2),
     `m_rod` is m with subscript rod, `J_n[A-B]@1->2` is J with subscript (n, A-B) and
     superscript (1→2); a name outside this pattern stays as written, in text."""
+    if re.fullmatch(r"[\d.]+(?:e[+-]?\d+)?°", str(name)):  # an angle in degrees
+        return ("row", (("mn", str(name)[:-1]), ("mo", "°")))
     m = _NAME.match(str(name))
     if m is None:
         return ("mtext", str(name))
@@ -233,7 +235,8 @@ def _starts_with_number(b: tuple) -> bool:
 
 # ---- a printed line back to a tree: for lines that come without one --------------------
 _TOKEN = re.compile(r"""\s*(?:
-    (?P<num>\d+(?:\.\d*)?(?:e[+-]?\d+)?|\.\d+(?:e[+-]?\d+)?)
+    (?P<deg>\d+(?:\.\d*)?(?:e[+-]?\d+)?)\ deg\b
+  | (?P<num>\d+(?:\.\d*)?(?:e[+-]?\d+)?|\.\d+(?:e[+-]?\d+)?)
   | (?P<name>[A-Za-z_][A-Za-z0-9_.']*(?:\[[^\]]*\])?(?:@[A-Za-z0-9]+(?:->[A-Za-z0-9]+)?)?)
   | (?P<op>[-+*/^(),])
 )""", re.X)
@@ -339,6 +342,8 @@ class _Parser:
         kind, value = self.take()
         if kind == "num":
             return Const(float(value))
+        if kind == "deg":  # an angle shown in degrees (the reader's units)
+            return Var(f"{value}°")
         if kind == "name":
             if self.peek("("):
                 self.take()
