@@ -166,9 +166,11 @@ def _balanced_html(page: str) -> None:
 # ---- impulse diagrams (the `diagram` helper's objects: title, lines(), svg()) ----------
 class FakeDiagram:
     title = "Impulse diagram, impact 1 -> 2"
+    kind, key = "impact", "1->2"  # the transition it belongs to
 
     def lines(self):
-        return ["A: J_n at the contact A-B, along -x", "weight of A: finite, not impulsive"]
+        return [self.title, "  A:", "    J_n = 3.6 N*s at the contact A-B, along -x",
+                "  dropped: weight of A: finite, not impulsive"]
 
     def svg(self):
         return ('<svg xmlns="http://www.w3.org/2000/svg" width="160" height="80" '
@@ -187,15 +189,26 @@ def with_diagram(rep):
 def test_an_impulse_diagram_reaches_every_format():
     rep = with_diagram(_report(GOOD))
     md = markdown_out.render([rep])
-    assert "**Impulse diagram, impact 1 -> 2**" in md
-    assert "- weight of A: finite, not impulsive" in md and "<svg" in md
+    assert "**Impulse diagram, impact 1 -> 2**" in md and "<svg" in md
+    assert "\n- A:\n  - J\\_n = 3.6 N\\*s at the contact A-B, along -x\n- dropped: " in md
+    assert md.count("Impulse diagram, impact 1 -> 2") == 1  # the caption, not the list too
     latex = latex_out.render([rep])
-    assert "\\subsubsection*{Impulse diagram, impact 1 $\\to$ 2}" in latex
-    assert "\\item weight of A: finite, not impulsive" in latex and "<svg" not in latex
+    assert "\\subsubsection*{Impulse diagram, impact 1 $\\to$ 2}" in latex and "<svg" not in latex
+    assert "\\item A:\n\\begin{itemize}\n  \\item J\\_n = 3.6 N*s" in latex
+    assert latex.count("\\begin{itemize}") == latex.count("\\end{itemize}")
     page = html_out.render([rep])
     assert page.count("<svg") == 1 and "<figcaption>Impulse diagram" in page
-    # before the equations: the first step of a textbook solution
-    assert page.index("<svg") < page.index('class="eqlabel"')
+    assert "<li>A:<ul><li>J_n = 3.6 N*s" in page.replace("\n", "")
+    _balanced_html(page)
+    # it opens its impact's section, before the equations: a textbook's first step
+    assert page.index("<h2>Impact") < page.index("<svg") < page.index('class="eqlabel"')
+
+
+def test_a_diagram_of_no_transition_comes_before_them():
+    rep = with_diagram(_report(GOOD))
+    rep.diagrams[0].kind = None
+    md = markdown_out.render([rep])
+    assert md.index("## Impulse diagrams") < md.index("**Impulse diagram,") < md.index("## Impact")
 
 
 # ---- the command line: --format and --output -------------------------------------------

@@ -71,16 +71,24 @@ def outline(rep: Report, sig: int = 6) -> list[tuple]:
             rows.append([[str(k["id"])], [k["label"]], given or ["(nothing given)"]])
         out.append(("table", [["state"], ["label"], ["given"]], rows, "lll"))
     out += _flows(rep, f)
+    # an impact's or interval's impulse diagram opens its section (the first step of a
+    # textbook solution); one that names no transition is shown before them all
     diagrams = list(getattr(rep, "diagrams", None) or [])
-    if diagrams:
+    placed = {_of(d.kind, d.key): d for d in diagrams if getattr(d, "kind", None)}
+    loose = [d for d in diagrams
+             if not any(_of(t["kind"], t.get("key")) == _of(getattr(d, "kind", None),
+                                                          getattr(d, "key", None))
+                        for t in rep.transitions)]
+    if loose:
         out.append(("heading", 2, ["Impulse diagrams"]))
-        for d in diagrams:
-            out.append(("diagram", d))
+        out += [("diagram", d) for d in loose]
     for t in rep.transitions:
         arrow = [t["kind"].capitalize() + " ", math(("row", (("mn", str(t["before"])), ("mo", "→"),
                                                             ("mn", str(t["after"]))))),
                  f" (line {t['line']})"]
         out.append(("heading", 2, arrow))
+        if _of(t["kind"], t.get("key")) in placed:
+            out.append(("diagram", placed[_of(t["kind"], t.get("key"))]))
         if t["why"]:
             out.append(("list", [[("em", "why: "), w] for w in t["why"]]))
         out += _system(t)
@@ -113,6 +121,11 @@ def outline(rep: Report, sig: int = 6) -> list[tuple]:
                  + ([[a.get("direction") or ""]] if way else []) for a in rep.answers],
                 "lrll" if way else "lrl"))
     return out
+
+
+def _of(kind, key) -> tuple:
+    """A transition's identity as plain strings (a kind may be an Enum or its value)."""
+    return (str(getattr(kind, "value", kind)), str(key))
 
 
 def _equation(r) -> list[tuple]:
@@ -186,3 +199,12 @@ def _blocks(rep: Report, f) -> list[tuple]:
             out.append(("table", headers, rows, "r" * len(headers)))
     return out
 
+
+def diagram_items(d) -> list[tuple[int, str]]:
+    """A diagram's `lines()` as (depth, text), depth from the indentation (two spaces a
+    level); a first line that repeats the title is left out (the caption shows it)."""
+    lines = [x for x in d.lines() if x.strip()]
+    if lines and lines[0].strip() == str(d.title).strip():
+        lines = lines[1:]
+    indents = sorted({len(x) - len(x.lstrip(" ")) for x in lines})
+    return [(indents.index(len(x) - len(x.lstrip(" "))), x.strip()) for x in lines]

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from html import escape
 
-from .document import outline
+from .document import diagram_items, outline
 from .math_out import to_mathml, to_mathml_broken, unit_mathml
 
 CSS = """
@@ -122,13 +122,34 @@ def block(b, state: dict) -> list[str]:
         svg = getattr(d, "svg", None)
         if svg is not None:
             out.append(svg().strip())
-        lines = list(d.lines())
-        if lines:
-            out += ["<ul>"] + [f"<li>{escape(x)}</li>" for x in lines] + ["</ul>"]
+        out += _nested(diagram_items(d))
         return out + ["</figure>"]
     if kind == "rule":
         return ["<hr>"]
     raise ValueError(f"unknown block {kind!r}")
+
+
+def _nested(items) -> list[str]:
+    """(depth, text) items as nested lists."""
+    out: list[str] = []
+    depth = -1
+    for level, text in items:
+        level = min(level, depth + 1)
+        if level > depth:
+            out.append("<ul>")
+            depth = level
+        else:
+            out.append("</li>")
+            while depth > level:
+                out.append("</ul></li>")
+                depth -= 1
+        out.append(f"<li>{escape(text)}")
+    if depth >= 0:
+        out.append("</li>")
+    while depth > 0:
+        out.append("</ul></li>")
+        depth -= 1
+    return out + (["</ul>"] if items else [])
 
 
 def render(reports, sig: int = 6) -> str:

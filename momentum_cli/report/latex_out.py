@@ -8,7 +8,7 @@ running off the page. Impulse diagrams are given as lists (their `lines()`).
 """
 from __future__ import annotations
 
-from .document import outline
+from .document import diagram_items, outline
 from .math_out import latex_text, to_latex, unit_latex
 
 PREAMBLE = r"""\documentclass[11pt]{article}
@@ -102,12 +102,19 @@ def block(b) -> list[str]:
         return [f"\\eqline{{{to_latex(box)}}}", ""]
     if kind == "diagram":
         d = b[1]
-        lines = list(d.lines())
         out = [f"\\subsubsection*{{{latex_text(d.title)}}}", ""]
-        if lines:
-            out += ["\\begin{itemize}"] + [f"  \\item {latex_text(x)}" for x in lines] + \
-                ["\\end{itemize}", ""]
-        return out
+        depth = -1
+        for level, line in diagram_items(d):
+            level = min(level, depth + 1, 3)  # itemize nests four deep
+            while depth < level:
+                out.append("\\begin{itemize}")
+                depth += 1
+            while depth > level:
+                out.append("\\end{itemize}")
+                depth -= 1
+            out.append(f"  \\item {latex_text(line)}")
+        out += ["\\end{itemize}"] * (depth + 1)
+        return out + [""]
     if kind == "rule":
         return ["\\bigskip\\hrule\\bigskip", ""]
     raise ValueError(f"unknown block {kind!r}")

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 
-from .document import outline
+from .document import diagram_items, outline
 from .math_out import to_latex, unit_latex
 
 _SPECIAL = re.compile(r"([\\`*_\[\]<$|#~])")
@@ -68,7 +68,7 @@ def block(b) -> list[str]:
     if kind == "diagram":
         d = b[1]
         out = [f"**{text(d.title)}**", ""]
-        out += [f"- {text(line)}" for line in d.lines()] + [""]
+        out += [f"{'  ' * depth}- {text(line)}" for depth, line in diagram_items(d)] + [""]
         svg = getattr(d, "svg", None)
         if svg is not None:
             out += ['<div class="impulse-diagram">', "", svg().strip(), "", "</div>", ""]
