@@ -329,7 +329,7 @@ def main(argv: list[str]) -> int:
                                  "photograph it in headless Chromium.")
     ap.add_argument("problem", help="a .mom file")
     ap.add_argument("--screenshot", required=True, metavar="PNG")
-    ap.add_argument("--height", type=int, default=1600, help="pixels from the top (0: all)")
+    ap.add_argument("--height", type=int, default=1800, help="pixels from the top (0: all)")
     ap.add_argument("--width", type=int, default=1000)
     args = ap.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:

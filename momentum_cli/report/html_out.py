@@ -118,10 +118,13 @@ def block(b, state: dict) -> list[str]:
                 "<wbr>".join(to_mathml_broken(box)) + "</div>"]
     if kind == "diagram":
         d = b[1]
-        out = ['<figure class="diagram">', f"<figcaption>{escape(d.title)}</figcaption>"]
         svg = getattr(d, "svg", None)
-        if svg is not None:
-            out.append(svg().strip())
+        drawing = svg().strip() if svg is not None else ""
+        # a caption, unless the drawing already carries the title
+        caption = "" if escape(d.title) in drawing else f"<figcaption>{escape(d.title)}</figcaption>"
+        out = ['<figure class="diagram">'] + ([caption] if caption else [])
+        if drawing:
+            out.append(drawing)
         out += _nested(diagram_items(d))
         return out + ["</figure>"]
     if kind == "rule":
