@@ -132,18 +132,15 @@ def _equation(r) -> list[tuple]:
     line = f"line {r.line}" if r.line else "scene"
     out: list[tuple] = [("eqlabel", f"({r.index + 1})", f"{r.principle} ({line})",
                          None if r.role == "solved" else f"[{r.role}]")]
-    out.append(("equation", typeset(r.symbolic, r.math), r.symbolic))
+    out.append(("equation", typeset(r.symbolic), r.symbolic))
     if r.numeric != r.symbolic:
-        out.append(("equation", typeset(r.numeric, r.math), r.numeric))
+        out.append(("equation", typeset(r.numeric), r.numeric))
     return out
 
 
-def typeset(text: str, known=()) -> tuple | None:
-    """The box for a printed line: the one typeset from its tree when the model has it
-    for exactly this text, else the text read back (`line_box`); None: show it as is."""
-    for t, box in known:
-        if t == text:
-            return box
+def typeset(text: str) -> tuple | None:
+    """The box for a line exactly as the plain report prints it, read back into its tree
+    (`math_tree.line_box`); None: not in the printer's form, shown as it is."""
     return line_box(text)
 
 

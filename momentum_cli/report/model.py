@@ -25,9 +25,6 @@ class EquationRow:
     numeric: str
     kind: str
     role: str  # solved | check | not needed | undetermined
-    # ((text, box), ...): the equation typeset from its tree (report.math_tree) for the
-    # document formats, each box beside the text it shows (symbolic, numeric)
-    math: tuple = ()
 
 
 @record
@@ -48,22 +45,6 @@ class Report:
     counts: dict = field(default_factory=dict)
     flows: list = field(default_factory=list)  # control-volume flux rows (evaluated)
     expectations: list = field(default_factory=list)  # the `expect` lines, checked (dicts)
-
-
-def _typeset(e, sig: int) -> tuple:
-    """The equation as typeset boxes, symbolic and with numbers (the document formats'
-    LaTeX and MathML are written from these, not parsed back from text)."""
-    from ..expr import to_text
-    from .math_tree import equation_box
-
-    out = []
-    for numeric in (False, True):
-        text = e.text(numeric=numeric)
-        # an equation that prints itself otherwise (an integration's "integrated from
-        # the given start") is read from its text instead (report.document.typeset)
-        if text == f"{to_text(e.lhs, numeric)} = {to_text(e.rhs, numeric)}":
-            out.append((text, equation_box(e.lhs, e.rhs, numeric, sig)))
-    return tuple(out)
 
 
 def _finite(x: float | None) -> float | None:
@@ -89,7 +70,7 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
         else:
             role[k] = "not needed"
     rows = [EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
-                        e.text(), e.text(numeric=True), e.kind, role[k], _typeset(e, sig))
+                        e.text(), e.text(numeric=True), e.kind, role[k])
             for k, e in enumerate(system.equations)]
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
                    formula=b.inertia_formula, particle=b.is_particle,
