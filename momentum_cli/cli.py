@@ -43,6 +43,17 @@ class Format(str, Enum):
     json = "json"
 
 
+class SolveFormat(str, Enum):
+    """`solve`'s outputs: the terminal and data formats, and the documents."""
+    auto = "auto"
+    rich = "rich"
+    plain = "plain"
+    json = "json"
+    markdown = "markdown"
+    latex = "latex"
+    html = "html"
+
+
 def _version_callback(value: bool) -> None:
     if value:
         from . import __version__
@@ -308,11 +319,18 @@ def _color_option():
 def solve(
     files: List[str] = typer.Argument(..., metavar="FILE",
                                       help="Problem files (.mom); '-' reads standard input."),
-    fmt: Format = typer.Option(Format.auto, "--format", "-f",
-                               help="auto: rich on a terminal, plain when piped."),
+    fmt: SolveFormat = typer.Option(SolveFormat.auto, "--format", "-f",
+                                    help="auto: rich on a terminal, plain when piped (with "
+                                         "--output: from its suffix, .md .tex .html .json); "
+                                         "markdown, latex and html write one document."),
     json_flag: bool = typer.Option(False, "--json", help="Print one JSON document."),
     plain: bool = typer.Option(False, "--plain", help="Deterministic plain text (the golden "
                                                       "format)."),
+    output: Optional[str] = typer.Option(None, "--output", "-o", metavar="FILE",
+                                         help="Write the output to FILE (whole, or not at "
+                                              "all) instead of standard output."),
+    force: bool = typer.Option(False, "--force", help="Let --output overwrite an existing "
+                                                      "file."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only `name = value unit`."),
     solve_all: bool = typer.Option(False, "--all", help="Solve every determined block, not only "
                                                         "those the `find` lines need."),
@@ -356,15 +374,35 @@ def solve(
     """
     from .pager import paged
 
+    from .report.formats import output_format
+
+    if fmt == SolveFormat.auto and output and not (json_flag or plain or jsonl):
+        fmt = SolveFormat(output_format(output))
     mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
     sensitivity = sensitivity and (mode == "json" or not quiet)  # -q prints answers only
     _safe_streams()
     detail = (steps or (Steps.brief if mode == "rich" else Steps.full)).value
     view = dict(units=units.value, detail=detail, sensitivity=sensitivity)
-    with paged(enabled=not no_pager and mode in ("rich", "plain") and not quiet,
-               color=color != Color.never):
-        _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_flag, sets,
-                     jsonl, strict, color, plain or json_flag, view)
+    screen = None
+    if output is not None:
+        from .outputs import OutputError, check_path
+
+        try:  # before any work: a path that would lose data is refused
+            check_path(output, files, force, "--output")
+        except OutputError as exc:
+            sys.stderr.write(f"momentum: error: {exc}\n")
+            raise typer.Exit(int(ExitCode.USAGE)) from None
+        screen, sys.stdout = sys.stdout, _Captured()
+    try:
+        with paged(enabled=output is None and not no_pager and mode in ("rich", "plain")
+                   and not quiet, color=color != Color.never):
+            _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_flag, sets,
+                         jsonl, strict, color, plain or json_flag, view)
+    except typer.Exit as done:
+        if output is None:
+            raise
+        worst = max(int(done.exit_code), int(_write_output(output, screen, force)))
+        raise typer.Exit(worst) from None
 
 
 def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_flag, sets,
@@ -393,8 +431,45 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
         from .report.json_out import document
 
         out.write(document(results, __version__, not _is_utf8(out)))
+    elif mode in ("markdown", "latex", "html") and results:
+        from .report.formats import render_document
+
+        out.write(render_document(mode, results, digits))
     out.flush()
     raise typer.Exit(int(worst))
+
+
+class _Captured:
+    """Standard output collected for --output (UTF-8: written to a file as such)."""
+
+    encoding = "utf-8"
+
+    def __init__(self):
+        import io
+
+        self._buf = io.StringIO()
+        self.write, self.getvalue = self._buf.write, self._buf.getvalue
+
+    def flush(self):
+        pass
+
+    def isatty(self):
+        return False
+
+
+def _write_output(path: str, screen, force: bool) -> ExitCode:
+    """The collected output to `path` (whole or not at all); stdout is put back."""
+    from .outputs import OutputError, write_text
+
+    text, sys.stdout = sys.stdout.getvalue(), screen
+    if not text:
+        return ExitCode.OK  # nothing solved: no file (the errors said why)
+    try:
+        write_text(path, text, force, "--output")
+    except OutputError as exc:
+        sys.stderr.write(f"momentum: error: {exc}\n")
+        return ExitCode.USAGE
+    return ExitCode.OK
 
 
 def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
@@ -451,7 +526,9 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 else c.message) + "\n")
         if res.report is None:
             continue
-        if quiet:
+        if mode in ("markdown", "latex", "html") and not quiet:
+            results.append(res.report)  # one document for all files, written at the end
+        elif quiet:
             from .report.text import render_quiet
 
             if many:

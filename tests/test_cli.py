@@ -446,7 +446,7 @@ def test_completion_offers_format():
 
 def test_completion_offers_the_format_values():
     res = cli([], env=dict(COMPLETE, COMP_WORDS="momentum solve --format ", COMP_CWORD="3"))
-    assert res.stdout.split() == ["auto", "rich", "plain", "json"]
+    assert res.stdout.split() == ["auto", "rich", "plain", "json", "markdown", "latex", "html"]
 
 
 def test_completion_through_the_real_entry_point():

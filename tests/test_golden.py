@@ -1,4 +1,5 @@
-"""Golden files: each example's plain and JSON output, reviewed like code.
+"""Golden files: each example's plain and JSON output (and the seeds' Markdown), reviewed
+like code.
 
 `pytest --update-golden` rewrites them deliberately; a missing golden is created
 and the test fails so that it gets reviewed. On a mismatch the obtained output is
@@ -87,3 +88,20 @@ def test_json_output_matches_golden(problem, update_golden, monkeypatch):
     except AssertionError:
         problem.with_suffix(".obtained.json").write_text(text, encoding="utf-8")
         raise
+
+
+SEEDS = sorted(EXAMPLES.glob("seed_*.mom"))
+
+
+@pytest.mark.parametrize("problem", SEEDS, ids=lambda p: p.stem)
+def test_markdown_matches_golden(problem, update_golden, monkeypatch):
+    """The seeds' Markdown solution sheets (`examples/seed_*.md`), reviewed like code."""
+    monkeypatch.chdir(EXAMPLES.parent)
+    got = run_cli(["solve", "--format", "markdown", _rel(problem)])
+    golden = problem.with_suffix(".md")
+    if _written(golden, got, update_golden):
+        return
+    want = golden.read_text(encoding="utf-8")
+    if got != want:
+        problem.with_suffix(".obtained.md").write_text(got, encoding="utf-8")
+    assert got == want
