@@ -170,6 +170,9 @@ def render_brief(rep: Report, sig: int = 6, sensitivities: bool = True) -> str:
             continue
         out.append("")
         out.append(title)
+        d = diagram_for(rep, t) if t is not None else None
+        if d is not None:  # the first step of a textbook solution
+            out.extend("  " + x for x in d.lines())
         out.extend(f"  why: {w}" for w in why)
         out.extend(_system(t) if t is not None else [])
         for r in rows:
