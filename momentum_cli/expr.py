@@ -137,7 +137,7 @@ def hypot(x: float, y: float) -> float:
 def lift(x) -> E:
     if isinstance(x, E):
         return x
-    if isinstance(x, float):  # a float subclass (a sweep's traced number) stays itself
+    if getattr(x, "apply", None) is not None:  # a sweep's traced number stays itself
         return Const(x)
     return Const(float(x))
 

@@ -298,6 +298,14 @@ def test_parts_with_a_common_base_give_the_same_bits():
         joined = np.concatenate([p.answers[name] for p in parts])
         assert np.array_equal(arr, joined, equal_nan=True), name
     assert whole.status.tolist() == sum((p.status.tolist() for p in parts), [])
+    import io
+
+    from momentum_cli.sweep.batch import concat
+
+    a, b = io.StringIO(), io.StringIO()
+    write_csv(whole, a)
+    write_csv(concat(parts), b)
+    assert a.getvalue() == b.getvalue()
 
 
 RISE = """problem "A ball thrown up: its speed at a height"

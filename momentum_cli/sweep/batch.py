@@ -614,3 +614,37 @@ def _regimes_text(system) -> str:
 
 def _show(key) -> str:
     return ", ".join(f"{k}: {v}" for k, v in key)
+
+
+def concat(parts: list) -> BatchResult:
+    """The results of consecutive parts of one design, as one (for a design solved in
+    parts: Dask, chunks; pass the same `base` to each part for identical bits)."""
+    full = next((p for p in parts if p.answers), parts[0])
+    sizes = [len(p.status) for p in parts]
+
+    def join(get, fill=np.nan):
+        out = {}
+        for k in get(full):
+            out[k] = np.concatenate([get(p)[k] if k in get(p) else np.full(s, fill)
+                                     for p, s in zip(parts, sizes)])
+        return out
+
+    def objects(get):
+        arr = np.empty(sum(sizes), dtype=object)
+        lo = 0
+        for p, s in zip(parts, sizes):
+            part = get(p)
+            arr[lo:lo + s] = part if part is not None else ""
+            lo += s
+        return arr
+
+    def flags(get, default):
+        return np.concatenate([get(p) if get(p) is not None else np.full(s, default)
+                               for p, s in zip(parts, sizes)])
+
+    return BatchResult(join(lambda p: p.answers), dict(full.units),
+                       objects(lambda p: p.status), join(lambda p: p.params),
+                       dict(full.display), dict(full.param_units),
+                       objects(lambda p: p.regimes), all(p.batched for p in parts),
+                       "; ".join(sorted({p.note for p in parts if p.note})),
+                       flags(lambda p: p.ok, True), flags(lambda p: p.failed, False))

@@ -46,16 +46,43 @@ def rows(result, lo: int = 0, hi: int | None = None):
         yield [_f(c[j]) for c in pl] + [_f(c[j]) for c in al] + [st[j]]
 
 
+def _texts(col: np.ndarray) -> list[str]:
+    """A column's cells: `repr` of each float (shortest exact), '' for nan or inf."""
+    out = list(map(repr, col.tolist()))
+    bad = ~np.isfinite(col)
+    if bad.any():
+        for i in np.nonzero(bad)[0].tolist():
+            out[i] = ""
+    return out
+
+
+def _quoted(s: str) -> str:
+    """A cell as the csv module writes it (quoted only if it must be)."""
+    if any(c in s for c in ',"\r\n'):
+        return '"' + s.replace('"', '""') + '"'
+    return s
+
+
 def write_csv(result, path_or_stream) -> None:
-    """One row per variant; the header says each column's unit (parameters in SI)."""
+    """One row per variant; the header says each column's unit (parameters in SI).
+    Written column-wise (repr of whole columns), the same bytes as `csv.writer`."""
     import csv
+    import io
 
     def emit(fh):
-        w = csv.writer(fh, lineterminator="\n")
-        w.writerow(header(result))
+        head = io.StringIO()
+        csv.writer(head, lineterminator="\n").writerow(header(result))
+        fh.write(head.getvalue())
+        cols = list(result.params.values()) + _display(result)
         n = len(result.status)
         for lo in range(0, n, 65536):
-            w.writerows(rows(result, lo, min(n, lo + 65536)))
+            hi = min(n, lo + 65536)
+            texts = [_texts(c[lo:hi]) for c in cols]
+            st = ["ok"] * (hi - lo)
+            for j in np.nonzero(~_ok(result)[lo:hi])[0].tolist():
+                st[j] = _quoted(result.status[lo + j])
+            texts.append(st)
+            fh.write("\n".join(map(",".join, zip(*texts))) + "\n")
 
     if isinstance(path_or_stream, str):
         with open(path_or_stream, "w", encoding="utf-8", newline="") as fh:
