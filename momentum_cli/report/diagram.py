@@ -15,6 +15,8 @@ from ..elements.kinds import Component, JointKind, KeyKind, Tangential
 from ..expr import evaluate, variables
 from ..numbers import fmt_num
 from ..records import record
+from ..units import ANGULAR_IMPULSE, FORCE, IMPULSE, LENGTH, VELOCITY
+from .reader import Reader
 
 POSITION = ("x", "y", "angle")  # unchanged by an impact
 SIG = 4  # significant figures in the diagram (short lines, stable drawings)
@@ -90,6 +92,11 @@ class ImpulseDiagram:
     pins: list = field(default_factory=list)  # (name, (x, y)): pins to the ground
     links: list = field(default_factory=list)  # (label, kind, a, b): joints between bodies
     notes: list = field(default_factory=list)
+    reader: Reader = field(default_factory=Reader)  # the reader's units (values stay SI)
+
+    def show(self, si_value, dim, si_unit: str) -> tuple:
+        """(value, unit) as the reader reads it: US customary for a US problem."""
+        return self.reader.show(si_value, dim, si_unit)
 
     def lines(self) -> list[str]:
         """The terminal list: per body its impulses, then what is dropped (plain ASCII)."""
@@ -98,9 +105,12 @@ class ImpulseDiagram:
             mine = [i for i in self.impulses if i.body == b.name]
             out.append(f"  {b.name}:" + ("" if mine else " no impulse"))
             for i in mine:
-                v = "?" if i.value is None else fmt_num(_clean(i.value), SIG)
-                where = f" at {i.point} {_xy(i.at)}" if not i.moment else f" on {b.name}"
-                out.append(f"    {i.name} = {v} {i.unit}{where}, {i.words}")
+                x, unit = self.show(i.value, ANGULAR_IMPULSE if i.moment else IMPULSE, i.unit)
+                v = "?" if x is None else fmt_num(_clean(x), SIG)
+                f = self.reader.factor(LENGTH)
+                at = None if i.at is None else (i.at[0] / f, i.at[1] / f)
+                where = f" at {i.point} {_xy(at)}" if not i.moment else f" on {b.name}"
+                out.append(f"    {i.name} = {v} {unit}{where}, {i.words}")
         for d in self.dropped:
             on = f" ({d.body})" if d.body and d.body not in d.what else ""
             out.append(f"  dropped: {d.what}{on}: {d.why}")
@@ -151,12 +161,15 @@ def direction_words(d: tuple, symbol: str | None = None) -> str:
 
 
 # ---- building ----------------------------------------------------------------------------------
-def build_diagrams(sol) -> list[ImpulseDiagram]:
+def build_diagrams(sol, reader: Reader | None = None) -> list[ImpulseDiagram]:
     """One diagram per impact and interval of the solved system, in its order."""
     system = sol.system
     shared = _Shared(sol)
-    return [_Builder(shared, t).build() for t in system.transitions
-            if t.kind in ("impact", "interval")]
+    out = [_Builder(shared, t, reader or Reader()).build() for t in system.transitions
+           if t.kind in ("impact", "interval")]
+    for d in out:
+        d.reader = reader or Reader()
+    return out
 
 
 class _Shared:
@@ -197,7 +210,8 @@ class _Shared:
 
 
 class _Builder:
-    def __init__(self, shared: _Shared, t):
+    def __init__(self, shared: _Shared, t, reader: Reader):
+        self.reader = reader
         self.shared, self.sol, self.t = shared, shared.sol, t
         self.sc = self.sol.system.scene
         self.values = self.sol.values
@@ -448,8 +462,9 @@ class _Builder:
         if impact:
             if sc.gravity is not None:
                 for b in t.bodies:
-                    W = sc.bodies[b].mass * math.hypot(*sc.gravity)
-                    out.append(Dropped(b, f"weight of {b} ({fmt_num(W, SIG)} N, "
+                    W, unit = self.reader.show(sc.bodies[b].mass * math.hypot(*sc.gravity),
+                                               FORCE, "N")
+                    out.append(Dropped(b, f"weight of {b} ({fmt_num(W, SIG)} {unit}, "
                                           f"{direction_words(_unit(sc.gravity))})", zero))
             for _, p, _ in (self.spec.forces if self.spec else ()):
                 out.append(Dropped(p.body, f"force at {p.name}", zero))

@@ -11,6 +11,7 @@ import math
 from xml.sax.saxutils import escape
 
 from ..numbers import fmt_num
+from .. import units
 
 W = 800  # the drawing's width in px; the height follows the legend
 TOP, SIDE, PLOT_H = 44, 24, 420
@@ -25,6 +26,12 @@ HALO = ' stroke="#ffffff" stroke-width="3" paint-order="stroke"'  # a label over
 def _n(x: float) -> str:
     s = f"{x:.1f}"
     return "0.0" if s == "-0.0" else s
+
+
+def _shown(d, si_value, dim, si_unit: str) -> str:
+    """A value in the reader's units (`d.show`), its unit with a middle dot."""
+    x, unit = d.show(si_value, dim, si_unit)
+    return _v(x, unit.replace("*", "·"))
 
 
 def _v(x: float | None, unit: str) -> str:
@@ -177,7 +184,7 @@ def render_svg(d) -> str:
             u = (v[0] / math.hypot(*v), v[1] / math.hypot(*v))
             tail, head = (b.x, b.y), (b.x + L * u[0], b.y + L * u[1])
             label = f"v{d.before if when == 'before' else d.after} = " \
-                    f"{_v(math.hypot(*v), 'm/s')}"
+                    f"{_shown(d, math.hypot(*v), units.VELOCITY, 'm/s')}"
             out.extend(_arrow(frame, tail, head, colour, 2.0, dash, label, f"velocity {when}",
                               lay, at_head=True))
     seen: dict = {}
@@ -186,11 +193,11 @@ def render_svg(d) -> str:
             key = (round(i.at[0], 9), round(i.at[1], 9))
             n = seen.get(key, 0)
             seen[key] = n + 1
-            out.extend(_moment(frame, i, 0.12 * size + n * 0.05 * size, lay))
+            out.extend(_moment(d, frame, i, 0.12 * size + n * 0.05 * size, lay))
             continue
         if i.direction is None:
             continue
-        label = f"{i.name} = {_v(i.value, 'N·s')}"
+        label = f"{i.name} = {_shown(d, i.value, units.IMPULSE, 'N*s')}"
         tail, head = _place_impulse(frame, lay, i, arrow)
         pull = math.hypot(tail[0] - i.at[0], tail[1] - i.at[1]) < \
             math.hypot(head[0] - i.at[0], head[1] - i.at[1])
@@ -258,7 +265,7 @@ def _arrow(frame, tail, head, colour, width, dash, label, cls, lay, at_head=Fals
             '</g>']
 
 
-def _moment(frame, i, radius: float, lay) -> list[str]:
+def _moment(d, frame, i, radius: float, lay) -> list[str]:
     """An angular impulse: a three-quarter arc around its point, arrowhead at the end."""
     cx, cy = frame.p(*i.at)
     r = max(radius * frame.k, 14.0)
@@ -275,7 +282,7 @@ def _moment(frame, i, radius: float, lay) -> list[str]:
     bx, by = p1[0] - hl * t[0], p1[1] - hl * t[1]
     poly = f"{_n(p1[0])},{_n(p1[1])} {_n(bx - hw * t[1])},{_n(by + hw * t[0])} " \
            f"{_n(bx + hw * t[1])},{_n(by - hw * t[0])}"
-    label = f"{i.name} = {_v(i.value, 'N·m·s')}"
+    label = f"{i.name} = {_shown(d, i.value, units.ANGULAR_IMPULSE, 'N*m*s')}"
     lx, ly = lay.label(cx, cy - r - 6, label, "middle")
     return ['<g class="impulse moment">',
             f'<path d="M {_n(p0[0])} {_n(p0[1])} A {_n(r)} {_n(r)} 0 1 {sweep} '

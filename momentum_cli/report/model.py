@@ -197,7 +197,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
 
     rep = Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
                  checks, answers, regimes, list(sol.diagnostics), counts, flows,
-                 diagrams=build_diagrams(sol))
+                 diagrams=build_diagrams(sol, reader))
     rep.units = dict(system=reader.system, degrees=reader.degrees,
                      name="US customary" if reader.system == "us" else "SI",
                      mass=reader.label(MASS), inertia=reader.label(INERTIA),
