@@ -17,6 +17,7 @@ from collections import defaultdict
 from dataclasses import field
 
 from . import syntax as S
+from .aliases import StateChains
 from .diagnostics import Collector, ProblemError
 from .elements.base import FrictionSite, ImpulseSource, Phase
 from .elements.contacts import contact_element
@@ -192,6 +193,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._out: dict[str, list[TransitionSpec]] = {}
         self._busy: dict[str, set] = {}
         self._reach: dict[str, set] | None = None
+        self._chains = None  # aliases.StateChains, when the states form simple chains
+        self._order: dict[str, int] | None = None  # body -> its index in the scene
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
         self.tspecs = {t.key: t for t in scene.transitions}
         self.joints = [joint_element(jt, scene) for jt in scene.joints]
@@ -212,6 +215,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         hit = self._alias.get(key)
         if hit is not None:
             return hit
+        if self._chains is not None:
+            hit = self._chains.head(*key, self._given, self._linked)
+            if hit is not None:
+                self._alias[key] = hit
+                return hit
         path = []
         on_path = {key}
         cur = key
@@ -421,6 +429,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._busy[t.key] = self._busy_bodies(t)
             self._into.setdefault(t.after, []).append(t)
             self._out.setdefault(t.before, []).append(t)
+        self._chains = StateChains.build(sc.states, self._into, self._out, self._busy)
         for sid, st in sc.states.items():
             for (b, q), (value, span) in st.givens.items():
                 for t in self._out.get(sid, ()):
@@ -433,6 +442,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                             Known(state_key(b, q, sid), value),
                             why, f"{t.kind} {t.before} -> {t.after}", gc[1],
                             EquationKind.CONSISTENCY)
+
+    def _moved(self, key: str) -> list[str]:
+        """The bodies transition `key` moves, in the scene's order (sorting the few
+        busy ones, not scanning every body: N two-body impacts cost O(N))."""
+        if self._order is None:
+            self._order = {b: k for k, b in enumerate(self.scene.bodies)}
+        return sorted(self._busy[key], key=self._order.__getitem__)
 
     def _busy_bodies(self, t: TransitionSpec) -> set[str]:
         """Bodies that something acts on during an impact or interval."""
@@ -527,10 +543,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self.eq(dur(), self.symbolic(t.duration_expr), "the duration as stated", group,
                     t.duration_expr.node.span)
         # impulse-momentum for each body that something acts on
-        busy = self._busy[key]
-        for b, body in sc.bodies.items():
-            if b not in busy:
-                continue
+        moved = self._moved(key)
+        for b in moved:
+            body = sc.bodies[b]
             v1, v2 = self.vel(b, i), self.vel(b, j)
             m = self.mass(b, i)
             for comp, a1, a2, jsum in (("x", v1.x, v2.x, [J.x for J in lin[b]]),
@@ -564,7 +579,6 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._rolling(body, surface, j, group, span, normal)
         self.sources[key] = sources
         why = self._why(sources, t)
-        moved = [b for b in sc.bodies if b in busy]
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
         self.transitions.append(TransitionInfo(t.kind, key, i, j, t.span, why, contacts_info,
                                                energy, tuple(moved)))
@@ -682,8 +696,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def _why(self, sources: list[ImpulseSource], t: TransitionSpec) -> list[str]:
         """For the bodies the transition moves, together and one by one (up to six)."""
         out = []
-        busy = self._busy[t.key]
-        bodies = [b for b in self.scene.bodies if b in busy]
+        bodies = self._moved(t.key)
         if not bodies:
             return ["nothing acts: every body keeps its velocity"]
         system = set(bodies)

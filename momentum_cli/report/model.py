@@ -103,12 +103,15 @@ def build_report(name: str, sol: Solution, sig: int = 6) -> Report:
         knowns.append(dict(id=sid, label=spec.label or "", items=items))
     transitions = []
     used_groups = set()
+    by_group: dict[str, list[EquationRow]] = {}  # one pass over the rows, not one a transition
+    for r in rows:
+        by_group.setdefault(r.group, []).append(r)
     for t in system.transitions:
         group = f"{t.kind} {t.before} -> {t.after}"
         used_groups.add(group)
         transitions.append(dict(kind=t.kind, key=t.key, before=t.before, after=t.after,
                                 line=t.span.line, why=list(t.why),
-                                equations=[r for r in rows if r.group == group]))
+                                equations=list(by_group.get(group, ()))))
     other: dict[str, list[EquationRow]] = {}
     for r in rows:
         if r.group not in used_groups:
