@@ -329,7 +329,12 @@ def solve(
     mode = "json" if jsonl else _pick_format(fmt, json_flag, plain)
     _safe_streams()
     out = sys.stdout
-    results = []
+    results: list = []
+    if mode == "json" and not jsonl:  # streamed: one result held at a time
+        from . import __version__
+        from .report.json_out import DocumentStream
+
+        results = DocumentStream(out, __version__, not _is_utf8(out))
     many = len(files) > 1
     items = list(_read_all(files))
     overrides = _overrides_for(sets, [s for _, s, _ in items])
@@ -344,10 +349,7 @@ def solve(
     finally:
         solved.close()  # ends any worker processes still running
     if mode == "json" and not jsonl:
-        from . import __version__
-        from .report.json_out import document
-
-        out.write(document(results, __version__, not _is_utf8(out)))
+        results.close()
     out.flush()
     raise typer.Exit(int(worst))
 
