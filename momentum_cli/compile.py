@@ -195,6 +195,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._reach: dict[str, set] | None = None
         self._chains = None  # aliases.StateChains, when the states form simple chains
         self._order: dict[str, int] | None = None  # body -> its index in the scene
+        self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
         self.tspecs = {t.key: t for t in scene.transitions}
         self.joints = [joint_element(jt, scene) for jt in scene.joints]
@@ -282,7 +283,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         return st.givens.get((body, qty))
 
     def sv(self, body: str, qty: str, sid: str) -> E:
-        """A body's state quantity: a Known if given, else an unknown `rod.omega@3`."""
+        """A body's state quantity: a Known if given, else an unknown `rod.omega@3`
+        (made once per body, quantity and state: the elements ask for it many times)."""
+        hit = self._sv.get((body, qty, sid))
+        if hit is None:
+            hit = self._sv[(body, qty, sid)] = self._state_value(body, qty, sid)
+        return hit
+
+    def _state_value(self, body: str, qty: str, sid: str) -> E:
         b = self.scene.bodies[body]
         if b.is_particle and qty in ("angle", "omega"):
             return ZERO
