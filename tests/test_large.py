@@ -169,3 +169,22 @@ def test_json_document_is_streamed_byte_for_byte():
             stream.close()
             assert buf.getvalue() == document(rs, "9.9", ascii_only)
             json.loads(buf.getvalue())
+
+
+def test_a_later_given_reaches_back_through_untouched_states(monkeypatch):
+    """c is given only at the last state and nothing acts on it: it has that velocity
+    at every state (the forward search), by the fast lookup and by the walk alike."""
+    text = ('problem "later given"\nbody a: particle(mass = 1 kg)\n'
+            "body b: particle(mass = 2 kg)\nbody c: particle(mass = 3 kg)\n"
+            "state 1: a.v = (3 m/s, 0), b at rest, c.vy = 0 m/s\nstate 2\n"
+            "state 3: c.vx = 2 m/s\n"
+            "impact 1 -> 2:\n    contact b with a normal (1, 0): restitution 1\n"
+            "impact 2 -> 3:\n    contact b with a normal (1, 0): restitution 1\n"
+            "find c.vx@1, c.vx@2, b.vx@2, a.vx@2\n")
+    got = _answers(_solve(text))
+    # a on b (e = 1): a leaves at (1 - 2) / 3 * 3 = -1 m/s, b at 2 * 1 / 3 * 3 = 2 m/s
+    assert got["c.vx@1"] == pytest.approx(2.0) and got["c.vx@2"] == pytest.approx(2.0)
+    assert got["a.vx@2"] == pytest.approx(-1.0) and got["b.vx@2"] == pytest.approx(2.0)
+    fast = _system_text(text, "g.mom")
+    monkeypatch.setattr(StateChains, "build", classmethod(lambda cls, *a: None))
+    assert _system_text(text, "g.mom") == fast
