@@ -196,6 +196,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._chains = None  # aliases.StateChains, when the states form simple chains
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
+        self._next: dict[str, list[str]] | None = None  # for holds_at
+        self._prev: dict[str, str] | None = None  # for mass
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
         self.tspecs = {t.key: t for t in scene.transitions}
         self.joints = [joint_element(jt, scene) for jt in scene.joints]
@@ -320,11 +322,19 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             m = self.flows.masses.get((body, cur))
             if m is not None:
                 return m
-            prev = next((t.before for t in self.scene.transitions if t.after == cur), None)
+            prev = self._first_into().get(cur)
             if prev is None or prev in seen:
                 return Known(f"m_{body}", b.mass)
             seen.add(prev)
             cur = prev
+
+    def _first_into(self) -> dict[str, str]:
+        """state -> the state before it, by the first transition (file order) into it."""
+        if self._prev is None:
+            self._prev = {}
+            for t in self.scene.transitions:
+                self._prev.setdefault(t.after, t.before)
+        return self._prev
 
     def vel(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
@@ -600,13 +610,17 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._reach = {}
         seen = self._reach.get(from_state)
         if seen is None:
+            if self._next is None:  # state -> the states its transitions lead to, in order
+                self._next = {}
+                for t in self.scene.transitions:
+                    self._next.setdefault(t.before, []).append(t.after)
             seen, todo = {from_state}, [from_state]
             while todo:
                 s = todo.pop()
-                for t in self.scene.transitions:
-                    if t.before == s and t.after not in seen:
-                        seen.add(t.after)
-                        todo.append(t.after)
+                for after in self._next.get(s, ()):
+                    if after not in seen:
+                        seen.add(after)
+                        todo.append(after)
             self._reach[from_state] = seen
         return sid in seen
 
