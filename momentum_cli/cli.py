@@ -412,7 +412,12 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
 
     sensitivity = view["sensitivity"]
     out = sys.stdout
-    results = []
+    results: list = []
+    if mode == "json" and not jsonl:  # streamed: one result held at a time
+        from . import __version__
+        from .report.json_out import DocumentStream
+
+        results = DocumentStream(out, __version__, not _is_utf8(out))
     many = len(files) > 1
     items = list(_read_all(files))
     overrides = _overrides_for(sets, [s for _, s, _ in items])
@@ -427,10 +432,7 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
     finally:
         solved.close()  # ends any worker processes still running
     if mode == "json" and not jsonl:
-        from . import __version__
-        from .report.json_out import document
-
-        out.write(document(results, __version__, not _is_utf8(out)))
+        results.close()
     elif mode in ("markdown", "latex", "html") and results:
         from .report.formats import render_document
 

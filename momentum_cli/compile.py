@@ -17,6 +17,7 @@ from collections import defaultdict
 from dataclasses import field
 
 from . import syntax as S
+from .aliases import StateChains
 from .diagnostics import Collector, ProblemError
 from .elements.base import FrictionSite, ImpulseSource, Phase
 from .elements.contacts import contact_element
@@ -208,6 +209,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._out: dict[str, list[TransitionSpec]] = {}
         self._busy: dict[str, set] = {}
         self._reach: dict[str, set] | None = None
+        self._chains = None  # aliases.StateChains, when the states form simple chains
+        self._order: dict[str, int] | None = None  # body -> its index in the scene
+        self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
+        self._next: dict[str, list[str]] | None = None  # for holds_at
+        self._prev: dict[str, str] | None = None  # for mass
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
         self.tspecs = {t.key: t for t in scene.transitions}
         self.joints = [joint_element(jt, scene) for jt in scene.joints]
@@ -228,6 +234,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         hit = self._alias.get(key)
         if hit is not None:
             return hit
+        if self._chains is not None:
+            hit = self._chains.head(*key, self._given, self._linked)
+            if hit is not None:
+                self._alias[key] = hit
+                return hit
         path = []
         on_path = {key}
         cur = key
@@ -290,7 +301,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         return st.givens.get((body, qty))
 
     def sv(self, body: str, qty: str, sid: str) -> E:
-        """A body's state quantity: a Known if given, else an unknown `rod.omega@3`."""
+        """A body's state quantity: a Known if given, else an unknown `rod.omega@3`
+        (made once per body, quantity and state: the elements ask for it many times)."""
+        hit = self._sv.get((body, qty, sid))
+        if hit is None:
+            hit = self._sv[(body, qty, sid)] = self._state_value(body, qty, sid)
+        return hit
+
+    def _state_value(self, body: str, qty: str, sid: str) -> E:
         b = self.scene.bodies[body]
         if b.is_particle and qty in ("angle", "omega"):
             return ZERO
@@ -320,11 +338,19 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             m = self.flows.masses.get((body, cur))
             if m is not None:
                 return m
-            prev = next((t.before for t in self.scene.transitions if t.after == cur), None)
+            prev = self._first_into().get(cur)
             if prev is None or prev in seen:
                 return Known(f"m_{body}", b.mass)
             seen.add(prev)
             cur = prev
+
+    def _first_into(self) -> dict[str, str]:
+        """state -> the state before it, by the first transition (file order) into it."""
+        if self._prev is None:
+            self._prev = {}
+            for t in self.scene.transitions:
+                self._prev.setdefault(t.after, t.before)
+        return self._prev
 
     def vel(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
@@ -437,6 +463,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._busy[t.key] = self._busy_bodies(t)
             self._into.setdefault(t.after, []).append(t)
             self._out.setdefault(t.before, []).append(t)
+        self._chains = StateChains.build(sc.states, self._into, self._out, self._busy)
         for sid, st in sc.states.items():
             for (b, q), (value, span) in st.givens.items():
                 for t in self._out.get(sid, ()):
@@ -449,6 +476,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                             Known(state_key(b, q, sid), value),
                             why, f"{t.kind} {t.before} -> {t.after}", gc[1],
                             EquationKind.CONSISTENCY)
+
+    def _moved(self, key: str) -> list[str]:
+        """The bodies transition `key` moves, in the scene's order (sorting the few
+        busy ones, not scanning every body: N two-body impacts cost O(N))."""
+        if self._order is None:
+            self._order = {b: k for k, b in enumerate(self.scene.bodies)}
+        return sorted(self._busy[key], key=self._order.__getitem__)
 
     def _busy_bodies(self, t: TransitionSpec) -> set[str]:
         """Bodies that something acts on during an impact or interval."""
@@ -553,10 +587,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self.eq(dur(), self.symbolic(t.duration_expr), "the duration as stated", group,
                     t.duration_expr.node.span)
         # impulse-momentum for each body that something acts on
-        busy = self._busy[key]
-        for b, body in sc.bodies.items():
-            if b not in busy:
-                continue
+        moved = self._moved(key)
+        for b in moved:
+            body = sc.bodies[b]
             v1, v2 = self.vel(b, i), self.vel(b, j)
             m = self.mass(b, i)
             for comp, a1, a2, jsum in (("x", v1.x, v2.x, [J.x for J in lin[b]]),
@@ -590,7 +623,6 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._rolling(body, surface, j, group, span, normal)
         self.sources[key] = sources
         why = self._why(sources, t)
-        moved = [b for b in sc.bodies if b in busy]
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
         laws = system_laws(self, t, sources, moved, hits) if not is_interval else []
         for k, a in applied:  # each element applies its impulses, then names its source
@@ -608,13 +640,17 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._reach = {}
         seen = self._reach.get(from_state)
         if seen is None:
+            if self._next is None:  # state -> the states its transitions lead to, in order
+                self._next = {}
+                for t in self.scene.transitions:
+                    self._next.setdefault(t.before, []).append(t.after)
             seen, todo = {from_state}, [from_state]
             while todo:
                 s = todo.pop()
-                for t in self.scene.transitions:
-                    if t.before == s and t.after not in seen:
-                        seen.add(t.after)
-                        todo.append(t.after)
+                for after in self._next.get(s, ()):
+                    if after not in seen:
+                        seen.add(after)
+                        todo.append(after)
             self._reach[from_state] = seen
         return sid in seen
 
@@ -714,8 +750,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def _why(self, sources: list[ImpulseSource], t: TransitionSpec) -> list[str]:
         """For the bodies the transition moves, together and one by one (up to six)."""
         out = []
-        busy = self._busy[t.key]
-        bodies = [b for b in self.scene.bodies if b in busy]
+        bodies = self._moved(t.key)
         if not bodies:
             return ["nothing acts: every body keeps its velocity"]
         system = set(bodies)

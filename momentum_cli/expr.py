@@ -185,29 +185,36 @@ def neg(a: E) -> E:
 
 
 def mul(a: E, b: E) -> E:
-    if isinstance(a, Const) and isinstance(b, Const):
-        return Const(a.value * b.value)
-    for x, y in ((a, b), (b, a)):
-        if isinstance(x, Const):
-            if x.value == 0.0:
-                return ZERO
-            if x.value == 1.0:
-                return y
-    fa = a.factors if isinstance(a, Mul) else (a,)
-    fb = b.factors if isinstance(b, Mul) else (b,)
+    # exact types (no subclass of these exists): the hottest function of a compile
+    ta, tb = type(a), type(b)
+    if ta is Const:
+        if tb is Const:
+            return Const(a.value * b.value)
+        if a.value == 0.0:
+            return ZERO
+        if a.value == 1.0:
+            return b
+    elif tb is Const:
+        if b.value == 0.0:
+            return ZERO
+        if b.value == 1.0:
+            return a
+    fs = (a.factors if ta is Mul else (a,)) + (b.factors if tb is Mul else (b,))
     # keep one leading constant
-    consts = [f for f in fa + fb if isinstance(f, Const)]
-    rest = tuple(f for f in fa + fb if not isinstance(f, Const))
     c = 1.0
-    for f in consts:
-        c *= f.value
+    rest = []
+    for f in fs:
+        if type(f) is Const:
+            c *= f.value
+        else:
+            rest.append(f)
     if c == 0.0:
         return ZERO
     if not rest:
         return Const(c)
     if c == 1.0:
-        return rest[0] if len(rest) == 1 else Mul(rest)
-    return Mul((Const(c),) + rest)
+        return rest[0] if len(rest) == 1 else Mul(tuple(rest))
+    return Mul((Const(c), *rest))
 
 
 def power(a: E, p: float) -> E:
@@ -350,9 +357,11 @@ def variables(e: E, out: set | None = None) -> set[str]:
         for x in e.terms:
             variables(x, out)
     elif t is Mul:
-        if not any(is_zero(f) for f in e.factors):
-            for f in e.factors:
-                variables(f, out)
+        for f in e.factors:
+            if (type(f) is Const or type(f) is Known) and f.value == 0.0:
+                return out
+        for f in e.factors:
+            variables(f, out)
     elif t is Pow:
         variables(e.base, out)
     elif t is Fn:

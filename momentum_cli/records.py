@@ -56,6 +56,10 @@ def _build(cls, frozen: bool, identity: bool):
     new_cls: list = []
 
     def __init__(self, *args, **kw):
+        if not kw and len(args) == n:  # the common call: every field, in order
+            for name, v in zip(all_fields, args):
+                setter(self, name, v)
+            return
         if len(args) > n:
             raise TypeError(f"{cls.__name__}() takes {n} arguments, got {len(args)}")
         for name, v in zip(all_fields, args):

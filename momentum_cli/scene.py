@@ -427,10 +427,11 @@ class _Builder:
                     raise ProblemError(f"state {s.id} is declared twice", s.span, code="name")
                 states[s.id] = self._state(s)
         transitions = []
+        by_key: dict[str, list] = {}  # the transitions on each pair of states, in file order
         for s in st:
             if isinstance(s, S.Transition):
                 t = self._transition(s, states)
-                for other in transitions:
+                for other in by_key.get(t.key, ()):
                     # an energy statement beside an impact is a redundant statement to
                     # check (true for e = 1); two impacts or intervals contradict
                     if other.key == t.key and TransitionKind.ENERGY not in (t.kind, other.kind):
@@ -441,6 +442,7 @@ class _Builder:
                             notes=["one transition joins two states; give the second its own "
                                    "states"])
                 transitions.append(t)
+                by_key.setdefault(t.key, []).append(t)
         stated = []
         for s in st:
             if isinstance(s, S.ConserveMomentum):

@@ -58,6 +58,27 @@ def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=N
     return d
 
 
+class DocumentStream:
+    """`document`, written one result at a time as each file is solved (byte for byte the
+    same text): a call on thousands of files holds one result, not all of them. Has the
+    list's `append`, so a loop that collects results can stream them instead."""
+
+    def __init__(self, out, version: str, ascii_only: bool = False, key: str = "results"):
+        self.out, self.ascii_only, self.count = out, ascii_only, 0
+        head = json.dumps({"schema_version": SCHEMA_VERSION, "momentum_version": version},
+                          indent=2, ensure_ascii=ascii_only)
+        self.head = head[:-2] + f',\n  {json.dumps(key)}: ['  # without the closing "\n}"
+
+    def append(self, result: dict) -> None:
+        text = json.dumps(clean(result), allow_nan=False, indent=2, ensure_ascii=self.ascii_only)
+        self.out.write((self.head + "\n" if self.count == 0 else ",\n") +
+                       "\n".join("    " + line for line in text.split("\n")))
+        self.count += 1
+
+    def close(self) -> None:
+        self.out.write(self.head + "]\n}\n" if self.count == 0 else "\n  ]\n}\n")
+
+
 def document(results: list[dict], version: str, ascii_only: bool = False,
              key: str = "results") -> str:
     """The JSON document (`results` of solve, `simulations` of simulate); `ascii_only`

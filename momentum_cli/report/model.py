@@ -140,6 +140,9 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
         knowns.append(dict(id=sid, label=spec.label or "", items=items, units=units))
     transitions = []
     used_groups = set()
+    by_group: dict[str, list[EquationRow]] = {}  # one pass over the rows, not one a transition
+    for r in rows:
+        by_group.setdefault(r.group, []).append(r)
     for t in system.transitions:
         group = f"{t.kind} {t.before} -> {t.after}"
         used_groups.add(group)
@@ -147,7 +150,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
         # pin with I_O = I_G + m d^2), shown before the body-by-body rows (statements.py)
         transitions.append(dict(kind=t.kind, key=t.key, before=t.before, after=t.after,
                                 line=t.span.line, why=list(t.why),
-                                equations=[r for r in rows if r.group == group],
+                                equations=list(by_group.get(group, ())),
                                 system=statements(t, values, system, reader, sig)))
     other: dict[str, list[EquationRow]] = {}
     for r in rows:

@@ -1,0 +1,91 @@
+"""Compile helper: which state a body's quantity really lives at, in O(log N) a query.
+
+In: the scene's states and transitions, and the bodies each transition moves. Out:
+for (body, qty, state), the state whose variable it shares (see compile._find). A body
+untouched by a transition keeps its quantities, so a sequence of N two-body impacts
+has O(N) unknowns; walking the states one by one to find that out costs O(N) a query
+and O(N^2) in all. When the states form simple chains (each has at most one transition
+in and one out, the usual case), the answer is a binary search among the few states
+where that quantity can change; other shapes fall back to the walk.
+"""
+from __future__ import annotations
+
+from bisect import bisect_right
+
+VELOCITIES = ("vx", "vy", "omega")
+
+
+class StateChains:
+    """States numbered along their chains, and per (body, qty, chain) the sorted
+    positions where the quantity breaks from the state before: given there, or moved by
+    the transition into it. Velocities break where the body is busy; positions only
+    where given (an impact keeps them; an interval keeps its start configuration)."""
+
+    def __init__(self, where: dict, chains: list, into: dict, breaks: dict):
+        self.where = where  # state -> (chain index, position)
+        self.chains = chains  # chain index -> [state, ...] in order
+        self.into = into  # state -> the one transition into it
+        self.breaks = breaks  # (body, qty, chain) -> sorted positions
+
+    @classmethod
+    def build(cls, states, into: dict, out: dict, busy: dict) -> "StateChains | None":
+        """None unless every state has at most one transition in and one out, and
+        the transitions form no cycle."""
+        if any(len(ts) > 1 for ts in into.values()) or any(len(ts) > 1 for ts in out.values()):
+            return None
+        where: dict = {}
+        chains: list = []
+        for sid in states:
+            if sid in into:
+                continue
+            chain, cur = [], sid
+            while cur is not None:
+                if cur in where:
+                    return None
+                where[cur] = (len(chains), len(chain))
+                chain.append(cur)
+                nxt = out.get(cur)
+                cur = nxt[0].after if nxt else None
+            chains.append(chain)
+        # a state reached by no walk from a root lies on a cycle (or names a missing state)
+        if any(sid not in where for sid in states):
+            return None
+        for ts in into.values():
+            if ts[0].before not in where or ts[0].after not in where:
+                return None
+        breaks: dict = {}
+        for sid, st in states.items():
+            c, p = where[sid]
+            for (b, q) in st.givens:
+                breaks.setdefault((b, q, c), []).append(p)
+        for sid, ts in into.items():
+            c, p = where[sid]
+            for b in busy[ts[0].key]:
+                for q in VELOCITIES:
+                    breaks.setdefault((b, q, c), []).append(p)
+        for v in breaks.values():
+            v.sort()
+        return cls(where, chains, {s: ts[0] for s, ts in into.items()}, breaks)
+
+    def head(self, body: str, qty: str, sid: str, given, linked):
+        """The state (body, qty, sid) shares its variable with: the last break at or before
+        sid (its chain's first state if none); if that one is not given, the next break
+        after it if that one is given and the transition into it keeps the quantity (a
+        later state may give it, e.g. only the end velocity). `given(key)` and
+        `linked(body, qty, t)` are the compiler's. None: state not on a chain."""
+        w = self.where.get(sid)
+        if w is None:
+            return None
+        c, p = w
+        chain = self.chains[c]
+        pts = self.breaks.get((body, qty, c), ())
+        k = bisect_right(pts, p) - 1
+        start = pts[k] if k >= 0 else 0
+        key = (body, qty, chain[start])
+        if given(key) is not None:
+            return key
+        if k + 1 < len(pts):
+            nxt = chain[pts[k + 1]]
+            if given((body, qty, nxt)) is not None and linked(body, qty, self.into[nxt]):
+                return (body, qty, nxt)
+        return key
