@@ -1435,7 +1435,14 @@ def main() -> None:
         finally:
             sys.stdout.flush()
     except KeyboardInterrupt:
-        sys.exit(int(ExitCode.INTERRUPTED))
+        # like SIGTERM: end the workers and this process now; a normal exit would join
+        # the pool's threads, where a late interrupt prints a traceback
+        try:
+            sys.stdout.flush()
+            sys.stderr.flush()
+        except (OSError, ValueError, OutputGone, OutputFailed):
+            pass
+        _on_signal(int(ExitCode.INTERRUPTED) - 128, None)
     except OutputGone:
         silence_stdout()
         sys.exit(141)
