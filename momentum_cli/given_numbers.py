@@ -85,6 +85,29 @@ def _nums(node, path):
         yield from _nums(getattr(node, f), path + [(node, f)])
 
 
+def replaced(doc: S.Document, values: dict) -> S.Document:
+    """The document with each literal whose id() is a key of `values` holding its value
+    (one walk for many numbers; a traced value, for exact derivatives, is a float)."""
+    def walk(node):
+        if isinstance(node, S.Num):
+            if id(node) in values:
+                return S.Num(node.span, values[id(node)], node.unit, node.unit_span)
+            return node
+        if isinstance(node, tuple):
+            items = tuple(walk(n) for n in node)
+            return node if all(a is b for a, b in zip(items, node)) else items
+        fields = getattr(type(node), "_fields", None)
+        if not fields:
+            return node
+        vals = [getattr(node, f) for f in fields]
+        out = [walk(v) for v in vals]
+        if all(a is b for a, b in zip(out, vals)):
+            return node
+        return type(node)(*out)
+
+    return S.Document(doc.source, tuple(walk(s) for s in doc.statements))
+
+
 def _replace(node, target, new):
     """`node` with `target` replaced by `new`; untouched subtrees are shared."""
     if node is target:

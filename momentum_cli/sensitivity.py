@@ -29,6 +29,7 @@ from .diagnostics import ProblemError
 from .expr import diff, evaluate, magnitude, variables
 from .given_numbers import GivenNumber, given_numbers, perturbed
 from .records import record
+from .traced_partials import traced_partials
 
 STEP = 1e-5  # the central difference's step, relative to the number (absolute for a zero
 # with a unit): the residuals are evaluated, not solved, so the error is ~(h^2 + eps/h) ~ 1e-10
@@ -123,7 +124,18 @@ def _sensitivities(doc, sol, build, out: Sensitivities) -> Sensitivities:
     Fp = np.zeros((len(rows), n))
     Ap = np.zeros((len(finds), n))
     ok = np.ones(n, dtype=bool)
+    exact = traced_partials(doc, params, system, sol.regimes, rows, values, build)
+    if isinstance(exact, str):  # the whole trace is unusable: every number by difference
+        out.note += f"; dF/dp by residual differences: {exact}"
+        by_difference = {p.id: exact for p in params}
+    else:
+        by_difference = exact.untraced
+        for pid, why in sorted(by_difference.items(), key=lambda kv: int(kv[0][1:])):
+            out.note += f"; d/d{pid} by a residual difference: {why}"
     for j, prm in enumerate(params):
+        if prm.id not in by_difference:
+            Fp[:, j], Ap[:, j] = exact.rows[prm.id], exact.finds[prm.id]
+            continue
         col = _explicit(doc, prm, system, sol.regimes, rows, values, base, build)
         if isinstance(col, str):
             out.skipped[prm.id] = col
