@@ -9,9 +9,10 @@ F_b(x_b; x_prev, p) = 0 gives dx_b/dp = -J_b^-1 (dF_b/dp + dF_b/dx_prev . dx_pre
 with J_b and dF_b/dx_prev from the symbolic derivatives of the equation trees at the
 solution. A given number enters the trees through the scene (a mass, an inertia
 m L^2/12, a moment arm from an angle), so dF/dp, the explicit dependence at the fixed
-solution, is taken by recompiling the file with the number moved and evaluating the
-residuals at the same solution (a central difference, no re-solve): the equations are
-smooth in their data, and the step's error (h^2 + eps/h, h = 1e-5 p) is about 1e-10.
+solution, is exact: one build and compile with every number a traced leaf
+(traced_partials.py), then expr.diff. A number the trace does not see (folded by code
+outside it) is found by a probe compile and only it gets a residual difference (the
+file recompiled with it moved, a central difference, error ~1e-10), said in the note.
 Friction regimes and root choices are those of the solution, held fixed; derived
 answers (`find NAME = expr`, speeds, T_lost) are differentiated through their trees.
 A number that a redundant equation ties to others has no derivative of its own (said
@@ -55,6 +56,8 @@ class Sensitivities:
     unavailable: str | None = None  # why none could be computed
     skipped: dict = field(default_factory=dict)  # parameter id -> why it has no derivative
     note: str = NOTE
+    by_difference: dict = field(default_factory=dict)  # parameter id -> why its dF/dp is a
+    # residual difference (a number the trace does not see), not exact
 
     def relative(self, a: AnswerSensitivity, pid: str) -> float | None:
         """d ln(answer) / d ln(given); None for a zero answer."""
@@ -132,6 +135,7 @@ def _sensitivities(doc, sol, build, out: Sensitivities) -> Sensitivities:
         by_difference = exact.untraced
         for pid, why in sorted(by_difference.items(), key=lambda kv: int(kv[0][1:])):
             out.note += f"; d/d{pid} by a residual difference: {why}"
+    out.by_difference = dict(by_difference)
     for j, prm in enumerate(params):
         if prm.id not in by_difference:
             Fp[:, j], Ap[:, j] = exact.rows[prm.id], exact.finds[prm.id]

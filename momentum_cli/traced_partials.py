@@ -36,6 +36,8 @@ def traced_partials(doc, params, system, regimes, rows, values, build) -> Partia
     try:
         with trace.keeping():
             ts = _compile(tdoc, regimes, build)
+            for e in ts.equations:  # built lazily: here, where traced terms are kept
+                e.residual  # noqa: B018
     except ProblemError as exc:
         return f"the traced compile fails ({exc.message})"
     if not _same_shape(ts, system):
@@ -48,7 +50,8 @@ def traced_partials(doc, params, system, regimes, rows, values, build) -> Partia
     vals.update(pv)
     try:
         for t, e in zip(trees, plain):  # at the numbers as given: the same residuals
-            if not _close(evaluate(t, vals), evaluate(e, values), magnitude(e, values)):
+            if not _close(evaluate(t, vals), evaluate(e, values),
+                          magnitude(e, values) + magnitude(t, vals)):
                 return "the traced equations differ from the solved ones"
     except (KeyError, ValueError, ZeroDivisionError, OverflowError) as exc:
         return f"the traced equations cannot be evaluated ({type(exc).__name__})"
@@ -109,7 +112,8 @@ def _untraced(doc, params, system, regimes, rows, trees, values, pv, build) -> d
             [f.expr for f in s2.finds]
         try:
             for t, e in zip(trees, got):
-                if not _close(evaluate(t, vals), evaluate(e, values), magnitude(e, values)):
+                if not _close(evaluate(t, vals), evaluate(e, values),
+                              magnitude(e, values) + magnitude(t, vals)):
                     return "a number computed outside the trace"
         except (KeyError, ValueError, ZeroDivisionError, OverflowError):
             return "moving it leaves the domain of an equation"
@@ -135,7 +139,7 @@ def _moved(p, j: int) -> float:
     """A move of number j, different for each (no two cancel), down (e = 1 is an edge)."""
     step = MOVE * (1.0 + 0.618 * ((j * 0.618034) % 1.0))
     v = float(p.value)
-    return v * (1.0 - step) if v else -step
+    return v * (1.0 - step) if v else step  # a zero (`0 m/s` exhaust) up: speeds are >= 0
 
 
 def _lift(e, memo: dict):
