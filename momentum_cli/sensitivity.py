@@ -29,6 +29,7 @@ from .compile import compile_scene
 from .diagnostics import ProblemError
 from .expr import diff, evaluate, magnitude, variables
 from .given_numbers import GivenNumber, given_numbers, perturbed
+from .gradient import gradient
 from .records import record
 from .traced_partials import traced_partials
 
@@ -261,8 +262,13 @@ def _size(e, values) -> float:
 
 
 def _gradient(e, values) -> dict[str, float]:
-    """d e / d x for each unknown of `e` that has a value."""
-    return {v: evaluate(diff(e, v), values) for v in sorted(variables(e)) if v in values}
+    """d e / d x for each unknown of `e` that has a value (one reverse sweep when all
+    have one, else `diff` per unknown)."""
+    names = sorted(variables(e))
+    if all(v in values for v in names):
+        g = gradient(e, values)
+        return {v: g.get(v, 0.0) for v in names}
+    return {v: evaluate(diff(e, v), values) for v in names if v in values}
 
 
 def _residuals(system, rows, values):

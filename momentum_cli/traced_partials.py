@@ -4,15 +4,16 @@ Stage: after solve (for sensitivity.py). In: the parsed document, the solution's
 regimes and values, its given numbers. Out: `Partials`, d residual / d number and
 d answer / d number at the solution for every number, from ONE build and compile in
 which every literal is a `sweep.trace.Traced` leaf (the compiled trees then hold each
-number's part as a tree over the leaves: `expr.diff` of it is exact). One probe compile
+number's part as a tree over the leaves: its derivative, gradient.py, is exact). One probe compile
 with every number moved checks that nothing was folded outside the trace (math.cos of
 a float); the numbers it finds (by halving) are `untraced`, left to a residual difference.
 """
 from __future__ import annotations
 
 from .diagnostics import ProblemError
-from .expr import Add, Const, Fn, Known, Mul, Pow, Var, diff, evaluate, magnitude, variables
+from .expr import Add, Const, Fn, Known, Mul, Pow, Var, evaluate, magnitude, variables
 from .given_numbers import replaced
+from .gradient import gradient
 from .records import record
 from .sweep import trace
 
@@ -59,8 +60,10 @@ def traced_partials(doc, params, system, regimes, rows, values, build) -> Partia
     cols_r = {p.id: [0.0] * n_rows for p in params}
     cols_f = {p.id: [0.0] * len(system.finds) for p in params}
     for i, t in enumerate(trees):
-        for name in sorted(variables(t) & pv.keys()):
-            d = evaluate(diff(t, name), vals)
+        names = variables(t) & pv.keys()
+        g = gradient(t, vals) if names else {}
+        for name in sorted(names):
+            d = g.get(name, 0.0)  # = evaluate(diff(t, name), vals), all in one sweep
             pid = name[len(trace.PREFIX):]
             if i < n_rows:
                 cols_r[pid][i] = d
