@@ -146,21 +146,20 @@ def is_const(e: E) -> bool:
     return isinstance(e, Const)
 
 
-def folds(v, c: float) -> bool:
-    """v == c, to fold an identity (0 + x, 1 * x, 0 * x) away; a traced number that keeps
-    its terms (exact sensitivities, sweep/trace.py) is never folded: its derivative
-    needs them."""
-    return v == c if type(v) is float else (not getattr(v, "keep", False) and v == c)
+def keeps(v) -> bool:
+    """A traced number that keeps its terms (exact sensitivities, sweep/trace.py): a 0 or
+    1 of it is never folded away (0 + x, 1 * x, 0 * x), its derivative needs them."""
+    return type(v) is not float and getattr(v, "keep", False)
 
 
 def is_zero(e: E) -> bool:
-    return isinstance(e, (Const, Known)) and folds(e.value, 0.0)
+    return isinstance(e, (Const, Known)) and e.value == 0.0 and not keeps(e.value)
 
 
 def add(a: E, b: E) -> E:
-    if isinstance(a, Const) and folds(a.value, 0.0):
+    if isinstance(a, Const) and a.value == 0.0 and not keeps(a.value):
         return b
-    if isinstance(b, Const) and folds(b.value, 0.0):
+    if isinstance(b, Const) and b.value == 0.0 and not keeps(b.value):
         return a
     if isinstance(a, Const) and isinstance(b, Const):
         return Const(a.value + b.value)
@@ -180,7 +179,7 @@ def add_all(terms) -> E:
             flat.extend(t.terms)
         else:
             flat.append(t)
-    if not folds(const, 0.0) or not flat:
+    if const != 0.0 or keeps(const) or not flat:
         flat.append(Const(const))
     return flat[0] if len(flat) == 1 else Add(tuple(flat))
 
@@ -196,9 +195,9 @@ def mul(a: E, b: E) -> E:
         return Const(a.value * b.value)
     for x, y in ((a, b), (b, a)):
         if isinstance(x, Const):
-            if folds(x.value, 0.0):
+            if x.value == 0.0 and not keeps(x.value):
                 return ZERO
-            if folds(x.value, 1.0):
+            if x.value == 1.0 and not keeps(x.value):
                 return y
     fa = a.factors if isinstance(a, Mul) else (a,)
     fb = b.factors if isinstance(b, Mul) else (b,)
@@ -208,11 +207,11 @@ def mul(a: E, b: E) -> E:
     c = 1.0
     for f in consts:
         c *= f.value
-    if folds(c, 0.0):
+    if c == 0.0 and not keeps(c):
         return ZERO
     if not rest:
         return Const(c)
-    if folds(c, 1.0):
+    if c == 1.0 and not keeps(c):
         return rest[0] if len(rest) == 1 else Mul(rest)
     return Mul((Const(c),) + rest)
 

@@ -57,7 +57,7 @@ class paused:
 
 
 class keeping:
-    """While inside, a traced 0 or 1 keeps its terms (expr.folds): the structure stays
+    """While inside, a traced 0 or 1 keeps its terms (expr.keeps): the structure stays
     that of a generic value, so derivatives at a special one (e = 1, a mass of 1 kg, a
     `0 m/s`) are exact. For the sensitivities; the sweep folds and guards instead."""
 
@@ -95,7 +95,7 @@ class Traced(float):
     """A float that remembers its expression in the parameters."""
 
     __slots__ = ("expr",)
-    keep = False  # while True (`keeping`), expr.folds never drops a traced term
+    keep = False  # while True (`keeping`), expr never folds a traced 0 or 1 away
 
     def __new__(cls, value, expr: E):
         self = float.__new__(cls, value)
