@@ -28,7 +28,7 @@ from .bounds import size_of
 from .compile import compile_scene
 from .diagnostics import ProblemError
 from .expr import diff, evaluate, magnitude, variables
-from .given_numbers import GivenNumber, given_numbers, perturbed
+from .given_numbers import GivenNumber, given_numbers, replaced
 from .gradient import gradient
 from .records import record
 from .traced_partials import traced_partials
@@ -287,7 +287,7 @@ def _explicit(doc, prm: GivenNumber, system, regimes, rows, values, base, build)
 
     def at(delta):
         try:
-            sc = build(perturbed(doc, prm.node, p + delta))
+            sc = build(replaced(doc, {id(n): p + delta for n in prm.nodes}))
             s2 = compile_scene(sc, dict(regimes))
         except ProblemError:
             return None

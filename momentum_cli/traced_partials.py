@@ -33,7 +33,8 @@ def traced_partials(doc, params, system, regimes, rows, values, build) -> Partia
     """d F / d p at `values` for every given number (str: why the trace cannot be used,
     e.g. the traced compile has another structure)."""
     pv = {_name(p.id): float(p.value) for p in params}
-    tdoc = replaced(doc, {id(p.node): trace.leaf(p.id, float(p.value)) for p in params})
+    tdoc = replaced(doc, {id(n): trace.leaf(p.id, float(p.value)) for p in params
+                         for n in p.nodes})
     try:
         with trace.keeping():
             ts = _compile(tdoc, regimes, build)
@@ -101,7 +102,7 @@ def _untraced(doc, params, system, regimes, rows, trees, values, pv, build) -> d
     out: dict = {}
 
     def probe(group) -> str:
-        new = {id(p.node): moved[p.id] for p in group}
+        new = {id(n): moved[p.id] for p in group for n in p.nodes}
         try:
             s2 = _compile(replaced(doc, new), regimes, build)
         except ProblemError:

@@ -292,3 +292,19 @@ def test_a_zero_given_keeps_its_derivative():
     assert sens.answers[0].value == pytest.approx(ma / mb, rel=1e-12)
     assert sens.answers[0].derivatives[pc.id] == pytest.approx(-(ma + mb) / (mb * va),
                                                                rel=1e-12)
+
+
+def test_a_loops_literal_is_one_given_number():
+    """`mass = 0.1 kg * 2^(i-1)` in a `for` loop is written once: one given number for
+    all twelve passes, as moving it in the text moves every mass. The velocities after
+    the elastic impacts depend only on the mass ratios, so their derivative by it is 0,
+    and v_12 = v0 (2/3)^11 gives d v_12 / d v0 = (2/3)^11."""
+    name = "cradle_loop_doubling_masses.mom"
+    doc = parse(Source(name, (EXAMPLES / name).read_text()))
+    sens = sensitivities(doc, solve_scene(build(doc)))
+    (m0,) = [p for p in sens.parameters if p.text == "0.1 kg"]
+    (v0,) = [p for p in sens.parameters if p.label == "let v0"]
+    assert len(m0.nodes) == 12 and "12 loop passes" in m0.label
+    v12 = next(a for a in sens.answers if a.name == "b[12].vx@12")
+    assert abs(v12.derivatives[m0.id]) <= 1e-12 * abs(v12.value) / m0.value
+    assert v12.derivatives[v0.id] == pytest.approx((2 / 3) ** 11, rel=1e-12)
