@@ -134,8 +134,11 @@ def _sensitivities(doc, sol, build, out: Sensitivities) -> Sensitivities:
         by_difference = {p.id: exact for p in params}
     else:
         by_difference = exact.untraced
+        whys: dict = {}  # why -> the numbers, in the file's order
         for pid, why in sorted(by_difference.items(), key=lambda kv: int(kv[0][1:])):
-            out.note += f"; d/d{pid} by a residual difference: {why}"
+            whys.setdefault(why, []).append(f"d/d{pid}")
+        for why, ds in whys.items():
+            out.note += f"; {', '.join(ds)} by a residual difference: {why}"
     out.by_difference = dict(by_difference)
     for j, prm in enumerate(params):
         if prm.id not in by_difference:
