@@ -146,14 +146,20 @@ def is_const(e: E) -> bool:
     return isinstance(e, Const)
 
 
+def keeps(v) -> bool:
+    """A traced number that keeps its terms (exact sensitivities, sweep/trace.py): a 0 or
+    1 of it is never folded away (0 + x, 1 * x, 0 * x), its derivative needs them."""
+    return type(v) is not float and getattr(v, "keep", False)
+
+
 def is_zero(e: E) -> bool:
-    return isinstance(e, (Const, Known)) and e.value == 0.0
+    return isinstance(e, (Const, Known)) and e.value == 0.0 and not keeps(e.value)
 
 
 def add(a: E, b: E) -> E:
-    if isinstance(a, Const) and a.value == 0.0:
+    if isinstance(a, Const) and a.value == 0.0 and not keeps(a.value):
         return b
-    if isinstance(b, Const) and b.value == 0.0:
+    if isinstance(b, Const) and b.value == 0.0 and not keeps(b.value):
         return a
     if isinstance(a, Const) and isinstance(b, Const):
         return Const(a.value + b.value)
@@ -173,7 +179,7 @@ def add_all(terms) -> E:
             flat.extend(t.terms)
         else:
             flat.append(t)
-    if const != 0.0 or not flat:
+    if const != 0.0 or keeps(const) or not flat:
         flat.append(Const(const))
     return flat[0] if len(flat) == 1 else Add(tuple(flat))
 
@@ -190,14 +196,14 @@ def mul(a: E, b: E) -> E:
     if ta is Const:
         if tb is Const:
             return Const(a.value * b.value)
-        if a.value == 0.0:
+        if a.value == 0.0 and not keeps(a.value):
             return ZERO
-        if a.value == 1.0:
+        if a.value == 1.0 and not keeps(a.value):
             return b
     elif tb is Const:
-        if b.value == 0.0:
+        if b.value == 0.0 and not keeps(b.value):
             return ZERO
-        if b.value == 1.0:
+        if b.value == 1.0 and not keeps(b.value):
             return a
     fs = (a.factors if ta is Mul else (a,)) + (b.factors if tb is Mul else (b,))
     # keep one leading constant
@@ -208,11 +214,11 @@ def mul(a: E, b: E) -> E:
             c *= f.value
         else:
             rest.append(f)
-    if c == 0.0:
+    if c == 0.0 and not keeps(c):
         return ZERO
     if not rest:
         return Const(c)
-    if c == 1.0:
+    if c == 1.0 and not keeps(c):
         return rest[0] if len(rest) == 1 else Mul(tuple(rest))
     return Mul((Const(c), *rest))
 

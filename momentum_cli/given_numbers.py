@@ -1,8 +1,9 @@
 """The given numbers of a problem file: each literal a parameter with a name and a place.
 
 Stage: syntax (read-only). In: a parsed `Document`. Out: `GivenNumber`s (the literal's
-`Num` node, a label such as `rod mass`, its line:column and text) and `perturbed`, the
-document with one literal's value changed, for the sensitivities (`sensitivity.py`).
+`Num` node, a label such as `rod mass`, its line:column and text; a `for` loop's passes
+are one number) and `replaced`, the document with literals' values changed, for the
+sensitivities (`sensitivity.py`, `traced_partials.py`).
 """
 from __future__ import annotations
 
@@ -23,6 +24,12 @@ class GivenNumber:
     node: S.Num
     label: str  # what it is: `rod mass`, `let mu`, `rod.vx@1`, `restitution at A`
     text: str  # as written: `10 kg`
+    copies: tuple = ()  # the same literal in the other passes of a `for` loop
+
+    @property
+    def nodes(self) -> tuple:
+        """Every node of the literal: moving the number as written moves them all."""
+        return (self.node,) + self.copies
 
     @property
     def line(self) -> int:
@@ -45,22 +52,23 @@ def given_numbers(doc: S.Document) -> list[GivenNumber]:
     """Every literal number that is data: not in a `find`, hint, `simulate` or `expect`,
     not an exponent, and not a bare `0` (a zero that takes any dimension is a structural
     zero: `rod.omega = 0`, `(0, 1)`; written with a unit it is a parameter)."""
-    out: list[GivenNumber] = []
+    found: dict = {}  # (line, column) -> [(num, label)]: a loop's passes share a place
     for st in doc.statements:
         if isinstance(st, _NOT_DATA):
             continue
         for num, path in _nums(st, []):
             if num.value == 0 and not num.unit:
                 continue
-            out.append(GivenNumber(f"#{len(out) + 1}", num, _label(st, path),
-                                   _text(doc.source, num)))
+            found.setdefault((num.span.line, num.span.column, num.value),
+                             []).append((num, _label(st, path)))
+    out: list[GivenNumber] = []
+    for group in found.values():
+        (num, label), rest = group[0], group[1:]
+        if rest:
+            label += f" (in {len(group)} loop passes)"
+        out.append(GivenNumber(f"#{len(out) + 1}", num, label, _text(doc.source, num),
+                               tuple(n for n, _ in rest)))
     return out
-
-
-def perturbed(doc: S.Document, num: S.Num, value: float) -> S.Document:
-    """The document with the literal `num` (found by identity) holding `value`."""
-    new = S.Num(num.span, value, num.unit, num.unit_span)
-    return S.Document(doc.source, tuple(_replace(s, num, new) for s in doc.statements))
 
 
 def _nums(node, path):
@@ -85,21 +93,27 @@ def _nums(node, path):
         yield from _nums(getattr(node, f), path + [(node, f)])
 
 
-def _replace(node, target, new):
-    """`node` with `target` replaced by `new`; untouched subtrees are shared."""
-    if node is target:
-        return new
-    if isinstance(node, tuple):
-        items = tuple(_replace(n, target, new) for n in node)
-        return node if all(a is b for a, b in zip(items, node)) else items
-    fields = getattr(type(node), "_fields", None)
-    if not fields or isinstance(node, S.Num):
-        return node
-    vals = [getattr(node, f) for f in fields]
-    out = [_replace(v, target, new) for v in vals]
-    if all(a is b for a, b in zip(out, vals)):
-        return node
-    return type(node)(*out)
+def replaced(doc: S.Document, values: dict) -> S.Document:
+    """The document with each literal whose id() is a key of `values` holding its value
+    (one walk for many numbers; a traced value, for exact derivatives, is a float)."""
+    def walk(node):
+        if isinstance(node, S.Num):
+            if id(node) in values:
+                return S.Num(node.span, values[id(node)], node.unit, node.unit_span)
+            return node
+        if isinstance(node, tuple):
+            items = tuple(walk(n) for n in node)
+            return node if all(a is b for a, b in zip(items, node)) else items
+        fields = getattr(type(node), "_fields", None)
+        if not fields:
+            return node
+        vals = [getattr(node, f) for f in fields]
+        out = [walk(v) for v in vals]
+        if all(a is b for a, b in zip(out, vals)):
+            return node
+        return type(node)(*out)
+
+    return S.Document(doc.source, tuple(walk(s) for s in doc.statements))
 
 
 def _text(source, num: S.Num) -> str:

@@ -9,9 +9,10 @@ F_b(x_b; x_prev, p) = 0 gives dx_b/dp = -J_b^-1 (dF_b/dp + dF_b/dx_prev . dx_pre
 with J_b and dF_b/dx_prev from the symbolic derivatives of the equation trees at the
 solution. A given number enters the trees through the scene (a mass, an inertia
 m L^2/12, a moment arm from an angle), so dF/dp, the explicit dependence at the fixed
-solution, is taken by recompiling the file with the number moved and evaluating the
-residuals at the same solution (a central difference, no re-solve): the equations are
-smooth in their data, and the step's error (h^2 + eps/h, h = 1e-5 p) is about 1e-10.
+solution, is exact: one build and compile with every number a traced leaf
+(traced_partials.py), then expr.diff. A number the trace does not see (folded by code
+outside it) is found by a probe compile and only it gets a residual difference (the
+file recompiled with it moved, a central difference, error ~1e-10), said in the note.
 Friction regimes and root choices are those of the solution, held fixed; derived
 answers (`find NAME = expr`, speeds, T_lost) are differentiated through their trees.
 A number that a redundant equation ties to others has no derivative of its own (said
@@ -27,8 +28,10 @@ from .bounds import size_of
 from .compile import compile_scene
 from .diagnostics import ProblemError
 from .expr import diff, evaluate, magnitude, variables
-from .given_numbers import GivenNumber, given_numbers, perturbed
+from .given_numbers import GivenNumber, given_numbers, replaced
+from .gradient import gradient
 from .records import record
+from .traced_partials import traced_partials
 
 STEP = 1e-5  # the central difference's step, relative to the number (absolute for a zero
 # with a unit): the residuals are evaluated, not solved, so the error is ~(h^2 + eps/h) ~ 1e-10
@@ -54,6 +57,8 @@ class Sensitivities:
     unavailable: str | None = None  # why none could be computed
     skipped: dict = field(default_factory=dict)  # parameter id -> why it has no derivative
     note: str = NOTE
+    by_difference: dict = field(default_factory=dict)  # parameter id -> why its dF/dp is a
+    # residual difference (a number the trace does not see), not exact
 
     def relative(self, a: AnswerSensitivity, pid: str) -> float | None:
         """d ln(answer) / d ln(given); None for a zero answer."""
@@ -123,7 +128,22 @@ def _sensitivities(doc, sol, build, out: Sensitivities) -> Sensitivities:
     Fp = np.zeros((len(rows), n))
     Ap = np.zeros((len(finds), n))
     ok = np.ones(n, dtype=bool)
+    exact = traced_partials(doc, params, system, sol.regimes, rows, values, build)
+    if isinstance(exact, str):  # the whole trace is unusable: every number by difference
+        out.note += f"; dF/dp by residual differences: {exact}"
+        by_difference = {p.id: exact for p in params}
+    else:
+        by_difference = exact.untraced
+        whys: dict = {}  # why -> the numbers, in the file's order
+        for pid, why in sorted(by_difference.items(), key=lambda kv: int(kv[0][1:])):
+            whys.setdefault(why, []).append(f"d/d{pid}")
+        for why, ds in whys.items():
+            out.note += f"; {', '.join(ds)} by a residual difference: {why}"
+    out.by_difference = dict(by_difference)
     for j, prm in enumerate(params):
+        if prm.id not in by_difference:
+            Fp[:, j], Ap[:, j] = exact.rows[prm.id], exact.finds[prm.id]
+            continue
         col = _explicit(doc, prm, system, sol.regimes, rows, values, base, build)
         if isinstance(col, str):
             out.skipped[prm.id] = col
@@ -245,8 +265,13 @@ def _size(e, values) -> float:
 
 
 def _gradient(e, values) -> dict[str, float]:
-    """d e / d x for each unknown of `e` that has a value."""
-    return {v: evaluate(diff(e, v), values) for v in sorted(variables(e)) if v in values}
+    """d e / d x for each unknown of `e` that has a value (one reverse sweep when all
+    have one, else `diff` per unknown)."""
+    names = sorted(variables(e))
+    if all(v in values for v in names):
+        g = gradient(e, values)
+        return {v: g.get(v, 0.0) for v in names}
+    return {v: evaluate(diff(e, v), values) for v in names if v in values}
 
 
 def _residuals(system, rows, values):
@@ -265,7 +290,7 @@ def _explicit(doc, prm: GivenNumber, system, regimes, rows, values, base, build)
 
     def at(delta):
         try:
-            sc = build(perturbed(doc, prm.node, p + delta))
+            sc = build(replaced(doc, {id(n): p + delta for n in prm.nodes}))
             s2 = compile_scene(sc, dict(regimes))
         except ProblemError:
             return None

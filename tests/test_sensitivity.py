@@ -210,3 +210,101 @@ def test_unavailable_is_said_not_guessed():
     doc = parse(Source(name, (EXAMPLES / name).read_text()))
     sens = sensitivities(doc, solve_scene(build(doc)))
     assert sens.unavailable and "integrated" in sens.unavailable and not sens.answers
+
+
+def test_seeds_use_no_residual_difference():
+    """Every number of every seed enters the equations through the trace: dF/dp is
+    exact (expr.diff of the traced trees), none is left to a residual difference."""
+    for name in SEEDS:
+        doc = parse(Source(name, (EXAMPLES / name).read_text()))
+        sens = sensitivities(doc, solve_scene(build(doc)))
+        assert sens.by_difference == {}, (name, sens.by_difference)
+        assert "residual difference" not in sens.note, (name, sens.note)
+
+
+def test_special_values_keep_their_derivatives():
+    """At m_A = 1 kg, e = 1 and v_B = 0 m/s the compile folds 1*x and 0*x away; the
+    traced build keeps the terms, so the derivatives are still the closed form's:
+    v_A' = (m_A v_A + m_B v_B - e m_B (v_A - v_B)) / M, M = m_A + m_B."""
+    ma, mb, va, vb, e = 1.0, 3.0, 5.0, 0.0, 1.0
+    text = COLLISION.format(ma="1", mb="3", va="5", vb="0", e="1")
+    doc = parse(Source("special.mom", text))
+    sens = sensitivities(doc, solve_scene(build(doc)))
+    assert sens.by_difference == {}, sens.by_difference
+    ids = {p.label: p.id for p in sens.parameters}
+    d = sens.answers[0].derivatives
+    M = ma + mb
+    num = ma * va + mb * vb - e * mb * (va - vb)
+    assert d[ids["a mass"]] == pytest.approx((va * M - num) / M ** 2, rel=1e-12)
+    assert d[ids["restitution at a (1->2)"]] == pytest.approx(-mb * (va - vb) / M, rel=1e-12)
+    assert d[ids["b.v@1 x"]] == pytest.approx(mb * (1 + e) / M, rel=1e-12)
+
+
+def test_a_number_outside_the_trace_falls_back():
+    """A build that reads one number as a plain float (as code folding it with math.cos
+    would) is found by the probe compile; that number alone gets a residual difference,
+    said in the note, and its derivative is still right."""
+    from momentum_cli import syntax as S
+    from momentum_cli.given_numbers import replaced
+
+    ma, mb, va, vb, e = 2.0, 3.0, 5.0, 1.5, 0.6
+    text = COLLISION.format(ma=ma, mb=mb, va=va, vb=vb, e=e)
+    doc = parse(Source("leak.mom", text))
+    (pma,) = [p for p in given_numbers(doc) if p.label == "a mass"]
+    span = pma.node.span
+
+    def leaky(d):
+        nums = {}
+
+        def walk(node):
+            if isinstance(node, S.Num) and node.span == span:
+                nums[id(node)] = float(node.value)  # the trace is lost here
+            elif isinstance(node, tuple):
+                for x in node:
+                    walk(x)
+            else:
+                for f in getattr(type(node), "_fields", ()):
+                    walk(getattr(node, f))
+
+        for st in d.statements:
+            walk(st)
+        return build(replaced(d, nums))
+
+    sens = sensitivities(doc, solve_scene(build(doc)), build=leaky)
+    assert set(sens.by_difference) == {pma.id}, sens.by_difference
+    assert f"d/d{pma.id} by a residual difference" in sens.note
+    num = ma * va + mb * vb - e * mb * (va - vb)
+    want = (va * (ma + mb) - num) / (ma + mb) ** 2
+    assert sens.answers[0].derivatives[pma.id] == pytest.approx(want, rel=1e-8)
+
+
+def test_a_zero_given_keeps_its_derivative():
+    """`equation a.vx@2 = 0 m/s` with e unknown: the compile would fold the zero away
+    (x - 0); traced, it stays. From v_A' = (m_A v_A - e m_B v_A) / M = c (B at rest),
+    e = (m_A v_A - c M) / (m_B v_A), so d e / d c = -M / (m_B v_A)."""
+    ma, mb, va = 2.0, 3.0, 5.0
+    text = COLLISION.format(ma=ma, mb=mb, va=va, vb=0, e="?").replace(
+        "find a.vx@2, b.vx@2", "equation a.vx@2 = 0 m/s\nfind e[a-b]")
+    doc = parse(Source("zero.mom", text))
+    sens = sensitivities(doc, solve_scene(build(doc)))
+    assert sens.by_difference == {}, sens.by_difference
+    (pc,) = [p for p in sens.parameters if p.label.startswith("userequation")]
+    assert sens.answers[0].value == pytest.approx(ma / mb, rel=1e-12)
+    assert sens.answers[0].derivatives[pc.id] == pytest.approx(-(ma + mb) / (mb * va),
+                                                               rel=1e-12)
+
+
+def test_a_loops_literal_is_one_given_number():
+    """`mass = 0.1 kg * 2^(i-1)` in a `for` loop is written once: one given number for
+    all twelve passes, as moving it in the text moves every mass. The velocities after
+    the elastic impacts depend only on the mass ratios, so their derivative by it is 0,
+    and v_12 = v0 (2/3)^11 gives d v_12 / d v0 = (2/3)^11."""
+    name = "cradle_loop_doubling_masses.mom"
+    doc = parse(Source(name, (EXAMPLES / name).read_text()))
+    sens = sensitivities(doc, solve_scene(build(doc)))
+    (m0,) = [p for p in sens.parameters if p.text == "0.1 kg"]
+    (v0,) = [p for p in sens.parameters if p.label == "let v0"]
+    assert len(m0.nodes) == 12 and "12 loop passes" in m0.label
+    v12 = next(a for a in sens.answers if a.name == "b[12].vx@12")
+    assert abs(v12.derivatives[m0.id]) <= 1e-12 * abs(v12.value) / m0.value
+    assert v12.derivatives[v0.id] == pytest.approx((2 / 3) ** 11, rel=1e-12)

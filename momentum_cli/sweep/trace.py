@@ -56,6 +56,19 @@ class paused:
         return False
 
 
+class keeping:
+    """While inside, a traced 0 or 1 keeps its terms (expr.keeps): the structure stays
+    that of a generic value, so derivatives at a special one (e = 1, a mass of 1 kg, a
+    `0 m/s`) are exact. For the sensitivities; the sweep folds and guards instead."""
+
+    def __enter__(self):
+        self.was, Traced.keep = Traced.keep, True
+
+    def __exit__(self, *exc):
+        Traced.keep = self.was
+        return False
+
+
 def leaf(name: str, value: float) -> "Traced":
     return Traced(value, Known(PREFIX + name, float(value)))
 
@@ -82,6 +95,7 @@ class Traced(float):
     """A float that remembers its expression in the parameters."""
 
     __slots__ = ("expr",)
+    keep = False  # while True (`keeping`), expr never folds a traced 0 or 1 away
 
     def __new__(cls, value, expr: E):
         self = float.__new__(cls, value)
