@@ -1,5 +1,5 @@
 """`python -m momentum_cli` runs the command-line interface."""
-from .cli import main
+from .entry import main
 
 if __name__ == "__main__":
     main()
