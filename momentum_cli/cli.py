@@ -16,7 +16,7 @@ import typer
 
 from . import solve_cmd
 from .diagnostics import Diagnostic, ExitCode
-from .entry import _on_signal, _usable_environment, main  # noqa: F401 (the entry point)
+from .guard import _on_signal, _usable_environment, guarded  # noqa: F401
 from .solve_cmd import (SOLVE_DEFAULTS, Color, Format, Precision,  # noqa: F401 (shared)
                         SolveFormat, Steps, Units, _Captured, _colored, _console, _expand,
                         _internal, _is_utf8, _overrides_for, _pick_format, _print_diagnostics,
@@ -955,3 +955,9 @@ def grade(
 
         sys.stdout.write(render_plain(result))
     raise typer.Exit(int(ExitCode.PROBLEM if result.key_errors else ExitCode.OK))
+
+
+def main() -> None:
+    """The typer application inside the guards (the `momentum` command is __main__.main,
+    which tries the fast path first)."""
+    guarded(lambda: app(prog_name="momentum"))

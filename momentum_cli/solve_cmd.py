@@ -131,11 +131,11 @@ def _read_all(files: List[str]):
 
 def _expand(files: List[str]) -> List[str]:
     """A directory argument means the `*.mom` files under it (recursively, sorted)."""
-    from pathlib import Path
-
     out: List[str] = []
     for f in files:
         if f != "-" and os.path.isdir(f):
+            from pathlib import Path  # here: a one-shot solve of a file never needs it
+
             found = sorted(str(p) for p in Path(f).rglob("*.mom") if p.is_file())
             if not found:
                 raise BadParameter(f"{f} is a directory with no .mom files in it")
@@ -249,13 +249,9 @@ def _console(mode: str, color: Color):
     """The rich console for the rich format (None for the others), coloured as asked."""
     if mode != "rich":
         return None
-    from rich.console import Console
+    from .report.console import make_console
 
-    if color == Color.always:
-        return Console(force_terminal=True)
-    if color == Color.never:
-        return Console(no_color=True)
-    return Console()
+    return make_console(color.value)
 
 
 def _render(report, mode: str, console, index: int, digits: int, simulation: bool,

@@ -176,7 +176,7 @@ def test_processes_are_identical(case, tmp_path):
 
 def test_a_fast_solve_does_not_import_typer(tmp_path):
     code = ("import sys; sys.argv = ['momentum', 'solve', '--plain', %r]\n"
-            "from momentum_cli.entry import main\n"
+            "from momentum_cli.__main__ import main\n"
             "try:\n    main()\nexcept SystemExit as e:\n    rc = e.code\n"
             "sys.stderr.write(repr((rc, [m for m in ('typer', 'click', 'typer._click', "
             "'rich', 'numpy', 'momentum_cli.cli') if m in sys.modules])))\n" % SEED)

@@ -1,6 +1,6 @@
-"""The `momentum` command's entry point: stream guards, signals and exit codes around
-either the fast path (fastpath.py: a plain one-shot `solve`, without typer) or the
-typer application (cli.py) for everything else.
+"""The guards around a whole command run: standard output that cannot be written,
+interrupts and signals, mapped to exit codes. In: the run (a callable that ends in
+SystemExit). Used by __main__.main (fast path, else typer) and cli.main (typer).
 """
 from __future__ import annotations
 
@@ -43,10 +43,10 @@ def _usable_environment() -> None:
                 pass
 
 
-def main() -> None:
-    """Entry point of the `momentum` command: exit codes for output that cannot be
-    written (a broken pipe ends quietly with 141, like other tools; a full disk or a
-    closed standard output is one line and 3), interrupts and signals."""
+def guarded(run) -> None:
+    """Call `run` (the command) with exit codes for output that cannot be written (a
+    broken pipe ends quietly with 141, like other tools; a full disk or a closed
+    standard output is one line and 3), interrupts and signals."""
     from .outputs import (GuardedStream, OutputFailed, OutputGone, silence_stdout,
                           stdout_is_closed)
 
@@ -62,15 +62,7 @@ def main() -> None:
     sys.stdout = GuardedStream(sys.stdout)
     try:
         try:
-            from .fastpath import try_solve
-
-            # MOMENTUM_NO_FASTPATH=1: always typer (the tests compare the two)
-            if os.environ.get("MOMENTUM_NO_FASTPATH") or not try_solve(sys.argv[1:]):
-                from .cli import app
-
-                # a fixed name: usage lines and shell completion (`_MOMENTUM_COMPLETE`)
-                # say `momentum` also under `python -m momentum_cli`
-                app(prog_name="momentum")
+            run()
         finally:
             sys.stdout.flush()
     except KeyboardInterrupt:
