@@ -3,6 +3,8 @@
 Parses flags, reads files, picks a renderer, and maps results to exit codes:
 0 solved, 1 a problem in a file, 2 usage or unreadable file, 3 internal error (or
 standard output not writable), 130 interrupted, 141 broken pipe, 128+N signal N. Heavy modules (rich, numpy) are imported only when needed.
+`solve`'s work is in solve_cmd.py (shared with the typer-free fastpath.py); the guards
+around a run are in guard.py.
 """
 from __future__ import annotations
 
