@@ -5,7 +5,6 @@ only `cli.py` turns them into exit codes.
 """
 from __future__ import annotations
 
-import difflib
 from dataclasses import field
 from enum import IntEnum
 
@@ -78,6 +77,8 @@ class ProblemError(Exception):
 
 def did_you_mean(name: str, candidates) -> str:
     """A ' (did you mean X?)' suffix for a misspelt name, or ''."""
+    import difflib  # only for a misspelt name
+
     close = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
     return f"; did you mean '{close[0]}'?" if close else ""
 

@@ -11,7 +11,6 @@ import errno
 import os
 import stat
 import sys
-import tempfile
 
 
 # temporary files being filled now: a signal handler removes them before the process ends
@@ -88,6 +87,8 @@ def write_text(path: str, text: str, force: bool, option: str) -> None:
 def write_drawing(path: str, draw, force: bool, option: str) -> None:
     """`draw(tmp_path)` makes the file (its type from the suffix); it then takes `path`
     whole, or goes to standard output for `-` (as PNG)."""
+    import tempfile  # only when writing a file
+
     if path == "-":
         fd, tmp = tempfile.mkstemp(suffix=".png")
         os.close(fd)
@@ -116,6 +117,8 @@ def _write_file(tmp: str, data: bytes) -> None:
 def _atomic(path: str, force: bool, option: str, fill) -> None:
     """A temporary file beside `path`, filled, then renamed onto it (`os.replace` with
     --force; else `os.link`, which refuses a file that appeared meanwhile)."""
+    import tempfile
+
     folder = os.path.dirname(path) or "."
     try:
         fd, tmp = tempfile.mkstemp(prefix=".momentum-", suffix=os.path.splitext(path)[1],

@@ -9,8 +9,6 @@ from __future__ import annotations
 import io
 import os
 import shlex
-import shutil
-import subprocess
 import sys
 from contextlib import contextmanager
 
@@ -46,6 +44,8 @@ def should_page(text: str, stream, rows: int | None = None) -> bool:
     """Longer than the terminal, and the terminal is really one (never into a pipe)."""
     if not _is_tty(stream) or os.environ.get("TERM") == "dumb":
         return False
+    import shutil  # here: a piped run never pays for it
+
     rows = rows if rows is not None else shutil.get_terminal_size((80, 24)).lines
     return text.count("\n") >= rows
 
@@ -61,6 +61,8 @@ def show(text: str, stream) -> None:
     """Write `text` to `stream`, through the pager when it does not fit the terminal."""
     cmd = pager_command() if should_page(text, stream) else None
     if cmd:
+        import subprocess
+
         env = dict(os.environ)
         env.setdefault("LESS", "FRX")
         try:

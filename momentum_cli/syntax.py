@@ -9,7 +9,6 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
-from pathlib import Path
 
 from .diagnostics import ProblemError
 from .records import record
@@ -420,7 +419,14 @@ class Document:
 
 # ---- the parser ---------------------------------------------------------------------------
 def grammar_text() -> str:
-    """The grammar, from inside the installed package or from the repository."""
+    """The grammar, from inside the installed package or from the repository (a plain
+    file beside this module is read directly: importlib.resources costs start-up)."""
+    here = os.path.dirname(os.path.realpath(__file__))
+    for path in (os.path.join(here, "momentum.lark"),
+                 os.path.join(os.path.dirname(here), "grammar", "momentum.lark")):
+        if os.path.isfile(path):
+            with open(path, encoding="utf-8") as fh:
+                return fh.read()
     try:
         from importlib.resources import files
 
@@ -429,9 +435,7 @@ def grammar_text() -> str:
             return res.read_text(encoding="utf-8")
     except (ModuleNotFoundError, FileNotFoundError, OSError):
         pass
-    return (Path(__file__).resolve().parent.parent / "grammar" / "momentum.lark").read_text(
-        encoding="utf-8"
-    )
+    raise FileNotFoundError("momentum.lark: the grammar is missing from the installation")
 
 
 def _cache_dir() -> str | None:

@@ -1,0 +1,83 @@
+"""The guards around a whole command run: standard output that cannot be written,
+interrupts and signals, mapped to exit codes. In: the run (a callable that ends in
+SystemExit). Used by __main__.main (fast path, else typer) and cli.main (typer).
+"""
+from __future__ import annotations
+
+import os
+import sys
+
+from .diagnostics import ExitCode
+
+
+def _on_signal(signum, _frame) -> None:
+    """SIGTERM or SIGHUP: end the worker processes and this one now, with 128 + signal
+    (a pool waiting for its workers would not stop promptly)."""
+    outputs = sys.modules.get("momentum_cli.outputs")
+    if outputs is not None:
+        outputs.remove_pending()  # no half-written temporary file is left behind
+    mp = sys.modules.get("multiprocessing")
+    if mp is not None:
+        for child in mp.active_children():
+            try:
+                child.kill()
+            except OSError:
+                pass
+    os._exit(128 + signum)
+
+
+def _usable_environment() -> None:
+    """Terminal sizes that are not positive whole numbers (`COLUMNS=0`) are ignored, so
+    that rich does not draw into zero columns; signals end the run promptly."""
+    import signal
+
+    for var in ("COLUMNS", "LINES"):
+        v = os.environ.get(var)
+        if v is not None and not (v.strip().isdigit() and int(v) > 0):
+            del os.environ[var]
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            try:
+                signal.signal(getattr(signal, name), _on_signal)
+            except (ValueError, OSError):
+                pass
+
+
+def guarded(run) -> None:
+    """Call `run` (the command) with exit codes for output that cannot be written (a
+    broken pipe ends quietly with 141, like other tools; a full disk or a closed
+    standard output is one line and 3), interrupts and signals."""
+    from .outputs import (GuardedStream, OutputFailed, OutputGone, silence_stdout,
+                          stdout_is_closed)
+
+    if stdout_is_closed():
+        sys.stderr.write("momentum: error: standard output is closed\n")
+        sys.exit(int(ExitCode.INTERNAL))
+    _usable_environment()
+    import warnings
+
+    # scipy's and numpy's warnings (rtol clamped, overflow in a trial step) are not the
+    # user's business: what matters reaches them as located diagnostics
+    warnings.simplefilter("ignore")
+    sys.stdout = GuardedStream(sys.stdout)
+    try:
+        try:
+            run()
+        finally:
+            sys.stdout.flush()
+    except KeyboardInterrupt:
+        # like SIGTERM: end the workers and this process now; a normal exit would join
+        # the pool's threads, where a late interrupt prints a traceback
+        try:
+            sys.stdout.flush()
+            sys.stderr.flush()
+        except (OSError, ValueError, OutputGone, OutputFailed):
+            pass
+        _on_signal(int(ExitCode.INTERRUPTED) - 128, None)
+    except OutputGone:
+        silence_stdout()
+        sys.exit(141)
+    except OutputFailed as exc:
+        silence_stdout()
+        sys.stderr.write(f"momentum: error: cannot write to standard output: {exc.reason}\n")
+        sys.exit(int(ExitCode.INTERNAL))
