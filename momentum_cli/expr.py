@@ -352,6 +352,22 @@ def affine_exact(e: E, block: set[str], values: dict) -> tuple[dict[str, Fractio
     return {}, Fraction(float(FUNCS[e.name](float(k))))
 
 
+def map_children(e: E, f) -> E:
+    """The same node over `f(child, in_fn)` (Add, Mul, Pow, Fn; `in_fn`: the child is a
+    function's argument); a leaf as it is. The shape is kept (no folding): a rewrite of
+    leaves for display or naming."""
+    t = type(e)
+    if t is Add:
+        return Add(tuple(f(x, False) for x in e.terms))
+    if t is Mul:
+        return Mul(tuple(f(x, False) for x in e.factors))
+    if t is Pow:
+        return Pow(f(e.base, False), e.exp)
+    if t is Fn:
+        return Fn(e.name, f(e.arg, True))
+    return e
+
+
 def variables(e: E, out: set | None = None) -> set[str]:
     """The unknowns `e` really depends on (terms multiplied by a zero known drop out)."""
     if out is None:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import re
 
-from ..expr import Add, Const, E, Fn, Known, Mul, Pow, Var, to_text
+from ..expr import Add, Const, E, Fn, Known, Mul, Pow, Var, map_children, to_text
 from ..numbers import fmt_num
 from ..records import record
 from ..units import (
@@ -291,13 +291,7 @@ class _Sub:
             if d is None and self.scale:
                 d = self.slots.get(id(e))
             return Const(v / self.reader.factor(d) if d else v)
-        if t is Add:
-            return Add(tuple(self(x, False) for x in e.terms))
-        if t is Mul:
-            return Mul(tuple(self(x, False) for x in e.factors))
-        if t is Pow:
-            return Pow(self(e.base, False), e.exp)
-        return Fn(e.name, self(e.arg, True))
+        return map_children(e, self)
 
 
 # ---- the sign of an answer in words ----------------------------------------------------------------

@@ -11,16 +11,14 @@ import re
 from collections import ChainMap
 
 from ..expr import (
-    Add,
     Const,
-    Fn,
     Known,
     Mul,
     NonLinear,
-    Pow,
     Var,
     add_all,
     affine,
+    map_children,
     mul,
     to_text,
     variables,
@@ -82,15 +80,7 @@ def _named(e, given: dict):
     if t is Known and (_VELOCITY.search(e.name) or ".omega@" in e.name):
         given[e.name] = e.value
         return Var(e.name)
-    if t is Add:
-        return Add(tuple(_named(x, given) for x in e.terms))
-    if t is Mul:
-        return Mul(tuple(_named(x, given) for x in e.factors))
-    if t is Pow:
-        return Pow(_named(e.base, given), e.exp)
-    if t is Fn:
-        return Fn(e.name, _named(e.arg, given))
-    return e
+    return map_children(e, lambda x, _in_fn: _named(x, given))
 
 
 def _moments(law, part, values, given: dict):
