@@ -867,7 +867,7 @@ def sweep(
                                        help="Draw each answer against the --vary parameter, or "
                                             "its histogram for --sample (needs the `plot` "
                                             "extra: matplotlib)."),
-    force: bool = typer.Option(False, "--force", help="Let --plot overwrite an existing file."),
+    force: bool = typer.Option(False, "--force", help="Let --csv and --plot overwrite an existing file."),
 ) -> None:
     """Solve a problem for many values of its `let` constants (or given numbers:
     `rod.y@1`, `e[A]`), compiled once and solved as arrays; summarise every answer.

@@ -84,6 +84,23 @@ def write_text(path: str, text: str, force: bool, option: str) -> None:
     _atomic(path, force, option, lambda tmp: _write_file(tmp, text.encode("utf-8")))
 
 
+def write_stream(path: str, write, force: bool, option: str) -> None:
+    """`write(fh)` writes text to an open file that then takes `path` whole (large
+    outputs are never held in memory), or to standard output for `-`."""
+    if path == "-":
+        write(sys.stdout)
+        sys.stdout.flush()
+        return
+
+    def fill(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            write(fh)
+            fh.flush()
+            os.fsync(fh.fileno())
+
+    _atomic(path, force, option, fill)
+
+
 def write_drawing(path: str, draw, force: bool, option: str) -> None:
     """`draw(tmp_path)` makes the file (its type from the suffix); it then takes `path`
     whole, or goes to standard output for `-` (as PNG)."""

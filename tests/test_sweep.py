@@ -335,3 +335,21 @@ def test_energy_roots_and_variants_that_do_not_solve(tmp_path):
     assert all(s == "ok" for s in r.status[reach])
     res = runner.invoke(app, ["sweep", str(path), "--vary", "v0=2..8:13 m/s"])
     assert res.exit_code == 1 and "did not solve: no real solution" in res.output
+
+
+# ---- where the CSV goes ----------------------------------------------------------------------
+def test_csv_dash_is_standard_output_and_a_file_is_never_overwritten_silently(tmp_path,
+                                                                              monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    args = ["sweep", os.path.join(EX, "seed_rod_drop_smooth.mom"), "--vary", "e[A]=0.5..1:3"]
+    r = runner.invoke(app, args + ["--csv", "-"])
+    assert r.exit_code in (0, 1), r.output
+    assert r.stdout.startswith("e[A],rod.omega@3 (rad/s),")
+    assert not (tmp_path / "-").exists()
+    out = tmp_path / "out.csv"
+    out.write_text("precious\n", encoding="utf-8")
+    r = runner.invoke(app, args + ["--csv", str(out)])
+    assert r.exit_code == 2 and "exists; add --force" in r.output
+    assert out.read_text(encoding="utf-8") == "precious\n"  # refused before any work
+    r = runner.invoke(app, args + ["--csv", str(out), "--force"])
+    assert r.exit_code in (0, 1) and out.read_text(encoding="utf-8").startswith("e[A],")

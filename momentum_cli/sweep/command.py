@@ -28,6 +28,13 @@ def run(file: str, vary, sample, count, seed, csv_path, json_flag: bool, jsonl: 
         design = parse_design(vary, sample, count, seed)
     except SpecError as exc:
         raise UsageError(str(exc)) from None
+    if csv_path:
+        from ..outputs import OutputError, check_path
+
+        try:  # before any work: a path that would lose data is refused
+            check_path(csv_path, [file], force, "--csv")
+        except OutputError as exc:
+            raise UsageError(str(exc)) from None
     columns = design.columns()
     dims = {p.name: p.dim for p in design.params}
     progress = progress_factory(design.size) if progress_factory else None
@@ -50,12 +57,18 @@ def run(file: str, vary, sample, count, seed, csv_path, json_flag: bool, jsonl: 
             draw(result, design, plot, force, title=file)
         except RunError as exc:
             raise UsageError(str(exc)) from None
+    out = sys.stdout
     if csv_path:
+        from ..outputs import OutputError, write_stream
+
         try:
-            write_csv(result, csv_path)
+            write_stream(csv_path, lambda fh: write_csv(result, fh), force, "--csv")
+        except OutputError as exc:
+            raise UsageError(str(exc)) from None
         except OSError as exc:
             raise UsageError(f"--csv {csv_path}: {exc.strerror or exc}") from None
-    out = sys.stdout
+        if csv_path == "-":  # the CSV is standard output: the summary goes to stderr
+            out = sys.stderr
     if jsonl:
         write_jsonl(result, out)
     elif json_flag:
