@@ -368,27 +368,64 @@ def _impact_system(scene: Scene, regimes: dict):
     return np.array(A_rows), np.array(rhs), idx, nv, names
 
 
+def _regime_solve(scene: Scene, regimes: dict) -> Dense:
+    """The impact solved in given stick/slide regimes (rank_ok False: singular)."""
+    A, rhs, idx, nv, names = _impact_system(scene, regimes)
+    if A.shape[0] != A.shape[1]:
+        return Dense({}, {}, regimes, [], False, math.inf)
+    cond = np.linalg.cond(A)
+    if not math.isfinite(cond) or cond > 1e8:
+        return Dense({}, {}, regimes, [], False, cond)
+    x = np.linalg.solve(A, rhs)
+    v2 = {}
+    for b in scene.bodies:
+        for c, q in enumerate(("vx", "vy", "omega")[:b.ndof]):
+            v2[(b.name, q)] = float(x[idx[(b.name, c)]])
+    imps = {nm: float(x[nv + k]) for k, nm in enumerate(names)}
+    return Dense(v2, imps, regimes, [c.label for c in scene.contacts
+                                     if imps[f"J_n[{c.label}]@1->2"] < 0], True, cond)
+
+
+def _e_regimes(sc: Scene, c: Contact, q) -> int:
+    """How many stick/slide combinations keep Coulomb's law with c's e unknown and found
+    from the stated value of q (in [0, 1]): a well-posed `restitution ?` scene has one.
+    x is linear in e in a fixed regime, so two solves give e for each regime."""
+    fr = [x for x in sc.contacts if x.mode == "friction"]
+    e0, target = c.e, dense_solve(sc).v2[q]
+    count = 0
+    try:
+        for combo in itertools.product(("stick", "slide"), repeat=len(fr)):
+            regimes = {x.label: r for x, r in zip(fr, combo)}
+            c.e = 0.0
+            d0 = _regime_solve(sc, regimes)
+            c.e = 1.0
+            d1 = _regime_solve(sc, regimes)
+            if not (d0.rank_ok and d1.rank_ok):
+                continue
+            slope = d1.v2[q] - d0.v2[q]
+            if abs(slope) <= 1e-9 * (1 + abs(target)):
+                continue  # e not determined by q in this regime: refused there
+            e = (target - d0.v2[q]) / slope
+            if not -1e-9 <= e <= 1 + 1e-9:
+                continue
+            c.e = e
+            d = _regime_solve(sc, regimes)
+            if d.rank_ok and _coulomb_ok(sc, d):
+                count += 1
+    finally:
+        c.e = e0
+    return count
+
+
 def dense_solve(scene: Scene) -> Dense:
     """Solve the impact with every Coulomb regime combination; keep the admissible one."""
     fr = [c for c in scene.contacts if c.mode == "friction"]
     admissible = []
     last = None
     for combo in itertools.product(("stick", "slide"), repeat=len(fr)):
-        regimes = {c.label: r for c, r in zip(fr, combo)}
-        A, rhs, idx, nv, names = _impact_system(scene, regimes)
-        if A.shape[0] != A.shape[1]:
-            return Dense({}, {}, regimes, [], False, math.inf)
-        cond = np.linalg.cond(A)
-        if not math.isfinite(cond) or cond > 1e8:
-            return Dense({}, {}, regimes, [], False, cond)
-        x = np.linalg.solve(A, rhs)
-        v2 = {}
-        for b in scene.bodies:
-            for c, q in enumerate(("vx", "vy", "omega")[:b.ndof]):
-                v2[(b.name, q)] = float(x[idx[(b.name, c)]])
-        imps = {nm: float(x[nv + k]) for k, nm in enumerate(names)}
-        d = Dense(v2, imps, regimes, [c.label for c in scene.contacts
-                                      if imps[f"J_n[{c.label}]@1->2"] < 0], True, cond)
+        d = _regime_solve(scene, {c.label: r for c, r in zip(fr, combo)})
+        if not d.rank_ok:
+            return d
         last = d
         if _coulomb_ok(scene, d):
             admissible.append(d)
@@ -646,8 +683,8 @@ def _draw(rng: random.Random, seed: int, cat: str, op: frozenset) -> Scene | Non
     for c in contacts:
         if c.e_unknown:
             q = _sensitive(sc, c)
-            if q is None:
-                return None
+            if q is None or _e_regimes(sc, c, q) != 1:
+                return None  # e not found from q, or Coulomb admits two answers
             sc.e_given[c.label] = q
     return sc
 
