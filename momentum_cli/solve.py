@@ -605,10 +605,19 @@ _UNIT_SCALES: list = [None, None]  # (values dict, its scales): one pass per sol
 
 
 def _unit_scales(system: System, values: dict) -> dict[str, float]:
-    """The largest magnitude among the solved values of each unit (m/s, rad/s, N*s)."""
+    """The largest magnitude among the solved values of each unit (m/s, rad/s, N*s) and
+    the given state values (a rad/s answer that is round-off around 0 is still read
+    against the scene's given angular velocities)."""
     if _UNIT_SCALES[0] is values and _UNIT_SCALES[1][0] == len(values):
         return _UNIT_SCALES[1][1]
+    from .scene import STATE_QTYS
+
     out: dict[str, float] = {}
+    for spec in system.scene.states.values():
+        for (_body, qty), (x, _span) in spec.givens.items():
+            unit = STATE_QTYS.get(qty, (None, None))[1]
+            if unit is not None and isinstance(x, float) and math.isfinite(x):
+                out[unit] = max(out.get(unit, 0.0), abs(x))
     for n, x in values.items():
         u = system.unknowns.get(n)
         if u is not None and isinstance(x, float) and math.isfinite(x):
