@@ -43,7 +43,9 @@ REGIME_CHECK_FIXED = True
 # Several friction contacts in one impact (or friction with `restitution ?`): the regimes
 # that stick-first iteration settles on are re-checked against Coulomb's law (no slip
 # reversal, J_n >= 0, a found e in [0, 1]); when they break it, every stick/slide
-# combination is tried (momentum_cli/regime_search.py).
+# combination is tried (momentum_cli/regime_search.py). With `restitution ?` the program
+# always tries every combination, so an unknown_e scene is drawn only when its stated
+# quantity admits one regime with e in [0, 1] (`_e_regimes`), else it is ambiguous.
 SLIDE_SIGN_FIXED = True
 
 # `equation Q = value` true to round-off is refused "inconsistent": a true 0 written as
