@@ -20,6 +20,14 @@ def impact_sites(system) -> list:
     return [s for s in system.friction if s.slip_after is not None]
 
 
+def restitution_found(system) -> bool:
+    """A `restitution ?` beside impact friction: the e a regime yields is only checked
+    against [0, 1], so another regime may keep Coulomb's law with another e -- every
+    combination is tried, and more than one admissible is refused, not picked."""
+    return bool(impact_sites(system)) and any(u.kind == "restitution"
+                                              for u in system.unknowns.values())
+
+
 def violations(sol) -> list[tuple[object, str]]:
     """(site, why) for every impact friction contact whose solved impulses break Coulomb."""
     out = []
@@ -44,11 +52,13 @@ def _combo_text(sites, combo) -> str:
     return ", ".join(f"{s.label} {r.value}" for s, r in zip(sites, combo))
 
 
-def search(sol, regimes: dict, solve_with):
+def search(system, regimes: dict, solve_with, refused: ProblemError | None = None):
     """Every stick/slide combination of the impact friction contacts, solved; the one
     that keeps Coulomb's law everywhere is returned as (solution, results, regimes).
-    None or several such combinations are errors that say so, never a silent pick."""
-    sites = impact_sites(sol.system)
+    None or several such combinations are errors that say so, never a silent pick;
+    `refused` (the error of a regime that did not solve on the way) is raised when no
+    combination solves at all."""
+    sites = impact_sites(system)
     names = ", ".join(f"{s.label} ({s.transition})" for s in sites)
     span = sites[0].span if sites else None
     if len(sites) > MAX_SITES:
@@ -83,6 +93,8 @@ def search(sol, regimes: dict, solve_with):
                    "them; state more (a measured velocity, or `rough`/`smooth`)"])
     if found:  # the physical regime contradicts a statement of the file
         raise found[0][1].deferred[0]
+    if refused is not None:
+        raise refused
     raise ProblemError(
         f"no stick/slide combination of the friction contacts {names} satisfies Coulomb's "
         "law", span, code="no-solution",

@@ -89,17 +89,27 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
     regimes: dict[str, str] = {}
     tried: set[tuple] = set()
     rounds = 0
+    refused = system = None  # a regime tried on the way that does not solve at all
     while True:
-        sol, results = _solve_regimes(scene, regimes, solve_all, precision)
+        try:
+            sol, results = _solve_regimes(scene, regimes, solve_all, precision)
+        except ProblemError as exc:
+            system = _regime_system(scene, regimes)
+            if system is None:
+                raise
+            refused = exc
+            break
         rounds += 1
         changed = _update_regimes(sol, regimes)
         key = tuple(sorted(regimes.items()))
         if not changed or key in tried or rounds >= max_rounds:
             break
         tried.add(key)
-    if changed or regime_search.violations(sol):
+    if refused is not None or changed or regime_search.violations(sol) or \
+            regime_search.restitution_found(sol.system):
         sol, results, regimes = regime_search.search(
-            sol, regimes, lambda r: _solve_regimes(scene, r, solve_all, precision))
+            system if refused is not None else sol.system, regimes,
+            lambda r: _solve_regimes(scene, r, solve_all, precision), refused)
     assert sol is not None
     if sol.deferred:  # a check failed in the regime that held (earlier rounds were trials)
         raise sol.deferred[0]
@@ -108,6 +118,19 @@ def solve_scene(scene: Scene, solve_all: bool = False, max_rounds: int = 8,
     _law_checks(sol, results)
     _finite_answers(sol)
     return sol
+
+
+def _regime_system(scene: Scene, regimes: dict) -> System | None:
+    """The compiled system when it has impact friction contacts whose regime is still to
+    choose (a stick assumption can leave `restitution ?` undetermined where sliding
+    decides it), else None."""
+    from .regime_search import impact_sites
+
+    try:
+        system = compile_scene(scene, regimes, {})
+    except ProblemError:
+        return None
+    return system if impact_sites(system) else None
 
 
 def _solve_regimes(scene: Scene, regimes: dict, solve_all: bool, precision: str):
@@ -582,10 +605,19 @@ _UNIT_SCALES: list = [None, None]  # (values dict, its scales): one pass per sol
 
 
 def _unit_scales(system: System, values: dict) -> dict[str, float]:
-    """The largest magnitude among the solved values of each unit (m/s, rad/s, N*s)."""
+    """The largest magnitude among the solved values of each unit (m/s, rad/s, N*s) and
+    the given state values (a rad/s answer that is round-off around 0 is still read
+    against the scene's given angular velocities)."""
     if _UNIT_SCALES[0] is values and _UNIT_SCALES[1][0] == len(values):
         return _UNIT_SCALES[1][1]
+    from .scene import STATE_QTYS
+
     out: dict[str, float] = {}
+    for spec in system.scene.states.values():
+        for (_body, qty), (x, _span) in spec.givens.items():
+            unit = STATE_QTYS.get(qty, (None, None))[1]
+            if unit is not None and isinstance(x, float) and math.isfinite(x):
+                out[unit] = max(out.get(unit, 0.0), abs(x))
     for n, x in values.items():
         u = system.unknowns.get(n)
         if u is not None and isinstance(x, float) and math.isfinite(x):

@@ -43,7 +43,9 @@ REGIME_CHECK_FIXED = True
 # Several friction contacts in one impact (or friction with `restitution ?`): the regimes
 # that stick-first iteration settles on are re-checked against Coulomb's law (no slip
 # reversal, J_n >= 0, a found e in [0, 1]); when they break it, every stick/slide
-# combination is tried (momentum_cli/regime_search.py).
+# combination is tried (momentum_cli/regime_search.py). With `restitution ?` the program
+# always tries every combination, so an unknown_e scene is drawn only when its stated
+# quantity admits one regime with e in [0, 1] (`_e_regimes`), else it is ambiguous.
 SLIDE_SIGN_FIXED = True
 
 # `equation Q = value` true to round-off is refused "inconsistent": a true 0 written as
@@ -58,6 +60,8 @@ CHECK_TOLERANCE_FIXED = True
 # ("rank-deficient" / "singular in float64") (issue 9, "structure and numbers agree";
 # analyse.py / solve.py numerics fix it).
 STRUCTURE_RANK_FIXED = True
+
+FEW_ULPS = 16 * 2.0 ** -53  # a float value written for a true one is off by at most this
 
 # the gates by name: fixed (True) or not
 GATES = {"forming": FORMING_JOINTS_FIXED, "regime_check": REGIME_CHECK_FIXED,
@@ -368,27 +372,64 @@ def _impact_system(scene: Scene, regimes: dict):
     return np.array(A_rows), np.array(rhs), idx, nv, names
 
 
+def _regime_solve(scene: Scene, regimes: dict) -> Dense:
+    """The impact solved in given stick/slide regimes (rank_ok False: singular)."""
+    A, rhs, idx, nv, names = _impact_system(scene, regimes)
+    if A.shape[0] != A.shape[1]:
+        return Dense({}, {}, regimes, [], False, math.inf)
+    cond = np.linalg.cond(A)
+    if not math.isfinite(cond) or cond > 1e8:
+        return Dense({}, {}, regimes, [], False, cond)
+    x = np.linalg.solve(A, rhs)
+    v2 = {}
+    for b in scene.bodies:
+        for c, q in enumerate(("vx", "vy", "omega")[:b.ndof]):
+            v2[(b.name, q)] = float(x[idx[(b.name, c)]])
+    imps = {nm: float(x[nv + k]) for k, nm in enumerate(names)}
+    return Dense(v2, imps, regimes, [c.label for c in scene.contacts
+                                     if imps[f"J_n[{c.label}]@1->2"] < 0], True, cond)
+
+
+def _e_regimes(sc: Scene, c: Contact, q) -> int:
+    """How many stick/slide combinations keep Coulomb's law with c's e unknown and found
+    from the stated value of q (in [0, 1]): a well-posed `restitution ?` scene has one.
+    x is linear in e in a fixed regime, so two solves give e for each regime."""
+    fr = [x for x in sc.contacts if x.mode == "friction"]
+    e0, target = c.e, dense_solve(sc).v2[q]
+    count = 0
+    try:
+        for combo in itertools.product(("stick", "slide"), repeat=len(fr)):
+            regimes = {x.label: r for x, r in zip(fr, combo)}
+            c.e = 0.0
+            d0 = _regime_solve(sc, regimes)
+            c.e = 1.0
+            d1 = _regime_solve(sc, regimes)
+            if not (d0.rank_ok and d1.rank_ok):
+                continue
+            slope = d1.v2[q] - d0.v2[q]
+            if abs(slope) <= 1e-9 * (1 + abs(target)):
+                continue  # e not determined by q in this regime: refused there
+            e = (target - d0.v2[q]) / slope
+            if not -1e-9 <= e <= 1 + 1e-9:
+                continue
+            c.e = e
+            d = _regime_solve(sc, regimes)
+            if d.rank_ok and _coulomb_ok(sc, d):
+                count += 1
+    finally:
+        c.e = e0
+    return count
+
+
 def dense_solve(scene: Scene) -> Dense:
     """Solve the impact with every Coulomb regime combination; keep the admissible one."""
     fr = [c for c in scene.contacts if c.mode == "friction"]
     admissible = []
     last = None
     for combo in itertools.product(("stick", "slide"), repeat=len(fr)):
-        regimes = {c.label: r for c, r in zip(fr, combo)}
-        A, rhs, idx, nv, names = _impact_system(scene, regimes)
-        if A.shape[0] != A.shape[1]:
-            return Dense({}, {}, regimes, [], False, math.inf)
-        cond = np.linalg.cond(A)
-        if not math.isfinite(cond) or cond > 1e8:
-            return Dense({}, {}, regimes, [], False, cond)
-        x = np.linalg.solve(A, rhs)
-        v2 = {}
-        for b in scene.bodies:
-            for c, q in enumerate(("vx", "vy", "omega")[:b.ndof]):
-                v2[(b.name, q)] = float(x[idx[(b.name, c)]])
-        imps = {nm: float(x[nv + k]) for k, nm in enumerate(names)}
-        d = Dense(v2, imps, regimes, [c.label for c in scene.contacts
-                                      if imps[f"J_n[{c.label}]@1->2"] < 0], True, cond)
+        d = _regime_solve(scene, {c.label: r for c, r in zip(fr, combo)})
+        if not d.rank_ok:
+            return d
         last = d
         if _coulomb_ok(scene, d):
             admissible.append(d)
@@ -646,8 +687,8 @@ def _draw(rng: random.Random, seed: int, cat: str, op: frozenset) -> Scene | Non
     for c in contacts:
         if c.e_unknown:
             q = _sensitive(sc, c)
-            if q is None:
-                return None
+            if q is None or _e_regimes(sc, c, q) != 1:
+                return None  # e not found from q, or Coulomb admits two answers
             sc.e_given[c.label] = q
     return sc
 
@@ -1013,8 +1054,10 @@ def render(sc: Scene) -> str:
 
     def value(key):
         """A true value: exact (round-off of 0 written as 0), or with the gate
-        check_tolerance open the dense solve's float, off by its round-off."""
-        if "check_tolerance" in sc.open:
+        check_tolerance open the dense solve's float, off by its round-off -- where that
+        is round-off (a few ulps of the scene's speeds); an ill-conditioned dense solve
+        (cond 1e3: 1e-13 m/s from a true 0) misses by more, and is no true statement."""
+        if "check_tolerance" in sc.open and abs(d.v2[key] - exact[key]) <= FEW_ULPS * vscale:
             return d.v2[key]
         return 0.0 if abs(exact[key]) < 1e-12 * vscale else exact[key]
     for lab, (b, q) in sc.e_given.items():

@@ -235,3 +235,28 @@ def test_only_root_left_by_a_hint_is_said_not_physical():
     sol = solve(text)
     warn = [c for c in sol.checks if c.name.startswith("only root")]
     assert warn and warn[0].status == "warning" and "separate before the impact" in warn[0].detail
+
+
+STUCK = """
+body ball: sphere(mass = 3.92 kg, radius = 0.48 m)
+link strut: ball.center to ground along (1, 4)
+state 1:
+    ball.angle = 0, ball.pos = (-2.07 m, 2.96 m)
+    ball.vy = -0.5382352941176471 m/s, ball.omega = 2.19 rad/s
+state 2
+impact 1 -> 2:
+    contact k1: ball with ground normal (0, 1): restitution 0, rough
+equation ball.omega@2 = {w} rad/s
+find ball.vx@2, ball.vy@2
+"""
+
+
+def test_a_round_off_zero_angular_velocity_is_read_against_the_given_ones():
+    """The strut allows motion only along (1, 4), the plastic rough floor stops that and
+    the spin: every velocity after is 0 (closed form). A statement of 0 to round-off
+    holds, read against the given 2.19 rad/s; one off by 1e-9 rad/s is refused."""
+    from helpers import answers, error_of
+
+    got = answers(STUCK.format(w="-1.1564823173178715e-15"))
+    assert abs(got["ball.vx@2"]) < 1e-14 and abs(got["ball.vy@2"]) < 1e-14
+    assert "inconsistent" in error_of(STUCK.format(w="1e-9")).message

@@ -125,6 +125,37 @@ def test_two_skaters_grabbing_a_pole_spin_about_their_centre():
         assert math.isclose(got[k], want, rel_tol=1e-12), k
 
 
+PARTICLES_JOIN = """
+body a: particle(mass = 2 kg)
+body b: particle(mass = 3 kg)
+weld j: a to b from 2
+state 1: a.v = (5 m/s, -1 m/s), b.v = (-2 m/s, 4 m/s){where}
+state 2
+impact 1 -> 2
+find a.vx@2, a.vy@2, b.vx@2, b.vy@2, Jx[j]@1->2, Jy[j]@1->2
+"""
+
+
+def test_two_particles_welded_at_one_point_join_plastically():
+    """No distance between them (none given, or the same point): one velocity, the
+    total momentum over the total mass, and a two-component impulse (no line for it)."""
+    ma, mb, va, vb = 2.0, 3.0, (5.0, -1.0), (-2.0, 4.0)
+    v = [(ma * va[k] + mb * vb[k]) / (ma + mb) for k in range(2)]
+    for where in ("", ", a.pos = (1 m, 2 m), b.pos = (1 m, 2 m)"):
+        got = answers(PARTICLES_JOIN.format(where=where))
+        for k, axis in enumerate("xy"):
+            assert math.isclose(got[f"a.v{axis}@2"], v[k], rel_tol=1e-12), where
+            assert math.isclose(got[f"b.v{axis}@2"], v[k], rel_tol=1e-12), where
+            # the impulse on a (from b) is a's change of momentum
+            assert math.isclose(got[f"J{axis}[j]@1->2"], ma * (v[k] - va[k]),
+                                rel_tol=1e-12), where
+
+
+def test_two_particles_welded_apart_take_an_impulse_along_their_line():
+    d = error_of(PARTICLES_JOIN.format(where=", a.pos = (0, 1 m), b.pos = (0, -1 m)"))
+    assert "unknown quantity 'Jx[j]@1->2'" in d.message and "J[j]@1->2" in d.message
+
+
 def test_a_rigid_body_with_no_inertia_is_a_point_mass():
     got = answers("""
 body a: rigid(mass = 2 kg, inertia = 0)

@@ -34,14 +34,14 @@ def _setup(oks):
 
 def test_one_admissible_combination_is_kept():
     start, solve_with = _setup([{"slide+"}, {"stick"}, {"slide-"}])
-    _sol, _res, regimes = regime_search.search(start, {}, solve_with)
+    _sol, _res, regimes = regime_search.search(start.system, {}, solve_with)
     assert regimes == {"1->2:k0": "slide+", "1->2:k1": "stick", "1->2:k2": "slide-"}
 
 
 def test_several_admissible_combinations_are_an_error_naming_them():
     start, solve_with = _setup([{"slide+"}, {"stick", "slide-"}])
     with pytest.raises(ProblemError) as err:
-        regime_search.search(start, {}, solve_with)
+        regime_search.search(start.system, {}, solve_with)
     d = err.value.diagnostics[0]
     assert d.code == "ambiguous" and "2 solutions" in d.message
     assert "k0 slide+, k1 stick" in d.message and "k0 slide+, k1 slide-" in d.message
@@ -50,7 +50,7 @@ def test_several_admissible_combinations_are_an_error_naming_them():
 def test_no_admissible_combination_is_an_error_naming_the_contacts():
     start, solve_with = _setup([{"slide+"}, set()])
     with pytest.raises(ProblemError) as err:
-        regime_search.search(start, {}, solve_with)
+        regime_search.search(start.system, {}, solve_with)
     d = err.value.diagnostics[0]
     assert d.code == "no-solution" and "k0 (1->2), k1 (1->2)" in d.message
     assert len(d.notes) == 9  # every combination, with why it fails
@@ -64,5 +64,28 @@ def test_too_many_contacts_are_refused_before_solving():
         raise AssertionError("solved")
 
     with pytest.raises(ProblemError) as err:
-        regime_search.search(start, {}, never)
+        regime_search.search(start.system, {}, never)
     assert "too many" in err.value.diagnostics[0].message
+
+
+def test_a_regime_that_does_not_solve_is_skipped_and_its_error_kept_when_none_does():
+    """Stick can leave `restitution ?` undetermined where sliding decides it: the search
+    takes the one combination that solves and keeps Coulomb's law; when none solves,
+    the error of the regime tried on the way is raised, unchanged."""
+    start, solve_with = _setup([{"stick", "slide+", "slide-"}])
+    refused = ProblemError("under-determined: e[k0] is not determined", None)
+
+    def only_slide(regimes):
+        if regimes["1->2:k0"] != "slide+":
+            raise ProblemError("under-determined: e[k0] is not determined", None)
+        return solve_with(regimes)
+
+    _sol, _res, regimes = regime_search.search(start.system, {}, only_slide, refused)
+    assert regimes == {"1->2:k0": "slide+"}
+
+    def never_solves(regimes):
+        raise ProblemError("under-determined: e[k0] is not determined", None)
+
+    with pytest.raises(ProblemError) as err:
+        regime_search.search(start.system, {}, never_solves, refused)
+    assert err.value is refused

@@ -175,9 +175,13 @@ class Weld(Pin):
 
     @classmethod
     def element_for(cls, jt, scene) -> "JointElement":
-        """Two particles welded together are one rigid body: a RigidPair."""
+        """Two particles welded at a distance are one rigid body: a RigidPair. Welded at
+        one point (coincident, or no state gives both positions: a bullet lodging in a
+        block) they are a pin: one velocity, an impulse (Jx, Jy) -- a pole of zero length
+        has no line for its impulse."""
         bodies = [scene.bodies[p.body] for p in (jt.a, jt.b) if p.body is not None]
-        if len(bodies) == 2 and all(b.is_particle for b in bodies):
+        if len(bodies) == 2 and all(b.is_particle for b in bodies) \
+                and _given_separation(jt, scene) > 0.0:
             return RigidPair(jt, scene)
         return cls(jt, scene)
 
@@ -236,6 +240,22 @@ class Link(JointElement):
 
     def sim_residuals(self, frame, ref: dict, L: float) -> list[float]:
         return [self.sim_reference(frame) - ref[self.label]]
+
+
+def _given_separation(jt, scene) -> float:
+    """The largest distance between a joint's two points over the states that give both
+    positions (0.0 when none does)."""
+    far = 0.0
+    for spec in scene.states.values():
+        pos = []
+        for p in (jt.a, jt.b):
+            xy = [spec.givens.get((p.body, q)) for q in ("x", "y")]
+            if None in xy:
+                break
+            pos.append((xy[0][0] + p.offset[0], xy[1][0] + p.offset[1]))
+        else:
+            far = max(far, math.hypot(pos[0][0] - pos[1][0], pos[0][1] - pos[1][1]))
+    return far
 
 
 class RigidPair(JointElement):
