@@ -308,50 +308,6 @@ def evaluate_exact(e: E, values: dict) -> Fraction:
     return Fraction(float(FUNCS[e.name](float(evaluate_exact(e.arg, values)))))
 
 
-def affine_exact(e: E, block: set[str], values: dict) -> tuple[dict[str, Fraction], Fraction]:
-    """`affine` in rationals: the block's rows formed without rounding."""
-    t = type(e)
-    if t is Const or t is Known:
-        return {}, _q(e.value)
-    if t is Var:
-        if e.name in block:
-            return {e.name: Fraction(1)}, Fraction(0)
-        return {}, _q(values[e.name])
-    if t is Add:
-        coef: dict = {}
-        const = Fraction(0)
-        for x in e.terms:
-            c, k = affine_exact(x, block, values)
-            const += k
-            for n, v in c.items():
-                coef[n] = coef.get(n, 0) + v
-        return coef, const
-    if t is Mul:
-        if any(is_zero(f) for f in e.factors):
-            return {}, Fraction(0)
-        coef, const = {}, Fraction(1)
-        for f in e.factors:
-            c, k = affine_exact(f, block, values)
-            if c and coef:
-                raise NonLinear()
-            if c:
-                coef = {n: v * const for n, v in c.items()}
-                const = k * const
-            else:
-                coef = {n: v * k for n, v in coef.items()}
-                const *= k
-        return coef, const
-    if t is Pow:
-        c, k = affine_exact(e.base, block, values)
-        if c:
-            raise NonLinear()
-        return {}, _qpow(k, e.exp)
-    c, k = affine_exact(e.arg, block, values)
-    if c:
-        raise NonLinear()
-    return {}, Fraction(float(FUNCS[e.name](float(k))))
-
-
 def map_children(e: E, f) -> E:
     """The same node over `f(child, in_fn)` (Add, Mul, Pow, Fn; `in_fn`: the child is a
     function's argument); a leaf as it is. The shape is kept (no folding): a rewrite of
@@ -395,34 +351,74 @@ class NonLinear(Exception):
     """Raised by `affine` when an expression is not affine in the block's unknowns."""
 
 
+class _Reals:
+    """Float arithmetic for `affine` (numbers pass as they are: traced ones too)."""
+
+    zero, one = 0.0, 1.0
+
+    @staticmethod
+    def q(x):
+        return x
+
+    @staticmethod
+    def pow(b, p):
+        return b**p
+
+    @staticmethod
+    def fn(name: str, x):
+        return float(FUNCS[name](x))
+
+
+class _Rationals:
+    """Exact arithmetic for `affine_exact`: sums and products of the data without rounding;
+    functions and non-integer powers round once, to float64."""
+
+    zero, one = Fraction(0), Fraction(1)
+    q = staticmethod(_q)
+    pow = staticmethod(_qpow)
+
+    @staticmethod
+    def fn(name: str, x):
+        return Fraction(float(FUNCS[name](float(x))))
+
+
 def affine(e: E, block: set[str], values: dict[str, float]) -> tuple[dict[str, float], float]:
     """Coefficients and constant of `e` as an affine function of the `block` unknowns.
 
     Unknowns outside the block take their solved value from `values`.
     Raises NonLinear if `e` is not affine in the block.
     """
+    return _affine(e, block, values, _Reals)
+
+
+def affine_exact(e: E, block: set[str], values: dict) -> tuple[dict[str, Fraction], Fraction]:
+    """`affine` in rationals: the block's rows formed without rounding."""
+    return _affine(e, block, values, _Rationals)
+
+
+def _affine(e: E, block: set[str], values: dict, num) -> tuple[dict, object]:
     t = type(e)
     if t is Const or t is Known:
-        return {}, e.value
+        return {}, num.q(e.value)
     if t is Var:
         if e.name in block:
-            return {e.name: 1.0}, 0.0
-        return {}, values[e.name]
+            return {e.name: num.one}, num.zero
+        return {}, num.q(values[e.name])
     if t is Add:
-        coef: dict[str, float] = {}
-        const = 0.0
+        coef: dict = {}
+        const = num.zero
         for x in e.terms:
-            c, k = affine(x, block, values)
+            c, k = _affine(x, block, values, num)
             const += k
             for n, v in c.items():
-                coef[n] = coef.get(n, 0.0) + v
+                coef[n] = coef.get(n, num.zero) + v
         return coef, const
     if t is Mul:
         if any(is_zero(f) for f in e.factors):
-            return {}, 0.0
-        coef, const = {}, 1.0
+            return {}, num.zero
+        coef, const = {}, num.one
         for f in e.factors:
-            c, k = affine(f, block, values)
+            c, k = _affine(f, block, values, num)
             if c and coef:
                 raise NonLinear()
             if c:
@@ -433,14 +429,14 @@ def affine(e: E, block: set[str], values: dict[str, float]) -> tuple[dict[str, f
                 const *= k
         return coef, const
     if t is Pow:
-        c, k = affine(e.base, block, values)
+        c, k = _affine(e.base, block, values, num)
         if c:
             raise NonLinear()
-        return {}, k**e.exp
-    c, k = affine(e.arg, block, values)
+        return {}, num.pow(k, e.exp)
+    c, k = _affine(e.arg, block, values, num)
     if c:
         raise NonLinear()
-    return {}, float(FUNCS[e.name](k))
+    return {}, num.fn(e.name, k)
 
 
 def magnitude(e: E, values: dict[str, float]) -> float:
