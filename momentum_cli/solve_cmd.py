@@ -348,7 +348,7 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
     elif mode in ("markdown", "latex", "html") and results:
         from .report.formats import render_document
 
-        out.write(render_document(mode, results, digits))
+        out.write(render_document(mode, results, digits, view["detail"]))
     out.flush()
     raise Exit(int(worst))
 

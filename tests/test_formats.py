@@ -374,3 +374,17 @@ def test_lines_in_the_readers_units_are_typeset():
     assert to_latex(line_box("x@2 = 0.5*cos(-30 deg)*J   (SI)")) == \
         r"x^{(2)}=0.5\cos (-30^{\circ})J\,\text{(SI)}"
     assert line_box("T = 3 + 2 -") is None  # not the printer's form: shown as it is
+
+
+@pytest.mark.parametrize("fmt", ["markdown", "latex", "html"])
+def test_steps_brief_makes_a_short_document_with_the_same_answers(fmt):
+    """--steps brief keeps the principles, the diagrams, the answers and the key checks;
+    the unknowns table and the block matrices are in --steps full only."""
+    path = EXAMPLES / "seed_pendulum_wall.mom"
+    full = cli(["solve", "--format", fmt, path])
+    brief = cli(["solve", "--format", fmt, "--steps", "brief", path])
+    assert full.exit_code == brief.exit_code == 0
+    assert len(brief.output) < 0.8 * len(full.output)
+    assert "Solution (SI)" in full.output and "Solution (SI)" not in brief.output
+    for word in ("Answers", "Impulse diagram", "Checks"):
+        assert word in brief.output

@@ -10,6 +10,7 @@ from __future__ import annotations
 from ..numbers import fmt_num, fmt_tiny
 from .math_tree import line_box, name_box, number_box
 from .model import Report
+from .text import key_checks
 
 # Inline pieces: a str is plain text; ("math", box), ("code", text), ("strong", text),
 # ("em", text), ("unit", unit label).
@@ -32,8 +33,11 @@ def qty(name: str, value, unit: str, sig: int) -> list:
     return [math(("row", items))]
 
 
-def outline(rep: Report, sig: int = 6) -> list[tuple]:
-    """Every block of one report, in the order of the plain report."""
+def outline(rep: Report, sig: int = 6, detail: str = "full") -> list[tuple]:
+    """Every block of one report, in the order of the plain report; `detail` "brief"
+    (--steps brief) keeps what `text.render_brief` keeps: the principles with their
+    solved or checked equations, the answers and the key checks."""
+    brief = detail == "brief"
     f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
     out: list[tuple] = [("heading", 1, [rep.title or "(untitled problem)"]),
                         ("para", ["Problem file ", ("code", rep.file), "."])]
@@ -93,25 +97,33 @@ def outline(rep: Report, sig: int = 6) -> list[tuple]:
             out.append(("list", [[("em", "why: "), w] for w in t["why"]]))
         out += _system(t)
         for r in t["equations"]:
-            out += _equation(r)
+            if not brief or r.role in ("solved", "check"):
+                out += _equation(r)
     for group, rows in rep.other_equations.items():
+        rows = [r for r in rows if not brief or r.role in ("solved", "check")]
+        if brief and (group.startswith("state ") or not rows):
+            continue  # the constraint bookkeeping of each state is in --steps full
         out.append(("heading", 2, [group[0].upper() + group[1:]]))
         for r in rows:
             out += _equation(r)
-    out += _blocks(rep, f)
-    out.append(("heading", 2, [f"Solution ({u.get('name', 'SI')})"]))
-    out.append(("table", [["unknown"], ["value"], ["unit"]],
-                [[[math(name_box(x["name"]))], [f(x.get("value", x["si_value"]))],
-                  [("unit", x.get("shown_unit", x["unit"]))]] for x in rep.unknowns], "lrl"))
+    if not brief:
+        out += _blocks(rep, f)
+    if not brief:
+        out.append(("heading", 2, [f"Solution ({u.get('name', 'SI')})"]))
+        out.append(("table", [["unknown"], ["value"], ["unit"]],
+                    [[[math(name_box(x["name"]))], [f(x.get("value", x["si_value"]))],
+                      [("unit", x.get("shown_unit", x["unit"]))]] for x in rep.unknowns],
+                    "lrl"))
     if rep.regimes:
         out.append(("heading", 2, ["Friction regimes"]))
         out.append(("list", [[f"{r['contact']} ({r['transition']}): ", ("strong", r["regime"])]
                              for r in rep.regimes]))
     out.append(("heading", 2, ["Checks"]))
-    if rep.checks:
+    checks = key_checks(rep) if brief else rep.checks
+    if checks:
         out.append(("table", [["check"], ["status"], ["detail"]],
                     [[[c.name], [("strong", c.status)] if c.status != "ok" else [c.status],
-                      [c.detail]] for c in rep.checks], "lll"))
+                      [c.detail]] for c in checks], "lll"))
     else:
         out.append(("para", ["None: no impact, control volume or redundant equation to check."]))
     out.append(("heading", 2, ["Answers"]))

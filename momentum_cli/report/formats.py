@@ -16,12 +16,12 @@ def output_format(path: str) -> str:
     return DOCUMENT_SUFFIXES.get(os.path.splitext(path)[1].lower(), "plain")
 
 
-def render_document(mode: str, reports: list, sig: int = 6) -> str:
-    """One document (markdown, latex or html) holding every report."""
+def render_document(mode: str, reports: list, sig: int = 6, detail: str = "full") -> str:
+    """One document (markdown, latex or html) holding every report (`detail`: --steps)."""
     if mode == "markdown":
         from .markdown_out import render
     elif mode == "latex":
         from .latex_out import render
     else:
         from .html_out import render
-    return render(reports, sig)
+    return render(reports, sig, detail)

@@ -155,7 +155,7 @@ def _nested(items) -> list[str]:
     return out + (["</ul>"] if items else [])
 
 
-def render(reports, sig: int = 6) -> str:
+def render(reports, sig: int = 6, detail: str = "full") -> str:
     """One HTML page for one or more reports (a section each)."""
     title = " · ".join(r.title or r.file for r in reports) or "momentum"
     out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
@@ -167,7 +167,7 @@ def render(reports, sig: int = 6) -> str:
     for rep in reports:
         out.append('<section class="problem">')
         state: dict = {}
-        for b in outline(rep, sig):
+        for b in outline(rep, sig, detail):
             out += block(b, state)
         out.append("</section>")
     out += ["</main>", "</body>", "</html>"]

@@ -120,13 +120,13 @@ def block(b) -> list[str]:
     raise ValueError(f"unknown block {kind!r}")
 
 
-def render(reports, sig: int = 6) -> str:
+def render(reports, sig: int = 6, detail: str = "full") -> str:
     """One LaTeX document for one or more reports (a new page for each after the first)."""
     lines = [PREAMBLE, "\\begin{document}", ""]
     for i, rep in enumerate(reports):
         if i:
             lines += ["\\clearpage", ""]
-        for b in outline(rep, sig):
+        for b in outline(rep, sig, detail):
             lines += block(b)
     lines += ["\\end{document}"]
     return "\n".join(lines) + "\n"

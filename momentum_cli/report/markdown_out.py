@@ -78,13 +78,13 @@ def block(b) -> list[str]:
     raise ValueError(f"unknown block {kind!r}")
 
 
-def render(reports, sig: int = 6) -> str:
+def render(reports, sig: int = 6, detail: str = "full") -> str:
     """One Markdown document for one or more reports (a rule between them)."""
     lines: list[str] = []
     for i, rep in enumerate(reports):
         if i:
             lines += ["---", ""]
-        for b in outline(rep, sig):
+        for b in outline(rep, sig, detail):
             lines += block(b)
     while lines and lines[-1] == "":
         lines.pop()
