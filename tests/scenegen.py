@@ -732,17 +732,9 @@ def _place(rng: random.Random, sc: Scene) -> bool:
     bm = bodymap(sc)
     for b in sc.bodies:
         b.pos = (_num(rng, -3, 3, 3), _num(rng, -3, 3, 3))
-    # joints first (a forest: each joint's a-side body is placed from its b side)
-    for jt in sc.joints:
-        if jt.b is not None and jt.b.body is not None:
-            pb = point_world(sc, jt.b)
-            r = arm(bm[jt.a.body], jt.a)
-            bm[jt.a.body].pos = (pb[0] - r[0], pb[1] - r[1])
-    for jt in sc.joints:
-        if jt.b is None:
-            jt.ground_at = point_world(sc, jt.a)
-    # bodies carried along with a joint parent move with it: re-run until fixed
-    for _ in range(len(sc.joints)):
+    # joints first (a forest: each joint's a-side body is placed from its b side); bodies
+    # carried along with a joint parent move with it: one pass per joint, and one more
+    for _ in range(len(sc.joints) + 1):
         for jt in sc.joints:
             if jt.b is not None and jt.b.body is not None:
                 pb = point_world(sc, jt.b)
