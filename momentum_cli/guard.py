@@ -43,7 +43,38 @@ def _usable_environment() -> None:
                 pass
 
 
+def _end_now_if_workers_killed(code) -> None:
+    """After the worker pool was killed (run._end_workers), exit with os._exit: a
+    normal exit joins the pool's manager thread, which can wait forever for a result
+    a killed worker was half-way through writing."""
+    run_module = sys.modules.get("momentum_cli.run")
+    if run_module is None or not getattr(run_module, "WORKERS_KILLED", False):
+        return
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except Exception:  # the stream may be gone: nothing more can be said on it
+            pass
+    if code is None:
+        code = 0
+    elif not isinstance(code, int):
+        sys.stderr.write(f"{code}\n")
+        code = 1
+    os._exit(code)
+
+
 def guarded(run) -> None:
+    """Call `run` (the command); see _guarded_run. Whatever way it ends, a run whose
+    worker pool was killed leaves through os._exit (_end_now_if_workers_killed)."""
+    try:
+        _guarded_run(run)
+    except SystemExit as exc:
+        _end_now_if_workers_killed(exc.code)
+        raise
+    _end_now_if_workers_killed(0)
+
+
+def _guarded_run(run) -> None:
     """Call `run` (the command) with exit codes for output that cannot be written (a
     broken pipe ends quietly with 141, like other tools; a full disk or a closed
     standard output is one line and 3), interrupts and signals."""

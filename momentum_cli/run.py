@@ -318,11 +318,21 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
         yield _solve_job(job)
 
 
+WORKERS_KILLED = False  # set once a pool's workers were killed: see guard.guarded
+
+
 def _end_workers(mp) -> None:
     """Kill the worker processes now (the run is ending: interrupted, or its output
-    gone); the pool's manager thread, which sees them die, is kept from printing."""
+    gone); the pool's manager thread, which sees them die, is kept from printing.
+
+    A worker killed while writing a result leaves half a message in the result pipe:
+    the manager thread then waits for the rest forever, and a normal interpreter exit
+    joins that thread. So the run records the kill, and guard.guarded ends the process
+    with os._exit instead."""
+    global WORKERS_KILLED
     import threading
 
+    WORKERS_KILLED = True
     threading.excepthook = lambda _args: None
     for child in mp.active_children():
         try:

@@ -55,10 +55,28 @@ def test_broken_pipe_is_quiet():
                              stderr=subprocess.PIPE, env=_env())
         p.stdout.readline()
         p.stdout.close()  # what `| head -1` does
-        err = p.stderr.read().decode()
-        rc = p.wait(timeout=120)
+        rc, err = _finish(p, 120)
         assert rc in (0, 141), (extra, rc, err)
         assert "Traceback" not in err and "BrokenPipe" not in err
+
+
+def _finish(p: subprocess.Popen, seconds: float) -> tuple[int, str]:
+    """The exit code and standard error of `p`, or a failure that says it hung: a
+    process that never ends (or leaves a worker holding its stderr) must fail the test,
+    not stall the run."""
+    try:
+        _, err = p.communicate(timeout=seconds)
+    except subprocess.TimeoutExpired:
+        children = _children(p.pid)
+        p.kill()
+        for child in children:
+            try:
+                os.kill(child, signal.SIGKILL)
+            except OSError:
+                pass
+        p.communicate()
+        pytest.fail(f"momentum did not end within {seconds} s (pid {p.pid})")
+    return p.returncode, err.decode()
 
 
 def _children(pid: int) -> list[int]:
@@ -113,8 +131,7 @@ def test_signal_ends_parent_and_workers(many_files, sig):
         p.wait()
         pytest.skip("no worker processes were started here")
     p.send_signal(signum)
-    rc = p.wait(timeout=30)
-    err = p.stderr.read().decode()
+    rc, err = _finish(p, 30)
     assert rc in (128 + signum, -signum), (rc, err)
     assert "Traceback" not in err
     deadline = time.monotonic() + 2
