@@ -260,3 +260,28 @@ def test_json_carries_the_diagram_and_fits_the_schema():
     (d,) = doc["results"][0]["diagrams"]
     assert {i["name"] for i in d["impulses"]} == {"J_n[B]", "Jx[O]", "Jy[O]"}
     assert d["lines"][0] == "Impulse diagram, impact 2 -> 3"
+
+
+def test_diagram_for_is_the_first_match_of_a_scan():
+    """diagram_for indexes the diagrams once per report (a long sequence of impacts looked
+    each one up by a scan): it must return what the scan returns, for every transition,
+    also when several reports are read in turn."""
+    import sys
+
+    from momentum_cli.report.model import diagram_for
+    from momentum_cli.source import Source
+
+    sys.path.insert(0, str(EXAMPLES.parent / "tests"))
+    from test_hard import cradle_text
+
+    reps = [solve_source(Source(f"cradle{n}.mom", cradle_text(n, "sequence"))).report
+            for n in (4, 6)]
+    reps.append(solve_source(read_source(str(EXAMPLES / "seed_pendulum_wall.mom"))).report)
+    for _ in range(2):
+        for rep in reps:
+            assert rep.transitions
+            for t in rep.transitions:
+                scan = next((d for d in rep.diagrams
+                             if d.kind == t["kind"] and d.key == t["key"]), None)
+                assert diagram_for(rep, t) is scan
+                assert scan is not None or t["kind"] == "energy"

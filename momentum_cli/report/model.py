@@ -208,9 +208,21 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
     return rep
 
 
+_DIAGRAM_INDEX: list = [None, 0, {}]  # the diagrams list last indexed, its length, the index
+
+
 def diagram_for(rep: Report, t: dict):
-    """The impulse diagram of a transition of the report (None: an energy phase)."""
-    return next((d for d in rep.diagrams if d.kind == t["kind"] and d.key == t["key"]), None)
+    """The impulse diagram of a transition of the report (None: an energy phase). The
+    report's diagrams are indexed by (kind, key) once: a lookup per transition of a long
+    sequence would otherwise scan them all (quadratic in the number of impacts)."""
+    ds = rep.diagrams
+    cache = _DIAGRAM_INDEX
+    if cache[0] is not ds or cache[1] != len(ds):
+        index: dict = {}
+        for d in ds:
+            index.setdefault((d.kind, d.key), d)  # the first, as a scan finds it
+        cache[:] = [ds, len(ds), index]
+    return cache[2].get((t["kind"], t["key"]))
 
 
 def expectation_dict(c) -> dict:
