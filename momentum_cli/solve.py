@@ -948,11 +948,14 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
     """Every root from a spread of starts; the hints and the physics choose among them."""
     from .roots import problems, separating_hint
 
+    from .lowered import lower
+
     F = [e.residual for e in eqs]
     J = [[diff(f, n) for n in names] for f in F]
+    lowered = (lower([F]), lower(J))  # one call per evaluation, the same floats
     roots = []
     for x0 in _starts(system, names, values, eqs):
-        r = _newton_from(F, J, names, values, x0)
+        r = _newton_from(F, J, names, values, x0, lowered)
         if r is None:
             continue
         x, iters = r
@@ -1038,18 +1041,20 @@ def _overdetermined(system: System, eqs, roots, why, broken, show) -> None:
                               _statements_note([e, *eqs], system)])
 
 
-def _newton_from(F, J, names, values, x0):
-    """Damped Newton from x0; (x, iterations) on convergence, else None."""
+def _newton_from(F, J, names, values, x0, lowered=(None, None)):
+    """Damped Newton from x0; (x, iterations) on convergence, else None. `lowered`:
+    F's and J's `lowered.lower` functions (or None: evaluate walks the trees)."""
     from .linalg import lstsq_small
 
     env = dict(values)
     x = [float(v) for v in x0]
+    fast_f, fast_j = lowered
 
     def resid(xv):
         for n, v in zip(names, xv):
             env[n] = v
         try:
-            out = [evaluate(f, env) for f in F]
+            out = fast_f(env)[0] if fast_f is not None else [evaluate(f, env) for f in F]
         except (ValueError, ZeroDivisionError, OverflowError):
             return None
         return out if all(math.isfinite(v) for v in out) else None
@@ -1065,7 +1070,8 @@ def _newton_from(F, J, names, values, x0):
         if max(abs(v) for v in r) == 0.0:
             return x, it - 1
         try:
-            Jm = [[evaluate(d, env) for d in row] for row in J]
+            Jm = fast_j(env) if fast_j is not None else \
+                [[evaluate(d, env) for d in row] for row in J]
             dx = lstsq_small(Jm, [-v for v in r])
         except (ValueError, ZeroDivisionError, OverflowError, ArithmeticError):
             return None

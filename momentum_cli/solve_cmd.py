@@ -336,7 +336,8 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
     solved = (r for r in ())
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
-                            precision.value, overrides, view["units"], sensitivity)
+                            precision.value, overrides, view["units"], sensitivity,
+                            _text_renderer(mode, quiet, digits, view["detail"]))
     try:
         worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                             traceback_flag, results, strict, color, deterministic,
@@ -390,7 +391,7 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 traceback_flag, results, strict, color, deterministic, overrides=(),
                 jsonl=False, view=None, sensitivity=False) -> ExitCode:
     """Print (or collect, for JSON) each file's result in order; the worst exit code."""
-    from .run import solve_source
+    from .run import Rendered, solve_source
 
     out, err = sys.stdout, sys.stderr
     console = _console(mode, color)
@@ -447,11 +448,31 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
 
             if many:
                 out.write(f"==> {name} <==\n")
-            out.write(render_quiet(res.report, digits))
+            out.write(res.report.text if isinstance(res.report, Rendered) else
+                      render_quiet(res.report, digits))
+        elif isinstance(res.report, Rendered):  # plain text, made by the worker
+            if i:
+                out.write("\n")
+            out.write(res.report.text)
         else:
             console = _render(res.report, mode, console, i, digits, simulation=False,
                               detail=(view or {}).get("detail", "full"))
     return worst
+
+
+def _text_renderer(mode: str, quiet: bool, digits: int, detail: str):
+    """What turns a report into its printed text where the file is solved (a worker
+    ships that text, not the report), for the outputs that are such a text: -q's
+    answers, plain's report; None for the others (rich, documents, JSON)."""
+    from functools import partial
+
+    if mode == "json" or not (quiet or mode == "plain"):
+        return None
+    from .report import text
+
+    if quiet:
+        return partial(text.render_quiet, sig=digits)
+    return partial(text.render, sig=digits, detail=detail)
 
 
 def _overrides_for(sets: Optional[List[str]], sources) -> tuple:

@@ -1,0 +1,32 @@
+"""A worker ships a solved file as `Rendered` text (run.solve_many's `render`): the same
+text and checks as rendering the report where it was made, for plain and -q output."""
+from functools import partial
+from pathlib import Path
+
+import pytest
+
+from momentum_cli.report.text import render, render_quiet
+from momentum_cli.run import Rendered, read_source, solve_many, solve_source
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+FILES = ["seed_rod_drop_smooth.mom", "seed_pendulum_wall.mom", "collar_slides_on_spinning_rod.mom"]
+
+
+@pytest.mark.parametrize("name", FILES)
+@pytest.mark.parametrize("how", ["plain", "quiet"])
+def test_rendered_equals_report_rendered_here(name, how):
+    src = read_source(str(EXAMPLES / name))
+    fn = partial(render, sig=6, detail="full") if how == "plain" else partial(render_quiet, sig=6)
+    direct = solve_source(src, False, 6, "float")
+    (shipped,) = list(solve_many([src], False, 6, "float", render=fn))
+    assert isinstance(shipped.report, Rendered)
+    assert shipped.report.text == fn(direct.report)
+    assert shipped.report.checks == list(direct.report.checks)
+    assert shipped.status == direct.status and shipped.diagnostics == direct.diagnostics
+
+
+def test_failed_file_ships_no_report(tmp_path):
+    p = tmp_path / "bad.mom"
+    p.write_text('problem "x"\nbody a: particle(mass = 1 kg)\nfind a.vx@9\n', encoding="utf-8")
+    (res,) = list(solve_many([read_source(str(p))], False, 6, "float", render=render_quiet))
+    assert res.status == "error" and res.report is None
