@@ -217,6 +217,16 @@ class _Builder:
         self.values = self.sol.values
         self.spec = shared.specs.get((t.kind, t.key))
         self.notes: list[str] = []
+        self._by_what: dict | None = None
+
+    def _contacts(self) -> dict:
+        """The transition's contacts by the name an application gives (`contact LABEL`;
+        the first of a repeated label), built once: a lookup per impulse, not a scan."""
+        if self._by_what is None:
+            self._by_what = {}
+            for c in (self.spec.contacts if self.spec else ()):
+                self._by_what.setdefault(f"contact {c.label}", c)
+        return self._by_what
 
     def _value(self, body: str, q: str, s: str):
         v = self.values.get(state_key(body, q, s))
@@ -372,8 +382,7 @@ class _Builder:
             point = "G" if p.name == a.body else p.name
         out = []
         imp = sorted((n for n in names if _impulse(n)), key=str)
-        contact = next((c for c in (self.spec.contacts if self.spec else ())
-                        if f"contact {c.label}" == a.what), None)
+        contact = self._contacts().get(a.what)
         if imp:
             zero = base.over({n: 0.0 for n in imp})
             for n in imp:
