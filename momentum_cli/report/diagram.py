@@ -101,8 +101,11 @@ class ImpulseDiagram:
     def lines(self) -> list[str]:
         """The terminal list: per body its impulses, then what is dropped (plain ASCII)."""
         out = [self.title]
+        by_body: dict = {}  # one pass, not one scan of every impulse per body
+        for i in self.impulses:
+            by_body.setdefault(i.body, []).append(i)
         for b in self.bodies:
-            mine = [i for i in self.impulses if i.body == b.name]
+            mine = by_body.get(b.name, [])
             out.append(f"  {b.name}:" + ("" if mine else " no impulse"))
             for i in mine:
                 x, unit = self.show(i.value, ANGULAR_IMPULSE if i.moment else IMPULSE, i.unit)
