@@ -29,36 +29,51 @@ def detect(doc) -> FileUnits:
     """Count the unit names the file uses (each occurrence once)."""
     us = si = 0
     degrees = False
+    seen: dict[str, tuple[int, int, bool]] = {}  # a unit string's counts, found once
     for unit in _units(doc):
-        for name in _NAME.findall(unit.removeprefix("in:")):
-            us += name in US_NAMES
-            si += name in SI_NAMES
-            degrees |= name in DEGREE_NAMES
+        hit = seen.get(unit)
+        if hit is None:
+            u = s = 0
+            d = False
+            for name in _NAME.findall(unit.removeprefix("in:")):
+                u += name in US_NAMES
+                s += name in SI_NAMES
+                d |= name in DEGREE_NAMES
+            hit = seen[unit] = (u, s, d)
+        us += hit[0]
+        si += hit[1]
+        degrees |= hit[2]
     return FileUnits("us" if us > si else "si", degrees)
 
 
-def _units(node) -> list[str]:
-    """Every `unit` string in the syntax tree (records, lists and tuples of them), in no
-    particular order; a walk with its own stack (a generator per node cost a fifth of
-    building a small scene), down to the same depth of 200."""
-    scalar = (str, int, float, bool)
+_LEAF = (str, int, float, bool)
+
+
+def _units(root, limit: int = 200):
+    """Every `unit` string in the syntax tree (records, lists and tuples of them), nodes
+    deeper than `limit` skipped; a walk with its own stack (a generator per node made a
+    10^4-ball file's walk cost 0.45 s)."""
     out: list[str] = []
-    stack = [(node, 0)]
+    stack = [(root, 0)]
     pop, push = stack.pop, stack.append
     while stack:
         node, depth = pop()
-        if depth > 200 or node is None or isinstance(node, scalar):
+        if depth < 0:
+            out.append(node)
+            continue
+        if depth > limit or node is None or isinstance(node, _LEAF):
             continue
         if isinstance(node, (list, tuple)):
-            stack.extend((x, depth + 1) for x in node)
+            for x in reversed(node):
+                push((x, depth + 1))
             continue
         fields = getattr(type(node), "_fields", None)
         if not fields:
             continue
-        for f in fields:
+        for f in reversed(fields):
             v = getattr(node, f, None)
             if f == "unit" and isinstance(v, str):
-                out.append(v)
-            elif v is not None and not isinstance(v, scalar):
+                push((v, -1))  # a unit string: yielded in order when popped
+            elif v is not None and not isinstance(v, _LEAF):
                 push((v, depth + 1))
     return out

@@ -101,8 +101,11 @@ class ImpulseDiagram:
     def lines(self) -> list[str]:
         """The terminal list: per body its impulses, then what is dropped (plain ASCII)."""
         out = [self.title]
+        by_body: dict = {}  # one pass, not one scan of every impulse per body
+        for i in self.impulses:
+            by_body.setdefault(i.body, []).append(i)
         for b in self.bodies:
-            mine = [i for i in self.impulses if i.body == b.name]
+            mine = by_body.get(b.name, [])
             out.append(f"  {b.name}:" + ("" if mine else " no impulse"))
             for i in mine:
                 x, unit = self.show(i.value, ANGULAR_IMPULSE if i.moment else IMPULSE, i.unit)
@@ -217,6 +220,16 @@ class _Builder:
         self.values = self.sol.values
         self.spec = shared.specs.get((t.kind, t.key))
         self.notes: list[str] = []
+        self._by_what: dict | None = None
+
+    def _contacts(self) -> dict:
+        """The transition's contacts by the name an application gives (`contact LABEL`;
+        the first of a repeated label), built once: a lookup per impulse, not a scan."""
+        if self._by_what is None:
+            self._by_what = {}
+            for c in (self.spec.contacts if self.spec else ()):
+                self._by_what.setdefault(f"contact {c.label}", c)
+        return self._by_what
 
     def _value(self, body: str, q: str, s: str):
         v = self.values.get(state_key(body, q, s))
@@ -372,8 +385,7 @@ class _Builder:
             point = "G" if p.name == a.body else p.name
         out = []
         imp = sorted((n for n in names if _impulse(n)), key=str)
-        contact = next((c for c in (self.spec.contacts if self.spec else ())
-                        if f"contact {c.label}" == a.what), None)
+        contact = self._contacts().get(a.what)
         if imp:
             zero = base.over({n: 0.0 for n in imp})
             for n in imp:

@@ -80,7 +80,13 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
     values = sol.values
     reader = reader_for(units, sc.file_units)
     solved_eqs = {k for b in sol.blocks for k in b.equations}
-    solves = {k: list(b.unknowns) for b in sol.blocks for k in b.equations}
+    # one list and one set per block, shared by its rows (a copy per row is O(N^2))
+    solves, keeps = {}, {}
+    for b in sol.blocks:
+        unk = list(b.unknowns)
+        keep = set(unk)
+        for k in b.equations:
+            solves[k], keeps[k] = unk, keep
     role = {}
     for k, e in enumerate(system.equations):
         if k in solved_eqs:
@@ -96,7 +102,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
     rows = [EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
                         e.text() if k in integrated else symbolic_line(e, system, reader, sig),
                         e.text(numeric=True) if k in integrated else
-                        numeric_line(e, values, set(solves.get(k, ())), system, reader, sig),
+                        numeric_line(e, values, keeps.get(k, set()), system, reader, sig),
                         e.kind, role[k], solves.get(k, []))
             for k, e in enumerate(system.equations)]
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
