@@ -169,13 +169,29 @@ def test_ctrl_c_exits_130(monkeypatch):
 
 
 @pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def _wait_until_reading_stdin(pid: int) -> None:
+    """Until the process blocks in read(0, ...) (Linux: /proc/PID/syscall); elsewhere, or
+    after 60 s on a very busy machine, a fixed wait. A signal sent during start-up would
+    test start-up, not the interrupted read."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        try:
+            with open(f"/proc/{pid}/syscall") as fh:
+                if fh.read().startswith("0 0x0 "):
+                    return
+        except OSError:
+            break
+        time.sleep(0.05)
+    time.sleep(2.0)
+
+
 def test_real_ctrl_c_while_reading_stdin_exits_130():
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     proc = subprocess.Popen([sys.executable, "-m", "momentum_cli", "solve", "-"], cwd=ROOT,
                             env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE)
     try:
-        time.sleep(2.0)  # start-up is well under a second; then it blocks reading stdin
+        _wait_until_reading_stdin(proc.pid)
         proc.send_signal(signal.SIGINT)
         _out, err = proc.communicate(timeout=60)
     finally:
