@@ -273,6 +273,10 @@ def _solve_job(job):
         if render is not None and res.report is not None:
             res.report = Rendered(render(res.report), list(res.report.checks))
         return res
+    except ModuleNotFoundError as exc:  # the installation, not momentum, is broken
+        return FileResult(source.name, "internal", None, None, [Diagnostic(
+            "error", "internal", f"momentum's dependency {exc.name!r} is not installed in "
+            f"this Python ({sys.executable}): reinstall momentum-cli with pip")])
     except Exception as exc:  # a bug in momentum: keep going, report it in order
         return FileResult(source.name, "internal", None, None, [Diagnostic(
             "error", "internal", f"internal error: {type(exc).__name__}: {exc} (this is a bug "

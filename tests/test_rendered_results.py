@@ -30,3 +30,18 @@ def test_failed_file_ships_no_report(tmp_path):
     p.write_text('problem "x"\nbody a: particle(mass = 1 kg)\nfind a.vx@9\n', encoding="utf-8")
     (res,) = list(solve_many([read_source(str(p))], False, 6, "float", render=render_quiet))
     assert res.status == "error" and res.report is None
+
+
+def test_a_missing_dependency_is_named_not_called_a_bug(monkeypatch):
+    """A Python without one of momentum's dependencies (lark, say) gets one line naming
+    the missing package and how to fix it, not 'this is a bug in momentum'."""
+    from momentum_cli import run
+    from momentum_cli.source import Source
+
+    def broken(*_args, **_kw):
+        raise ModuleNotFoundError("No module named 'lark'", name="lark")
+
+    monkeypatch.setattr(run, "solve_source", broken)
+    res = run._solve_job((Source("a.mom", "x"), False, 6, "float", (), "file", False, None))
+    (d,) = res.diagnostics
+    assert "'lark' is not installed" in d.message and "bug" not in d.message
