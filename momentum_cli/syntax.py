@@ -686,14 +686,47 @@ def _in_file(exc: ProblemError, loops) -> ProblemError:
                               for d in exc.diagnostics])
 
 
+FAST_BYTES = 20_000  # files this large parse each repeated statement shape once
+
+
+def _fast_tree(text: str):
+    """The tree of a big file from one parse per repeated shape (`syntax_fast`), or
+    None; any error there means: parse the whole text, which reports it exactly."""
+    from lark.exceptions import LarkError
+
+    from .syntax_fast import fast_tree
+
+    try:
+        return fast_tree(text, parser().parse)
+    except (LarkError, ProblemError, ValueError, RecursionError):
+        return None
+
+
 def _parse(source: Source, expanded: Source, loops) -> Document:
     """Parse `expanded` (the file, or its loops written out) into the file's Document;
-    the nodes' spans point into the file."""
+    the nodes' spans point into the file. A big file is parsed with the cyclic garbage
+    collector paused: its 10^5 new nodes hold no cycles, and the collector's repeated
+    passes over them cost more than the parse (restored on every exit)."""
+    import gc
+
+    if len(expanded.text) < FAST_BYTES or not gc.isenabled():
+        return _parse_nodes(source, expanded, loops)
+    gc.disable()
+    try:
+        return _parse_nodes(source, expanded, loops)
+    finally:
+        gc.enable()
+
+
+def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
+    """`_parse` itself."""
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
     text = expanded.text
     try:
         tree = _parse_runs(loops) if loops is not None else None
+        if tree is None and loops is None and len(text) >= FAST_BYTES:
+            tree = _fast_tree(text if text.endswith("\n") else text + "\n")
         if tree is None:
             tree = parser().parse(text if text.endswith("\n") else text + "\n")
     except UnexpectedInput as exc:
