@@ -739,7 +739,7 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
     _check_tree_depth(tree)
     _SPANS[0] = loops
     try:
-        statements = _ToNodes().transform(tree)
+        statements = _ToNodes(len(text) >= FAST_BYTES).transform(tree)
     except VisitError as exc:
         if isinstance(exc.orig_exc, ProblemError):
             raise exc.orig_exc from None
@@ -1522,5 +1522,13 @@ def _transformer_class():
     return _make_transformer()
 
 
-def _ToNodes():
-    return _transformer_class()()
+def _ToNodes(big: bool = False):
+    """A transformer; for a big tree with its callbacks bound once (lark's `v_args` makes a
+    new wrapper, through functools.update_wrapper, at every node otherwise)."""
+    inst = _transformer_class()()
+    if big:
+        cls = type(inst)
+        for name in dir(cls):
+            if not name.startswith("_") and hasattr(getattr(cls, name), "visit_wrapper"):
+                setattr(inst, name, getattr(inst, name))
+    return inst
