@@ -686,14 +686,47 @@ def _in_file(exc: ProblemError, loops) -> ProblemError:
                               for d in exc.diagnostics])
 
 
+FAST_BYTES = 20_000  # files this large parse each repeated statement shape once
+
+
+def _fast_tree(text: str):
+    """The tree of a big file from one parse per repeated shape (`syntax_fast`), or
+    None; any error there means: parse the whole text, which reports it exactly."""
+    from lark.exceptions import LarkError
+
+    from .syntax_fast import fast_tree
+
+    try:
+        return fast_tree(text, parser().parse)
+    except (LarkError, ProblemError, ValueError, RecursionError):
+        return None
+
+
 def _parse(source: Source, expanded: Source, loops) -> Document:
     """Parse `expanded` (the file, or its loops written out) into the file's Document;
-    the nodes' spans point into the file."""
+    the nodes' spans point into the file. A big file is parsed with the cyclic garbage
+    collector paused: its 10^5 new nodes hold no cycles, and the collector's repeated
+    passes over them cost more than the parse (restored on every exit)."""
+    import gc
+
+    if len(expanded.text) < FAST_BYTES or not gc.isenabled():
+        return _parse_nodes(source, expanded, loops)
+    gc.disable()
+    try:
+        return _parse_nodes(source, expanded, loops)
+    finally:
+        gc.enable()
+
+
+def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
+    """`_parse` itself."""
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
     text = expanded.text
     try:
         tree = _parse_runs(loops) if loops is not None else None
+        if tree is None and loops is None and len(text) >= FAST_BYTES:
+            tree = _fast_tree(text if text.endswith("\n") else text + "\n")
         if tree is None:
             tree = parser().parse(text if text.endswith("\n") else text + "\n")
     except UnexpectedInput as exc:
@@ -706,7 +739,7 @@ def _parse(source: Source, expanded: Source, loops) -> Document:
     _check_tree_depth(tree)
     _SPANS[0] = loops
     try:
-        statements = _ToNodes().transform(tree)
+        statements = _ToNodes(len(text) >= FAST_BYTES).transform(tree)
     except VisitError as exc:
         if isinstance(exc.orig_exc, ProblemError):
             raise exc.orig_exc from None
@@ -1489,5 +1522,13 @@ def _transformer_class():
     return _make_transformer()
 
 
-def _ToNodes():
-    return _transformer_class()()
+def _ToNodes(big: bool = False):
+    """A transformer; for a big tree with its callbacks bound once (lark's `v_args` makes a
+    new wrapper, through functools.update_wrapper, at every node otherwise)."""
+    inst = _transformer_class()()
+    if big:
+        cls = type(inst)
+        for name in dir(cls):
+            if not name.startswith("_") and hasattr(getattr(cls, name), "visit_wrapper"):
+                setattr(inst, name, getattr(inst, name))
+    return inst
