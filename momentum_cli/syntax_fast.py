@@ -310,7 +310,7 @@ def _builder(nodes, cl):
         if isinstance(node, Token):
             s, e = node.start_pos, node.end_pos
             body.append(f"s = text[{s} + dp:{e} + dp]; {v} = _snew(_Token, s); "
-                        f"{v}.type = {node.type!r}; {v}.value = s; "
+                        f"{v}.type = {str(node.type)!r}; {v}.value = s; "
                         f"{v}.start_pos = {s} + dp; {v}.end_pos = {e} + dp; "
                         f"{v}.line = {node.line} + dl; {v}.end_line = {node.end_line} + dl; "
                         f"{v}.column = {col(node.column, node.line)}; "
@@ -318,7 +318,8 @@ def _builder(nodes, cl):
             return v
         kids = [emit(c) for c in node.children]
         m = meta(node._meta)
-        body.append(f"{v} = _onew(_Tree); {v}.data = {node.data!r}; "
+        consts.append(node.data)  # a str, or a Token('RULE', ...) from a fresh parser
+        body.append(f"{v} = _onew(_Tree); {v}.data = _K[{len(consts) - 1}]; "
                     f"{v}.children = [{', '.join(kids)}]; {v}._meta = {m}")
         return v
 
