@@ -52,6 +52,22 @@ def test_chain_same_tree():
     assert _check(chain_text(300))
 
 
+@pytest.mark.parametrize("how", ["built", "loaded from the cache"])
+def test_same_tree_whether_the_parser_is_built_or_loaded(how, tmp_path, monkeypatch):
+    """A freshly built lark parser names rules by Token('RULE', ...), one loaded from the
+    cache by str: the copies of a repeated shape must be right with both (a clean machine
+    builds; CI once failed there while every warm machine passed)."""
+    monkeypatch.setenv("MOMENTUM_CACHE_DIR", str(tmp_path))
+    syntax.parser.cache_clear()
+    try:
+        if how != "built":
+            syntax.parser()  # writes the cache
+            syntax.parser.cache_clear()
+        assert _check(chain_text(300))
+    finally:
+        syntax.parser.cache_clear()
+
+
 def test_blocks_comments_and_long_lists_same_tree(small):
     text = ("# a leading comment\n\nproblem \"p\"\n" +
             "".join(f"body b{k}: particle(mass = {k}.5 kg)  # ball {k}\n" for k in range(1, 12)) +
