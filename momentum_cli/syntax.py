@@ -583,10 +583,33 @@ def parser():
     return built
 
 
+@functools.lru_cache(maxsize=1)
+def _fast_parser():
+    """syntax_run's parser for this grammar, its tables read from the cache (else built
+    from lark's parser and cached); None when it does not reproduce this grammar or
+    $MOMENTUM_LARK_ONLY is set (the tests compare the two): lark parses everything."""
+    if os.environ.get("MOMENTUM_LARK_ONLY"):
+        return None
+    from . import syntax_run, syntax_tables
+
+    text = grammar_text()
+    folder = _cache_dir()
+    path = syntax_tables.cache_path(folder, text)
+    data = _read_cache(path) if path else None
+    found, tables = syntax_tables.load(data, text) if data else (False, None)
+    if not found:
+        p = parser()
+        tables = syntax_tables.build(p, p.options.postlex)
+        if path:
+            _write_cache(path, syntax_tables.dump(tables, text))
+    if tables is None:
+        return None
+    run = syntax_run.Parser(tables, Rules(), MAX_DEPTH)
+    return run if run.ok else None
+
+
 def parse(source: Source) -> Document:
     """Parse a problem file into a `Document`, or raise `ProblemError` at a location."""
-    from lark.exceptions import LarkError, UnexpectedInput, VisitError
-
     text = source.text
     nul = text.find("\x00")
     if nul >= 0:  # before the size check: a large binary file is a binary file
@@ -719,10 +742,22 @@ def _parse(source: Source, expanded: Source, loops) -> Document:
 
 
 def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
-    """`_parse` itself."""
+    """`_parse` itself: syntax_run where it can (no lark import once its tables are
+    cached), else lark's parse and the transformer (which also report every error)."""
+    text = expanded.text
+    if loops is None:
+        fast = _fast_parser()
+        if fast is not None:
+            from .syntax_run import Fallback
+
+            try:
+                nodes = fast.parse(text if text.endswith("\n") else text + "\n")
+            except Fallback:
+                nodes = None
+            if nodes is not None:
+                return Document(source, tuple(_plus_minus(s, source.text) for s in nodes))
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
-    text = expanded.text
     try:
         tree = _parse_runs(loops) if loops is not None else None
         if tree is None and loops is None and len(text) >= FAST_BYTES:
@@ -967,554 +1002,561 @@ def _split_in_unit(expr):
     return None
 
 
-def _make_transformer():
-    from lark import Token, Transformer, v_args
-
-    @v_args(meta=True)
-    class ToNodes(Transformer):
-        # -- expressions
-        def quantity(self, meta, ch):
-            num = ch[0]
-            try:
-                value = float(num)
-            except ValueError:
-                raise ProblemError(f"cannot read number '{num}'", _tspan(num), code="syntax")
-            if len(ch) > 1:
-                u = ch[1]
-                return Num(_span(meta), value, str(u[0]), u[1])
-            return Num(_span(meta), value)
+class Rules:
+    """The rule callbacks: (meta, children) -> node for each rule and alias of the
+    grammar. Lark's transformer (_make_transformer) calls them on its tree; syntax_run
+    calls them as it reduces (no lark import, no tree)."""
+
+    # -- expressions
+    def quantity(self, meta, ch):
+        num = ch[0]
+        try:
+            value = float(num)
+        except ValueError:
+            raise ProblemError(f"cannot read number '{num}'", _tspan(num), code="syntax")
+        if len(ch) > 1:
+            u = ch[1]
+            return Num(_span(meta), value, str(u[0]), u[1])
+        return Num(_span(meta), value)
 
-        def unit(self, meta, ch):
-            return (str(ch[0]), _tspan(ch[0]))
+    def unit(self, meta, ch):
+        return (str(ch[0]), _tspan(ch[0]))
 
-        def quantity_in(self, meta, ch):
-            value = float(ch[0])
-            return Num(_span(meta), value, IN_UNIT + str(ch[1]), _tspan(ch[1]))
+    def quantity_in(self, meta, ch):
+        value = float(ch[0])
+        return Num(_span(meta), value, IN_UNIT + str(ch[1]), _tspan(ch[1]))
 
-        def unit_inch(self, meta, ch):
-            return ("in", _span(meta))
-
-        def ref(self, meta, ch):
-            name = str(ch[0])
-            index = member = None
-            at: tuple[str, ...] = ()
-            for c in ch[1:]:
-                kind, val = c
-                if kind == "index":
-                    index = val
-                elif kind == "member":
-                    member = val
-                else:
-                    at = val
-            return Ref(_span(meta), name, index, member, at)
+    def unit_inch(self, meta, ch):
+        return ("in", _span(meta))
+
+    def ref(self, meta, ch):
+        name = str(ch[0])
+        index = member = None
+        at: tuple[str, ...] = ()
+        for c in ch[1:]:
+            kind, val = c
+            if kind == "index":
+                index = val
+            elif kind == "member":
+                member = val
+            else:
+                at = val
+        return Ref(_span(meta), name, index, member, at)
 
-        def ref_index(self, meta, ch):
-            return ("index", "-".join(str(c) for c in ch))
+    def ref_index(self, meta, ch):
+        return ("index", "-".join(str(c) for c in ch))
 
-        def ref_index_set(self, meta, ch):
-            return ("index", "{" + ",".join(ch[0]) + "}")
-
-        def ref_about(self, meta, ch):
-            r = ch[0]
-            return Ref(_span(meta), r.name, r.index, r.member, r.at, ch[1])
-
-        def ref_member(self, meta, ch):
-            return ("member", str(ch[0]))
-
-        def ref_at(self, meta, ch):
-            return ("at", tuple(str(c) for c in ch))
+    def ref_index_set(self, meta, ch):
+        return ("index", "{" + ",".join(ch[0]) + "}")
+
+    def ref_about(self, meta, ch):
+        r = ch[0]
+        return Ref(_span(meta), r.name, r.index, r.member, r.at, ch[1])
+
+    def ref_member(self, meta, ch):
+        return ("member", str(ch[0]))
+
+    def ref_at(self, meta, ch):
+        return ("at", tuple(str(c) for c in ch))
 
-        def _bin(op):
-            def f(self, meta, ch):
-                return BinOp(_span(meta), op, ch[0], ch[-1])
-            return f
+    def _bin(op):
+        def f(self, meta, ch):
+            return BinOp(_span(meta), op, ch[0], ch[-1])
+        return f
 
-        add, sub, mul, div, pow = _bin("+"), _bin("-"), _bin("*"), _bin("/"), _bin("^")
+    add, sub, mul, div, pow = _bin("+"), _bin("-"), _bin("*"), _bin("/"), _bin("^")
 
-        def neg(self, meta, ch):
-            return Neg(_span(meta), ch[0])
+    def neg(self, meta, ch):
+        return Neg(_span(meta), ch[0])
 
-        def unary(self, meta, ch):  # unary plus
-            return ch[-1]
+    def unary(self, meta, ch):  # unary plus
+        return ch[-1]
 
-        def call(self, meta, ch):
-            return Call(_span(meta), str(ch[0]), tuple(ch[1:]), _tspan(ch[0]))
+    def call(self, meta, ch):
+        return Call(_span(meta), str(ch[0]), tuple(ch[1:]), _tspan(ch[0]))
 
-        def vec_lit(self, meta, ch):
-            return VecLit(_span(meta), ch[0], ch[1])
+    def vec_lit(self, meta, ch):
+        return VecLit(_span(meta), ch[0], ch[1])
 
-        def magnitude(self, meta, ch):
-            return Mag(_span(meta), ch[0])
+    def magnitude(self, meta, ch):
+        return Mag(_span(meta), ch[0])
 
-        def vector(self, meta, ch):
-            return ch[0]
+    def vector(self, meta, ch):
+        return ch[0]
 
-        # -- header
-        def problem_stmt(self, meta, ch):
-            return Problem(_span(meta), str(ch[0])[1:-1])
+    # -- header
+    def problem_stmt(self, meta, ch):
+        return Problem(_span(meta), str(ch[0])[1:-1])
 
-        def gravity_stmt(self, meta, ch):
-            d = ch[1]
-            return Gravity(_span(meta), ch[0], d[0], d[1])
+    def gravity_stmt(self, meta, ch):
+        d = ch[1]
+        return Gravity(_span(meta), ch[0], d[0], d[1])
 
-        def dir_down(self, meta, ch):
-            return ("down", None)
+    def dir_down(self, meta, ch):
+        return ("down", None)
 
-        def dir_up(self, meta, ch):
-            return ("up", None)
+    def dir_up(self, meta, ch):
+        return ("up", None)
 
-        def dir_left(self, meta, ch):
-            return ("left", None)
+    def dir_left(self, meta, ch):
+        return ("left", None)
 
-        def dir_right(self, meta, ch):
-            return ("right", None)
+    def dir_right(self, meta, ch):
+        return ("right", None)
 
-        def dir_plane(self, meta, ch):
-            return ("plane", None)
+    def dir_plane(self, meta, ch):
+        return ("plane", None)
 
-        def dir_vector(self, meta, ch):
-            return ("vector", ch[0])
+    def dir_vector(self, meta, ch):
+        return ("vector", ch[0])
 
-        def let_stmt(self, meta, ch):
-            return Let(_span(meta), str(ch[0]), ch[1])
+    def let_stmt(self, meta, ch):
+        return Let(_span(meta), str(ch[0]), ch[1])
 
-        def unknown_stmt(self, meta, ch):
-            unit = ch[1] if len(ch) > 1 else (None, None)
-            return UnknownDecl(_span(meta), str(ch[0]), unit[0], unit[1])
+    def unknown_stmt(self, meta, ch):
+        unit = ch[1] if len(ch) > 1 else (None, None)
+        return UnknownDecl(_span(meta), str(ch[0]), unit[0], unit[1])
 
-        # -- bodies and points
-        def arg(self, meta, ch):
-            return Arg(_span(meta), str(ch[0]), ch[1])
+    # -- bodies and points
+    def arg(self, meta, ch):
+        return Arg(_span(meta), str(ch[0]), ch[1])
 
-        def shape(self, meta, ch):
-            return Shape(_span(meta), str(ch[0]), tuple(c for c in ch[1:] if c is not None))
+    def shape(self, meta, ch):
+        return Shape(_span(meta), str(ch[0]), tuple(c for c in ch[1:] if c is not None))
 
-        def part(self, meta, ch):
-            shape, at, rot = ch[0], None, None
-            for kind, val in ch[1:]:
-                if kind == "at":
-                    at = val
-                else:
-                    rot = val
-            return Shape(shape.span, shape.kind, shape.args, at, rot)
+    def part(self, meta, ch):
+        shape, at, rot = ch[0], None, None
+        for kind, val in ch[1:]:
+            if kind == "at":
+                at = val
+            else:
+                rot = val
+        return Shape(shape.span, shape.kind, shape.args, at, rot)
 
-        def place_at(self, meta, ch):
-            return ("at", ch[0])
+    def place_at(self, meta, ch):
+        return ("at", ch[0])
 
-        def place_rotated(self, meta, ch):
-            return ("rotated", ch[0])
+    def place_rotated(self, meta, ch):
+        return ("rotated", ch[0])
 
-        def body_simple(self, meta, ch):
-            return BodyDecl(_span(meta), str(ch[0]), (ch[1],), False)
+    def body_simple(self, meta, ch):
+        return BodyDecl(_span(meta), str(ch[0]), (ch[1],), False)
 
-        def body_composite(self, meta, ch):
-            return BodyDecl(_span(meta), str(ch[0]), tuple(ch[1:]), True)
+    def body_composite(self, meta, ch):
+        return BodyDecl(_span(meta), str(ch[0]), tuple(ch[1:]), True)
 
-        def point_stmt(self, meta, ch):
-            name, d = str(ch[0]), ch[1]
-            if isinstance(d, PointRef):
-                return PointDecl(_span(meta), name, None, None, d)
-            return PointDecl(_span(meta), name, d[0], d[1])
+    def point_stmt(self, meta, ch):
+        name, d = str(ch[0]), ch[1]
+        if isinstance(d, PointRef):
+            return PointDecl(_span(meta), name, None, None, d)
+        return PointDecl(_span(meta), name, d[0], d[1])
 
-        def point_at(self, meta, ch):
-            return (str(ch[0]), ch[1])
+    def point_at(self, meta, ch):
+        return (str(ch[0]), ch[1])
 
-        def point_alias(self, meta, ch):
-            return ch[0]
+    def point_alias(self, meta, ch):
+        return ch[0]
 
-        def pref_name(self, meta, ch):
-            return PointRef(_span(meta), str(ch[0]))
+    def pref_name(self, meta, ch):
+        return PointRef(_span(meta), str(ch[0]))
 
-        def pref_member(self, meta, ch):
-            return PointRef(_span(meta), str(ch[0]), member=str(ch[1]))
+    def pref_member(self, meta, ch):
+        return PointRef(_span(meta), str(ch[0]), member=str(ch[1]))
 
-        def pref_end(self, meta, ch):
-            return PointRef(_span(meta), str(ch[0]), end=str(ch[1]))
+    def pref_end(self, meta, ch):
+        return PointRef(_span(meta), str(ch[0]), end=str(ch[1]))
 
-        def surface_stmt(self, meta, ch):
-            found = dict(c for c in ch[1:])
-            return SurfaceDecl(_span(meta), str(ch[0]), found.get("normal"), found.get("at"))
+    def surface_stmt(self, meta, ch):
+        found = dict(c for c in ch[1:])
+        return SurfaceDecl(_span(meta), str(ch[0]), found.get("normal"), found.get("at"))
 
-        def surface_normal(self, meta, ch):
-            return ("normal", ch[0])
+    def surface_normal(self, meta, ch):
+        return ("normal", ch[0])
 
-        def surface_at(self, meta, ch):
-            return ("at", ch[0])
+    def surface_at(self, meta, ch):
+        return ("at", ch[0])
 
-        def joint_from(self, meta, ch):
-            return ("from", str(ch[0]), _tspan(ch[0]))
+    def joint_from(self, meta, ch):
+        return ("from", str(ch[0]), _tspan(ch[0]))
 
-        # -- open systems
-        def fp_rate(self, meta, ch):
-            return ("rate", ch[0])
+    # -- open systems
+    def fp_rate(self, meta, ch):
+        return ("rate", ch[0])
 
-        def fp_velocity(self, meta, ch):
-            return ("velocity", ch[0])
+    def fp_velocity(self, meta, ch):
+        return ("velocity", ch[0])
 
-        def fp_relative(self, meta, ch):
-            return ("relative", True)
+    def fp_relative(self, meta, ch):
+        return ("relative", True)
 
-        def fp_at(self, meta, ch):
-            return ("at", ch[0])
+    def fp_at(self, meta, ch):
+        return ("at", ch[0])
 
-        def flow_props(self, meta, ch):
-            return dict(ch)
+    def flow_props(self, meta, ch):
+        return dict(ch)
 
-        def _flow(kind):
-            def f(self, meta, ch):
-                p = ch[0]
-                return Flow(_span(meta), kind, p.get("rate"), p.get("velocity"),
-                            bool(p.get("relative")), p.get("at"))
-            return f
+    def _flow(kind):
+        def f(self, meta, ch):
+            p = ch[0]
+            return Flow(_span(meta), kind, p.get("rate"), p.get("velocity"),
+                        bool(p.get("relative")), p.get("at"))
+        return f
 
-        cv_inflow, cv_outflow = _flow("inflow"), _flow("outflow")
+    cv_inflow, cv_outflow = _flow("inflow"), _flow("outflow")
 
-        def cv_at(self, meta, ch):
-            return ch[0]
+    def cv_at(self, meta, ch):
+        return ch[0]
 
-        def cv_force(self, meta, ch):
-            return Flow(_span(meta), "force", None, ch[0], False, ch[1] if len(ch) > 1 else None)
+    def cv_force(self, meta, ch):
+        return Flow(_span(meta), "force", None, ch[0], False, ch[1] if len(ch) > 1 else None)
 
-        def cv_support(self, meta, ch):
-            return ("support", str(ch[0]))
+    def cv_support(self, meta, ch):
+        return ("support", str(ch[0]))
 
-        def cv_moving(self, meta, ch):
-            return ("moving", ch[0])
+    def cv_moving(self, meta, ch):
+        return ("moving", ch[0])
 
-        def steady_stmt(self, meta, ch):
-            flows, supports, moving = [], [], None
-            for c in ch[1:]:
-                if isinstance(c, Flow):
-                    flows.append(c)
-                elif c[0] == "support":
-                    supports.append(c[1])
-                else:
-                    moving = c[1]
-            return SteadyDecl(_span(meta), str(ch[0]), tuple(flows), tuple(supports), moving)
+    def steady_stmt(self, meta, ch):
+        flows, supports, moving = [], [], None
+        for c in ch[1:]:
+            if isinstance(c, Flow):
+                flows.append(c)
+            elif c[0] == "support":
+                supports.append(c[1])
+            else:
+                moving = c[1]
+        return SteadyDecl(_span(meta), str(ch[0]), tuple(flows), tuple(supports), moving)
 
-        def ct_mass(self, meta, ch):
-            return ("mass", ch[0])
+    def ct_mass(self, meta, ch):
+        return ("mass", ch[0])
 
-        def ct_velocity(self, meta, ch):
-            return ("velocity", ch[0])
+    def ct_velocity(self, meta, ch):
+        return ("velocity", ch[0])
 
-        def ct_acceleration(self, meta, ch):
-            return ("acceleration", ch[0])
-
-        def contents_props(self, meta, ch):
-            return dict(ch)
-
-        def cv_contents(self, meta, ch):
-            return ("contents", ch[0])
-
-        def instant_stmt(self, meta, ch):
-            contents = {}
-            rest = []
-            for c in ch[1:]:
-                if isinstance(c, tuple) and c[0] == "contents":
-                    contents.update(c[1])
-                else:
-                    rest.append(c)
-            cv = self.steady_stmt(meta, [ch[0]] + rest)
-            return SteadyDecl(cv.span, cv.name, cv.flows, cv.supports, cv.moving, True,
-                              contents.get("mass"), contents.get("velocity"),
-                              contents.get("acceleration"))
-
-        def burn_exhaust(self, meta, ch):
-            return ("exhaust", (ch[0], ch[1]), _span(meta))
-
-        def burn_rate(self, meta, ch):
-            return ("rate", ch[0], _span(meta))
-
-        def burn_mass(self, meta, ch):
-            return ("burned", ch[0], _span(meta))
-
-        def burn_duration(self, meta, ch):
-            return ("duration", ch[0], _span(meta))
-
-        def burn_stmt(self, meta, ch):
-            d = {c[0]: c[1] for c in ch[3:]}
-            exhaust = d.get("exhaust", (None, None))
-            return BurnDecl(_span(meta), str(ch[0]), str(ch[1]), str(ch[2]), exhaust[0],
-                            exhaust[1], d.get("rate"), d.get("burned"), d.get("duration"),
-                            tuple((c[0], c[2]) for c in ch[3:]))
-
-        def kind_gain(self, meta, ch):
-            return False
-
-        def kind_lose(self, meta, ch):
-            return True
-
-        def gain_rate(self, meta, ch):
-            return ("rate", ch[0])
-
-        def gain_velocity(self, meta, ch):
-            return ("velocity", ch[0])
-
-        def gain_velocity_relative(self, meta, ch):
-            return ("relative", ch[0])
-
-        def gain_force(self, meta, ch):
-            return ("force", ch[0])
-
-        def gain_duration(self, meta, ch):
-            return ("duration", ch[0])
-
-        def gain_stmt(self, meta, ch):
-            d = {}
-            for key, node in ch[4:]:
-                if key in d or (key in ("velocity", "relative") and
-                                ("velocity" in d or "relative" in d)):
-                    raise ProblemError(f"`{'velocity' if key == 'relative' else key}` is given "
-                                       "twice", node.span, code="name")
-                d[key] = node
-            velocity = d.get("velocity", d.get("relative"))
-            return GainDecl(_span(meta), str(ch[1]), str(ch[2]), str(ch[3]), ch[0],
-                            d.get("rate"), velocity, "relative" in d, d.get("force"),
-                            d.get("duration"))
-
-        def label(self, meta, ch):
-            return ("label", str(ch[0]))
-
-        # -- simulation
-        def sim_until(self, meta, ch):
-            return Until(_span(meta), ch[0], ch[1] if len(ch) > 1 else None)
-
-        def sim_damper(self, meta, ch):
-            label = None
-            if isinstance(ch[0], tuple) and ch[0][0] == "label":
-                label, ch = ch[0][1], ch[1:]
-            return Joint(_span(meta), "damper", label, ch[0], ch[1], stiffness=ch[2])
-
-        def sim_bearing(self, meta, ch):
-            return Clause(_span(meta), "bearing-torque", (str(ch[0]),), value=ch[1])
-
-        def simulate_stmt(self, meta, ch):
-            return SimulateDecl(_span(meta), str(ch[0]), _tspan(ch[0]), tuple(ch[1:]))
-
-        def _joint(kind):
-            def f(self, meta, ch):
-                label = None
-                if ch and isinstance(ch[0], tuple) and ch[0][0] == "label":
-                    label, ch = ch[0][1], ch[1:]
-                a, b, rest = ch[0], ch[1], ch[2:]
-                kw = {}
-                if rest and isinstance(rest[-1], tuple) and rest[-1][0] == "from":
-                    kw["from_state"], kw["from_span"] = rest[-1][1], rest[-1][2]
-                    rest = rest[:-1]
-                if kind == "pin" and rest:
-                    kw["at"] = rest[0]
-                elif kind in ("link", "slider"):
-                    kw["along"] = rest[0]
-                elif kind == "spring":
-                    kw["stiffness"] = rest[0]
-                    if len(rest) > 1:
-                        kw["length"] = rest[1]
-                return Joint(_span(meta), kind, label, a, b, **kw)
-            return f
-
-        pin_stmt, weld_stmt = _joint("pin"), _joint("weld")
-        link_stmt, spring_stmt = _joint("link"), _joint("spring")
-        slider_stmt = _joint("slider")
-
-        # -- states
-        def qty_ref(self, meta, ch):
-            return (str(ch[0]), str(ch[1]), _span(meta))
-
-        def _given(rel):
-            def f(self, meta, ch):
-                body, qty, qspan = ch[0]
-                return Given(_span(meta), body, qty, qspan, ch[1], rel)
-            return f
-
-        given, hint_below, hint_above = _given("="), _given("<"), _given(">")
-
-        def at_rest(self, meta, ch):
-            return AtRest(_span(meta), str(ch[0]))
-
-        def state_rolls(self, meta, ch):
-            return RollsIn(_span(meta), str(ch[0]), str(ch[1]))
-
-        def state_items(self, meta, ch):
-            return list(ch)
-
-        def state_stmt(self, meta, ch):
-            sid = str(ch[0])
-            label = None
-            items = []
-            for c in ch[1:]:
-                if isinstance(c, Token) and c.type == "STRING":
-                    label = str(c)[1:-1]
-                elif isinstance(c, list):
-                    items.extend(c)
-            return StateDecl(_span(meta), sid, label, tuple(items))
-
-        # -- transitions
-        def kind_impact(self, meta, ch):
-            return "impact"
-
-        def kind_interval(self, meta, ch):
-            return "interval"
-
-        def kind_energy(self, meta, ch):
-            return "energy"
-
-        def transition_stmt(self, meta, ch):
-            kind, a, b = ch[0], ch[1], ch[2]
-            rest = list(ch[3:])
-            groups = rest.pop(0)[1] if rest and isinstance(rest[0], tuple) and \
-                rest[0] and rest[0][0] == "energy_of" else ()
-            return Transition(_span(meta), kind, str(a), str(b), tuple(rest), _tspan(a),
-                              _tspan(b), groups)
-
-        def energy_of(self, meta, ch):
-            return ("energy_of", tuple(ch), _span(meta))
-
-        def target_ground(self, meta, ch):
-            return None
-
-        def target_point(self, meta, ch):
-            return ch[0]
-
-        def contact_clause(self, meta, ch):
+    def ct_acceleration(self, meta, ch):
+        return ("acceleration", ch[0])
+
+    def contents_props(self, meta, ch):
+        return dict(ch)
+
+    def cv_contents(self, meta, ch):
+        return ("contents", ch[0])
+
+    def instant_stmt(self, meta, ch):
+        contents = {}
+        rest = []
+        for c in ch[1:]:
+            if isinstance(c, tuple) and c[0] == "contents":
+                contents.update(c[1])
+            else:
+                rest.append(c)
+        cv = self.steady_stmt(meta, [ch[0]] + rest)
+        return SteadyDecl(cv.span, cv.name, cv.flows, cv.supports, cv.moving, True,
+                          contents.get("mass"), contents.get("velocity"),
+                          contents.get("acceleration"))
+
+    def burn_exhaust(self, meta, ch):
+        return ("exhaust", (ch[0], ch[1]), _span(meta))
+
+    def burn_rate(self, meta, ch):
+        return ("rate", ch[0], _span(meta))
+
+    def burn_mass(self, meta, ch):
+        return ("burned", ch[0], _span(meta))
+
+    def burn_duration(self, meta, ch):
+        return ("duration", ch[0], _span(meta))
+
+    def burn_stmt(self, meta, ch):
+        d = {c[0]: c[1] for c in ch[3:]}
+        exhaust = d.get("exhaust", (None, None))
+        return BurnDecl(_span(meta), str(ch[0]), str(ch[1]), str(ch[2]), exhaust[0],
+                        exhaust[1], d.get("rate"), d.get("burned"), d.get("duration"),
+                        tuple((c[0], c[2]) for c in ch[3:]))
+
+    def kind_gain(self, meta, ch):
+        return False
+
+    def kind_lose(self, meta, ch):
+        return True
+
+    def gain_rate(self, meta, ch):
+        return ("rate", ch[0])
+
+    def gain_velocity(self, meta, ch):
+        return ("velocity", ch[0])
+
+    def gain_velocity_relative(self, meta, ch):
+        return ("relative", ch[0])
+
+    def gain_force(self, meta, ch):
+        return ("force", ch[0])
+
+    def gain_duration(self, meta, ch):
+        return ("duration", ch[0])
+
+    def gain_stmt(self, meta, ch):
+        d = {}
+        for key, node in ch[4:]:
+            if key in d or (key in ("velocity", "relative") and
+                            ("velocity" in d or "relative" in d)):
+                raise ProblemError(f"`{'velocity' if key == 'relative' else key}` is given "
+                                   "twice", node.span, code="name")
+            d[key] = node
+        velocity = d.get("velocity", d.get("relative"))
+        return GainDecl(_span(meta), str(ch[1]), str(ch[2]), str(ch[3]), ch[0],
+                        d.get("rate"), velocity, "relative" in d, d.get("force"),
+                        d.get("duration"))
+
+    def label(self, meta, ch):
+        return ("label", str(ch[0]))
+
+    # -- simulation
+    def sim_until(self, meta, ch):
+        return Until(_span(meta), ch[0], ch[1] if len(ch) > 1 else None)
+
+    def sim_damper(self, meta, ch):
+        label = None
+        if isinstance(ch[0], tuple) and ch[0][0] == "label":
+            label, ch = ch[0][1], ch[1:]
+        return Joint(_span(meta), "damper", label, ch[0], ch[1], stiffness=ch[2])
+
+    def sim_bearing(self, meta, ch):
+        return Clause(_span(meta), "bearing-torque", (str(ch[0]),), value=ch[1])
+
+    def simulate_stmt(self, meta, ch):
+        return SimulateDecl(_span(meta), str(ch[0]), _tspan(ch[0]), tuple(ch[1:]))
+
+    def _joint(kind):
+        def f(self, meta, ch):
             label = None
             if ch and isinstance(ch[0], tuple) and ch[0][0] == "label":
                 label, ch = ch[0][1], ch[1:]
-            a, b = ch[0], ch[1]
-            normal, props = None, ()
-            for c in ch[2:]:
-                if isinstance(c, list):
-                    props = tuple(c)
-                else:
-                    normal = c
-            return Contact(_span(meta), label, a, b, normal, props)
+            a, b, rest = ch[0], ch[1], ch[2:]
+            kw = {}
+            if rest and isinstance(rest[-1], tuple) and rest[-1][0] == "from":
+                kw["from_state"], kw["from_span"] = rest[-1][1], rest[-1][2]
+                rest = rest[:-1]
+            if kind == "pin" and rest:
+                kw["at"] = rest[0]
+            elif kind in ("link", "slider"):
+                kw["along"] = rest[0]
+            elif kind == "spring":
+                kw["stiffness"] = rest[0]
+                if len(rest) > 1:
+                    kw["length"] = rest[1]
+            return Joint(_span(meta), kind, label, a, b, **kw)
+        return f
 
-        def contact_props(self, meta, ch):
-            out = []  # `friction 0.3 static 0.4` is two props
-            for p in ch:
-                out.extend(p if isinstance(p, list) else [p])
-            return out
+    pin_stmt, weld_stmt = _joint("pin"), _joint("weld")
+    link_stmt, spring_stmt = _joint("link"), _joint("spring")
+    slider_stmt = _joint("slider")
 
-        def prop_restitution(self, meta, ch):
-            value, law = ch[0], str(ch[1]) if len(ch) > 1 else None
-            # `0.6 poisson` lexes as a number with a unit (the unit lexer comes first)
-            if law is None and isinstance(value, Num) and value.unit in IMPACT_LAWS:
-                law = value.unit
-                value = Num(value.span, value.value)
-            return Prop(_span(meta), "restitution", value, law or "newton")
+    # -- states
+    def qty_ref(self, meta, ch):
+        return (str(ch[0]), str(ch[1]), _span(meta))
 
-        def prop_restitution_unknown(self, meta, ch):
-            return Prop(_span(meta), "restitution?")
+    def _given(rel):
+        def f(self, meta, ch):
+            body, qty, qspan = ch[0]
+            return Given(_span(meta), body, qty, qspan, ch[1], rel)
+        return f
 
-        def prop_smooth(self, meta, ch):
-            return Prop(_span(meta), "smooth")
+    given, hint_below, hint_above = _given("="), _given("<"), _given(">")
 
-        def prop_rough(self, meta, ch):
-            return Prop(_span(meta), "rough")
+    def at_rest(self, meta, ch):
+        return AtRest(_span(meta), str(ch[0]))
 
-        def prop_friction(self, meta, ch):
-            return Prop(_span(meta), "friction", ch[0])
+    def state_rolls(self, meta, ch):
+        return RollsIn(_span(meta), str(ch[0]), str(ch[1]))
 
-        def prop_friction_static(self, meta, ch):
-            return [Prop(_span(meta), "friction", ch[0]), Prop(_span(meta), "static", ch[1])]
+    def state_items(self, meta, ch):
+        return list(ch)
 
-        def prop_static(self, meta, ch):
-            return Prop(_span(meta), "static", ch[0])
+    def state_stmt(self, meta, ch):
+        sid = str(ch[0])
+        label = None
+        items = []
+        for c in ch[1:]:
+            if isinstance(c, str) and getattr(c, "type", None) == "STRING":
+                label = str(c)[1:-1]
+            elif isinstance(c, list):
+                items.extend(c)
+        return StateDecl(_span(meta), sid, label, tuple(items))
 
-        def prop_slip(self, meta, ch):
-            return Prop(_span(meta), "slip", ch[0])
+    # -- transitions
+    def kind_impact(self, meta, ch):
+        return "impact"
 
-        def prop_separation(self, meta, ch):
-            return Prop(_span(meta), "separation", ch[0])
+    def kind_interval(self, meta, ch):
+        return "interval"
 
-        def bearing_friction(self, meta, ch):
-            return Clause(_span(meta), "bearing-friction", (str(ch[0]),))
+    def kind_energy(self, meta, ch):
+        return "energy"
 
-        def stops_relative(self, meta, ch):
-            return Clause(_span(meta), "stops-relative", (str(ch[0]), str(ch[1])))
+    def transition_stmt(self, meta, ch):
+        kind, a, b = ch[0], ch[1], ch[2]
+        rest = list(ch[3:])
+        groups = rest.pop(0)[1] if rest and isinstance(rest[0], tuple) and \
+            rest[0] and rest[0][0] == "energy_of" else ()
+        return Transition(_span(meta), kind, str(a), str(b), tuple(rest), _tspan(a),
+                          _tspan(b), groups)
 
-        def stops(self, meta, ch):
-            return Clause(_span(meta), "stops", (str(ch[0]),))
+    def energy_of(self, meta, ch):
+        return ("energy_of", tuple(ch), _span(meta))
 
-        def rolls(self, meta, ch):
-            return Clause(_span(meta), "rolls", (str(ch[0]), str(ch[1])))
+    def target_ground(self, meta, ch):
+        return None
 
-        def force_clause(self, meta, ch):
-            return Clause(_span(meta), "force", value=ch[0], point=ch[1])
+    def target_point(self, meta, ch):
+        return ch[0]
 
-        def moment_clause(self, meta, ch):
-            return Clause(_span(meta), "moment", (str(ch[1]),), value=ch[0])
+    def contact_clause(self, meta, ch):
+        label = None
+        if ch and isinstance(ch[0], tuple) and ch[0][0] == "label":
+            label, ch = ch[0][1], ch[1:]
+        a, b = ch[0], ch[1]
+        normal, props = None, ()
+        for c in ch[2:]:
+            if isinstance(c, list):
+                props = tuple(c)
+            else:
+                normal = c
+        return Contact(_span(meta), label, a, b, normal, props)
 
-        def duration_clause(self, meta, ch):
-            return Clause(_span(meta), "duration", value=ch[0])
+    def contact_props(self, meta, ch):
+        out = []  # `friction 0.3 static 0.4` is two props
+        for p in ch:
+            out.extend(p if isinstance(p, list) else [p])
+        return out
 
-        def free_body(self, meta, ch):
-            return Clause(_span(meta), "free", (str(ch[0]),))
+    def prop_restitution(self, meta, ch):
+        value, law = ch[0], str(ch[1]) if len(ch) > 1 else None
+        # `0.6 poisson` lexes as a number with a unit (the unit lexer comes first)
+        if law is None and isinstance(value, Num) and value.unit in IMPACT_LAWS:
+            law = value.unit
+            value = Num(value.span, value.value)
+        return Prop(_span(meta), "restitution", value, law or "newton")
 
-        # -- principles
-        def axis_x(self, meta, ch):
-            return "x"
+    def prop_restitution_unknown(self, meta, ch):
+        return Prop(_span(meta), "restitution?")
 
-        def axis_y(self, meta, ch):
-            return "y"
+    def prop_smooth(self, meta, ch):
+        return Prop(_span(meta), "smooth")
 
-        def axis_vector(self, meta, ch):
-            return ch[0]
+    def prop_rough(self, meta, ch):
+        return Prop(_span(meta), "rough")
 
-        def body_set(self, meta, ch):
-            return tuple(str(c) for c in ch)
+    def prop_friction(self, meta, ch):
+        return Prop(_span(meta), "friction", ch[0])
 
-        def conserve_momentum_stmt(self, meta, ch):
-            return ConserveMomentum(_span(meta), ch[0], ch[1], str(ch[2]), str(ch[3]))
+    def prop_friction_static(self, meta, ch):
+        return [Prop(_span(meta), "friction", ch[0]), Prop(_span(meta), "static", ch[1])]
 
-        def conserve_angular_stmt(self, meta, ch):
-            return ConserveAngular(_span(meta), ch[0], ch[1], str(ch[2]), str(ch[3]))
+    def prop_static(self, meta, ch):
+        return Prop(_span(meta), "static", ch[0])
 
-        def restitution_stmt(self, meta, ch):
-            return RestitutionLaw(_span(meta), ch[0], ch[1], ch[2], ch[3], str(ch[4]),
-                                  str(ch[5]))
+    def prop_slip(self, meta, ch):
+        return Prop(_span(meta), "slip", ch[0])
 
-        def equation_stmt(self, meta, ch):
-            return UserEquation(_span(meta), ch[0], ch[1])
+    def prop_separation(self, meta, ch):
+        return Prop(_span(meta), "separation", ch[0])
 
-        # -- find
-        def find_named(self, meta, ch):
-            return (str(ch[0]), ch[1])
+    def bearing_friction(self, meta, ch):
+        return Clause(_span(meta), "bearing-friction", (str(ch[0]),))
 
-        def find_expr(self, meta, ch):
-            return (None, ch[0])
+    def stops_relative(self, meta, ch):
+        return Clause(_span(meta), "stops-relative", (str(ch[0]), str(ch[1])))
 
-        def find_item(self, meta, ch):
-            name, expr = ch[0]
-            unit = ch[1] if len(ch) > 1 else (None, None)
-            split = _split_in_unit(expr) if len(ch) == 1 else None
-            if split is not None:
-                expr, unit = split[0], (split[1], split[2])
-            return FindItem(_span(meta), name, expr, unit[0], unit[1])
+    def stops(self, meta, ch):
+        return Clause(_span(meta), "stops", (str(ch[0]),))
 
-        def find_stmt(self, meta, ch):
-            return Find(_span(meta), tuple(ch))
+    def rolls(self, meta, ch):
+        return Clause(_span(meta), "rolls", (str(ch[0]), str(ch[1])))
 
-        # -- expectations
-        def error_code(self, meta, ch):
-            return "-".join(str(c) for c in ch)
+    def force_clause(self, meta, ch):
+        return Clause(_span(meta), "force", value=ch[0], point=ch[1])
 
-        def expect_error(self, meta, ch):
-            return Expect(_span(meta), error=ch[0])
+    def moment_clause(self, meta, ch):
+        return Clause(_span(meta), "moment", (str(ch[1]),), value=ch[0])
 
-        def expect_value(self, meta, ch):
-            tol = ch[2] if len(ch) > 2 else (None, None)
-            return Expect(_span(meta), ch[0], ch[1],
-                          tol[1] if tol[0] == "abs" else None,
-                          tol[1] if tol[0] == "rel" else None)
+    def duration_clause(self, meta, ch):
+        return Clause(_span(meta), "duration", value=ch[0])
 
-        def tol_abs(self, meta, ch):
-            return ("abs", ch[-1])
+    def free_body(self, meta, ch):
+        return Clause(_span(meta), "free", (str(ch[0]),))
 
-        def tol_rel(self, meta, ch):
-            return ("rel", ch[-1])
+    # -- principles
+    def axis_x(self, meta, ch):
+        return "x"
 
-    return ToNodes
+    def axis_y(self, meta, ch):
+        return "y"
+
+    def axis_vector(self, meta, ch):
+        return ch[0]
+
+    def body_set(self, meta, ch):
+        return tuple(str(c) for c in ch)
+
+    def conserve_momentum_stmt(self, meta, ch):
+        return ConserveMomentum(_span(meta), ch[0], ch[1], str(ch[2]), str(ch[3]))
+
+    def conserve_angular_stmt(self, meta, ch):
+        return ConserveAngular(_span(meta), ch[0], ch[1], str(ch[2]), str(ch[3]))
+
+    def restitution_stmt(self, meta, ch):
+        return RestitutionLaw(_span(meta), ch[0], ch[1], ch[2], ch[3], str(ch[4]),
+                              str(ch[5]))
+
+    def equation_stmt(self, meta, ch):
+        return UserEquation(_span(meta), ch[0], ch[1])
+
+    # -- find
+    def find_named(self, meta, ch):
+        return (str(ch[0]), ch[1])
+
+    def find_expr(self, meta, ch):
+        return (None, ch[0])
+
+    def find_item(self, meta, ch):
+        name, expr = ch[0]
+        unit = ch[1] if len(ch) > 1 else (None, None)
+        split = _split_in_unit(expr) if len(ch) == 1 else None
+        if split is not None:
+            expr, unit = split[0], (split[1], split[2])
+        return FindItem(_span(meta), name, expr, unit[0], unit[1])
+
+    def find_stmt(self, meta, ch):
+        return Find(_span(meta), tuple(ch))
+
+    # -- expectations
+    def error_code(self, meta, ch):
+        return "-".join(str(c) for c in ch)
+
+    def expect_error(self, meta, ch):
+        return Expect(_span(meta), error=ch[0])
+
+    def expect_value(self, meta, ch):
+        tol = ch[2] if len(ch) > 2 else (None, None)
+        return Expect(_span(meta), ch[0], ch[1],
+                      tol[1] if tol[0] == "abs" else None,
+                      tol[1] if tol[0] == "rel" else None)
+
+    def tol_abs(self, meta, ch):
+        return ("abs", ch[-1])
+
+    def tol_rel(self, meta, ch):
+        return ("rel", ch[-1])
+
+
+def _make_transformer():
+    from lark import Transformer, v_args
+
+    body = {k: v for k, v in vars(Rules).items()
+            if not (k.startswith("__") and k.endswith("__"))}
+    body["__module__"] = __name__
+    return v_args(meta=True)(type("ToNodes", (Transformer,), body))
 
 
 @functools.lru_cache(maxsize=1)

@@ -1,5 +1,8 @@
 """The parser cache is a pickle, so it runs code when loaded: it is loaded only from a
-private regular file of this user; anything else is rebuilt in memory with a note."""
+private regular file of this user; anything else is rebuilt in memory with a note. The
+same holds for the tables syntax_run parses with (a marshal file, read by the same
+checks). A run whose tables are cached never opens lark's pickle, so the pickle's tests
+run with MOMENTUM_LARK_ONLY=1 (lark parses, as it does to report a syntax error)."""
 from __future__ import annotations
 
 import os
@@ -26,8 +29,11 @@ class _Marker:
         return (open, (self.path, "w"))
 
 
-def _run(cache: Path, env_extra=None) -> subprocess.CompletedProcess:
+def _run(cache: Path, env_extra=None, lark_only=True) -> subprocess.CompletedProcess:
     env = dict(os.environ, MOMENTUM_CACHE_DIR=str(cache), **(env_extra or {}))
+    env.pop("MOMENTUM_LARK_ONLY", None)
+    if lark_only:
+        env["MOMENTUM_LARK_ONLY"] = "1"
     return subprocess.run([sys.executable, "-m", "momentum_cli", "solve", "-q", PROBLEM],
                           capture_output=True, text=True, env=env, timeout=60)
 
@@ -105,6 +111,69 @@ def test_fifo_and_symlink_are_never_opened(tmp_path):
     path.unlink(missing_ok=True)
     path.symlink_to("/dev/zero")
     res = _run(cache)
+    assert res.returncode == 0 and "rebound = 1.28 m" in res.stdout
+    assert "not a plain file" in res.stderr
+
+
+def _tables_file(cache: Path) -> Path:
+    res = _run(cache, lark_only=False)
+    assert res.returncode == 0, res.stderr
+    files = list(cache.glob("tables-*.marshal"))
+    assert len(files) == 1
+    return files[0]
+
+
+def test_tables_are_reused_and_private(tmp_path):
+    cache = tmp_path / "c"
+    path = _tables_file(cache)
+    assert not stat.S_IMODE(path.stat().st_mode) & 0o077
+    before = path.stat().st_mtime_ns
+    res = _run(cache, lark_only=False)
+    assert res.returncode == 0 and res.stderr == ""
+    assert "rebound = 1.28 m" in res.stdout
+    assert path.stat().st_mtime_ns == before  # read, not written again
+
+
+@pytest.mark.parametrize("mode", [0o666, 0o620])
+def test_tables_with_loose_permissions_are_not_loaded(tmp_path, mode):
+    cache = tmp_path / "c"
+    path = _tables_file(cache)
+    os.chmod(path, mode)
+    res = _run(cache, lark_only=False)
+    assert res.returncode == 0, res.stderr
+    assert "not loaded" in res.stderr and len(res.stderr.splitlines()) == 1
+    assert "rebound = 1.28 m" in res.stdout
+
+
+@pytest.mark.parametrize("content", [b"", b"not marshal data", None])
+def test_damaged_or_foreign_tables_are_rebuilt(tmp_path, content):
+    """Tables that are damaged, or were built from another grammar (`None`: the same
+    file with another grammar text in its identity), are not used: rebuilt, same answer."""
+    import marshal
+
+    cache = tmp_path / "c"
+    path = _tables_file(cache)
+    if content is None:
+        stored = marshal.loads(path.read_bytes())
+        stored["identity"]["grammar"] += "\n// another grammar\n"
+        content = marshal.dumps(stored)
+    path.write_bytes(content)
+    res = _run(cache, lark_only=False)
+    assert res.returncode == 0 and res.stderr == "", res.stderr
+    assert "rebound = 1.28 m" in res.stdout
+    assert path.read_bytes() != content  # written again
+
+
+def test_tables_fifo_and_symlink_are_never_opened(tmp_path):
+    cache = tmp_path / "c"
+    path = _tables_file(cache)
+    path.unlink()
+    os.mkfifo(path)
+    res = _run(cache, lark_only=False)
+    assert res.returncode == 0 and "rebound = 1.28 m" in res.stdout
+    path.unlink(missing_ok=True)
+    path.symlink_to("/dev/zero")
+    res = _run(cache, lark_only=False)
     assert res.returncode == 0 and "rebound = 1.28 m" in res.stdout
     assert "not a plain file" in res.stderr
 

@@ -1,0 +1,228 @@
+"""Parse without lark: text -> the statements' nodes, driven by syntax_tables' tables.
+
+In: the tables (lark's LALR table, contextual lexer and indenter as plain data) and the
+rule callbacks (syntax.Rules, the methods that turn lark's tree into nodes). Out: the
+`start` rule's children, exactly as lark's parse and then the transformer give them
+(the same tokens, positions and callbacks, called as the tree is reduced), or Fallback
+for anything else (a syntax error, an error in a callback, a tree too deep): the caller
+then parses with lark, which reports it exactly as before.
+"""
+from __future__ import annotations
+
+import re
+
+
+class Fallback(Exception):
+    """Not parsed here: parse with lark (which locates and words the error)."""
+
+
+class Tok(str):
+    """A token, as lark's Token: its text, terminal type and place."""
+
+    def __new__(cls, type_, value, start_pos, line, column, end_line, end_column, end_pos):
+        self = str.__new__(cls, value)
+        self.type = type_
+        self.value = value
+        self.start_pos = start_pos
+        self.line = line
+        self.column = column
+        self.end_line = end_line
+        self.end_column = end_column
+        self.end_pos = end_pos
+        return self
+
+    def __repr__(self):
+        return f"Tok({self.type!r}, {str(self)!r})"
+
+
+class Box:
+    """The place of a subtree (lark's Meta, as the rule callbacks and parents read it)."""
+
+    __slots__ = ("line", "column", "end_line", "end_column")
+
+    def __init__(self, line, column, end_line, end_column):
+        self.line = line
+        self.column = column
+        self.end_line = end_line
+        self.end_column = end_column
+
+
+class Parser:
+    """The tables made ready to run (regexes compiled when a lexer state is first used)."""
+
+    def __init__(self, tables: dict, callbacks, max_height: int):
+        self.states = tables["states"]
+        self.start, self.end = tables["start"], tables["end"]
+        self.state_lexer = tables["state_lexer"]
+        self.lexers = tables["lexers"]
+        self.scanners = [None] * len(self.lexers)
+        self.ignore = frozenset(tables["ignore"])
+        self.newline = frozenset(tables["newline"])
+        self.indenter = tables["indenter"]
+        self.max_height = max_height
+        self.ok = True
+        rules = []
+        for origin, size, name, expand1, include in tables["rules"]:
+            cb = getattr(callbacks, name, None) if not name.startswith("_") else None
+            if cb is None and origin != "start" and not origin.startswith("_") and \
+                    not expand1:
+                self.ok = False  # a plain lark Tree would reach a callback: not reproduced
+            rules.append((origin, size, cb, expand1, include,
+                          include[0][0] if include else 0))
+        self.rules = rules
+
+    def _scanner(self, i: int):
+        mres, unless = self.lexers[i]
+        compiled = []
+        for pattern, flags, args in mres:
+            made = None
+            if args is not None:
+                try:
+                    import _sre
+
+                    made = _sre.compile(*args)
+                except Exception:  # another regex engine: compile the pattern itself
+                    made = None
+            compiled.append(made if made is not None else re.compile(pattern, flags))
+        self.scanners[i] = sc = (tuple(compiled), unless)
+        return sc
+
+    def parse(self, text: str) -> list:
+        """The start rule's children (statement nodes) of `text`, or Fallback."""
+        try:
+            return self._parse(text)
+        except Fallback:
+            raise
+        except Exception:  # a callback's error, a malformed indent...: lark's to report
+            raise Fallback from None
+
+    def _parse(self, text: str) -> list:
+        states, rules, end = self.states, self.rules, self.end
+        max_height = self.max_height
+        stack, vals, boxes, hs = [self.start], [], [], []
+
+        def feed(tok, ttype) -> bool:
+            """Lark's feed_token; True when the input is accepted."""
+            while True:
+                act = states[stack[-1]].get(ttype)
+                if act is None:
+                    raise Fallback
+                if act >= 0:
+                    stack.append(act)
+                    vals.append(tok)
+                    boxes.append(tok)
+                    hs.append(0)
+                    return False
+                origin, size, cb, expand1, include, first_i = rules[~act]
+                if size:
+                    raw, rb, rh = vals[-size:], boxes[-size:], hs[-size:]
+                    del stack[-size:], vals[-size:], boxes[-size:], hs[-size:]
+                    first = last = None
+                    for b in rb:
+                        if b is not None:
+                            first = b
+                            break
+                    for b in reversed(rb):
+                        if b is not None:
+                            last = b
+                            break
+                    h = max(rh)
+                else:
+                    raw, rb, rh, first, last, h = [], [], [], None, None, 0
+                if include is None:
+                    ch = raw
+                else:
+                    ch = []
+                    for i, inline in include:
+                        if inline:
+                            ch.extend(raw[i])
+                        else:
+                            ch.append(raw[i])
+                if expand1 and len(ch) == 1:
+                    # `?rule` with one child: the child, in this rule's container
+                    val = ch[0]
+                    if rh[first_i] > 0:
+                        if rb[first_i] is None:
+                            raise Fallback
+                        box = Box(first.line, first.column, last.end_line, last.end_column)
+                    else:
+                        box = rb[first_i]
+                else:
+                    box = None if first is None else \
+                        Box(first.line, first.column, last.end_line, last.end_column)
+                    if cb is None:  # an inlined `_rule` or `start`: its children
+                        val = ch
+                    else:
+                        if box is None:
+                            raise Fallback
+                        val = cb(box, ch)
+                        h += 1
+                        if h > max_height:
+                            raise Fallback
+                stack.append(states[stack[-1]][origin])
+                vals.append(val)
+                boxes.append(box)
+                hs.append(h)
+                if ttype == "$END" and stack[-1] == end:
+                    return True
+
+        nl_type, opens, closes, indent_type, dedent_type, tab_len = self.indenter
+        state_lexer, scanners = self.state_lexer, self.scanners
+        ignore, newline = self.ignore, self.newline
+        n, pos, line, ls = len(text), 0, 1, 0
+        paren, levels, last = 0, [0], None
+        while pos < n:
+            li = state_lexer[stack[-1]]
+            mres, unless = scanners[li] or self._scanner(li)
+            for mre in mres:
+                m = mre.match(text, pos)
+                if m:
+                    break
+            else:
+                raise Fallback
+            value, type_ = m.group(), m.lastgroup
+            start, sline, scol = pos, line, pos - ls + 1
+            if type_ in newline:
+                k = value.count("\n")
+                if k:
+                    line += k
+                    ls = pos + value.rindex("\n") + 1
+            pos += len(value)
+            if type_ in ignore:
+                continue
+            u = unless.get(type_)
+            if u is not None:
+                type_ = u.get(value, type_)
+            last = tok = Tok(type_, value, start, sline, scol, line, pos - ls + 1, pos)
+            if type_ == nl_type:
+                if not paren:
+                    feed(tok, type_)
+                    indent_str = value.rsplit("\n", 1)[1]
+                    indent = indent_str.count(" ") + indent_str.count("\t") * tab_len
+                    if indent > levels[-1]:
+                        levels.append(indent)
+                        feed(Tok(indent_type, indent_str, start, sline, scol, line,
+                                 tok.end_column, pos), indent_type)
+                    else:
+                        while indent < levels[-1]:
+                            levels.pop()
+                            feed(Tok(dedent_type, indent_str, start, sline, scol, line,
+                                     tok.end_column, pos), dedent_type)
+                        if indent != levels[-1]:
+                            raise Fallback
+            else:
+                feed(tok, type_)
+            if type_ in opens:
+                paren += 1
+            elif type_ in closes:
+                paren -= 1
+                if paren < 0:
+                    raise Fallback
+        while len(levels) > 1:
+            levels.pop()
+            t = last
+            feed(Tok(dedent_type, "", t.start_pos, t.line, t.column, t.end_line,
+                     t.end_column, t.end_pos), dedent_type)
+        if not feed(None, "$END"):
+            raise Fallback
+        return vals[-1]
