@@ -17,18 +17,16 @@ class Fallback(Exception):
 
 
 class Tok(str):
-    """A token, as lark's Token: its text, terminal type and place."""
+    """A token, as lark's Token: its text, terminal type and place (what the rule
+    callbacks and the positions of their nodes read)."""
 
-    def __new__(cls, type_, value, start_pos, line, column, end_line, end_column, end_pos):
+    def __new__(cls, type_, value, line, column, end_line, end_column):
         self = str.__new__(cls, value)
         self.type = type_
-        self.value = value
-        self.start_pos = start_pos
         self.line = line
         self.column = column
         self.end_line = end_line
         self.end_column = end_column
-        self.end_pos = end_pos
         return self
 
     def __repr__(self):
@@ -51,9 +49,11 @@ class Parser:
     """The tables made ready to run (regexes compiled when a lexer state is first used)."""
 
     def __init__(self, tables: dict, callbacks, max_height: int):
-        self.states = tables["states"]
+        states = tables["states"]
+        self.states = [states[i] for i in range(len(states))]  # KeyError: not 0..n-1
         self.start, self.end = tables["start"], tables["end"]
-        self.state_lexer = tables["state_lexer"]
+        lexer_of = tables["state_lexer"]
+        self.state_lexer = [lexer_of.get(i) for i in range(len(states))]
         self.lexers = tables["lexers"]
         self.scanners = [None] * len(self.lexers)
         self.ignore = frozenset(tables["ignore"])
@@ -61,15 +61,18 @@ class Parser:
         self.indenter = tables["indenter"]
         self.max_height = max_height
         self.ok = True
-        rules = []
+        rules, through = [], []
         for origin, size, name, expand1, include in tables["rules"]:
-            cb = getattr(callbacks, name, None) if not name.startswith("_") else None
-            if cb is None and origin != "start" and not origin.startswith("_") and \
-                    not expand1:
+            inline = origin == "start" or origin.startswith("_")
+            cb = None if inline else getattr(callbacks, name, None)
+            if cb is None and not inline and not expand1:
                 self.ok = False  # a plain lark Tree would reach a callback: not reproduced
-            rules.append((origin, size, cb, expand1, include,
+            # `?rule: child` (one symbol, kept): the child is the value, its container
+            # unchanged (its only child's): the reduction only changes the state
+            through.append(origin if expand1 and size == 1 and include is None else None)
+            rules.append((origin, size, cb, inline, expand1, include,
                           include[0][0] if include else 0))
-        self.rules = rules
+        self.rules, self.through = rules, through
 
     def _scanner(self, i: int):
         mres, unless = self.lexers[i]
@@ -97,12 +100,12 @@ class Parser:
             raise Fallback from None
 
     def _parse(self, text: str) -> list:
-        states, rules, end = self.states, self.rules, self.end
+        states, rules, through, end = self.states, self.rules, self.through, self.end
         max_height = self.max_height
         stack, vals, boxes, hs = [self.start], [], [], []
 
         def feed(tok, ttype) -> bool:
-            """Lark's feed_token; True when the input is accepted."""
+            """Lark's feed_token; True when the input is accepted ($END)."""
             while True:
                 act = states[stack[-1]].get(ttype)
                 if act is None:
@@ -113,7 +116,13 @@ class Parser:
                     boxes.append(tok)
                     hs.append(0)
                     return False
-                origin, size, cb, expand1, include, first_i = rules[~act]
+                o = through[~act]
+                if o is not None:
+                    stack[-1] = states[stack[-2]][o]
+                    if tok is None and stack[-1] == end:
+                        return True
+                    continue
+                origin, size, cb, inline, expand1, include, first_i = rules[~act]
                 if size:
                     raw, rb, rh = vals[-size:], boxes[-size:], hs[-size:]
                     del stack[-size:], vals[-size:], boxes[-size:], hs[-size:]
@@ -133,11 +142,13 @@ class Parser:
                     ch = raw
                 else:
                     ch = []
-                    for i, inline in include:
-                        if inline:
-                            ch.extend(raw[i])
-                        else:
+                    for i, inl in include:
+                        if not inl:
                             ch.append(raw[i])
+                        elif ch:
+                            ch.extend(raw[i])
+                        else:  # left recursion: grow the list in place (lark does too)
+                            ch = raw[i]
                 if expand1 and len(ch) == 1:
                     # `?rule` with one child: the child, in this rule's container
                     val = ch[0]
@@ -150,10 +161,10 @@ class Parser:
                 else:
                     box = None if first is None else \
                         Box(first.line, first.column, last.end_line, last.end_column)
-                    if cb is None:  # an inlined `_rule` or `start`: its children
+                    if inline:  # an inlined `_rule` or `start`: its children
                         val = ch
                     else:
-                        if box is None:
+                        if box is None or cb is None:
                             raise Fallback
                         val = cb(box, ch)
                         h += 1
@@ -163,7 +174,7 @@ class Parser:
                 vals.append(val)
                 boxes.append(box)
                 hs.append(h)
-                if ttype == "$END" and stack[-1] == end:
+                if tok is None and stack[-1] == end:
                     return True
 
         nl_type, opens, closes, indent_type, dedent_type, tab_len = self.indenter
@@ -181,19 +192,19 @@ class Parser:
             else:
                 raise Fallback
             value, type_ = m.group(), m.lastgroup
-            start, sline, scol = pos, line, pos - ls + 1
+            sline, scol = line, pos - ls + 1
             if type_ in newline:
                 k = value.count("\n")
                 if k:
                     line += k
                     ls = pos + value.rindex("\n") + 1
-            pos += len(value)
+            pos = m.end()
             if type_ in ignore:
                 continue
             u = unless.get(type_)
             if u is not None:
                 type_ = u.get(value, type_)
-            last = tok = Tok(type_, value, start, sline, scol, line, pos - ls + 1, pos)
+            last = tok = Tok(type_, value, sline, scol, line, pos - ls + 1)
             if type_ == nl_type:
                 if not paren:
                     feed(tok, type_)
@@ -201,13 +212,13 @@ class Parser:
                     indent = indent_str.count(" ") + indent_str.count("\t") * tab_len
                     if indent > levels[-1]:
                         levels.append(indent)
-                        feed(Tok(indent_type, indent_str, start, sline, scol, line,
-                                 tok.end_column, pos), indent_type)
+                        feed(Tok(indent_type, indent_str, sline, scol, line, tok.end_column),
+                             indent_type)
                     else:
                         while indent < levels[-1]:
                             levels.pop()
-                            feed(Tok(dedent_type, indent_str, start, sline, scol, line,
-                                     tok.end_column, pos), dedent_type)
+                            feed(Tok(dedent_type, indent_str, sline, scol, line,
+                                     tok.end_column), dedent_type)
                         if indent != levels[-1]:
                             raise Fallback
             else:
@@ -221,8 +232,7 @@ class Parser:
         while len(levels) > 1:
             levels.pop()
             t = last
-            feed(Tok(dedent_type, "", t.start_pos, t.line, t.column, t.end_line,
-                     t.end_column, t.end_pos), dedent_type)
+            feed(Tok(dedent_type, "", t.line, t.column, t.end_line, t.end_column), dedent_type)
         if not feed(None, "$END"):
             raise Fallback
         return vals[-1]
