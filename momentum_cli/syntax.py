@@ -623,9 +623,11 @@ def parse(source: Source) -> Document:
         raise ProblemError("empty problem file: nothing to solve", Span(1, 1), code="empty",
                            notes=["a problem needs at least a body, a state and a `find` line"])
     _check_depth(source)
-    from .loops import expand
+    loops = None
+    if "for" in text or ".." in text:  # else loops.expand finds none (not even imported)
+        from .loops import expand
 
-    loops = expand(text)  # `for` blocks and `body b[1..N]` written out (None: no loops)
+        loops = expand(text)  # `for` blocks and `body b[1..N]` written out (None: no loops)
     return _parse(source, Source(source.name, loops.text) if loops else source, loops)
 
 
@@ -854,8 +856,14 @@ def _first_line(exc: Exception) -> str:
 
 
 def _check_depth(source: Source) -> None:
+    text = source.text
+    if text.count("(") + text.count("[") + text.count("{") <= MAX_DEPTH:
+        return  # too few brackets to nest that deep (the scan below costs per character)
+    import re
+
     depth = best = 0
-    for i, ch in enumerate(source.text):
+    for m in re.finditer(r"[()\[\]{}]", text):  # only the brackets, not every character
+        i, ch = m.start(), m.group()
         if ch in "([{":
             depth += 1
             if depth > best:
