@@ -75,9 +75,11 @@ class Parser:
         self.rules, self.through = rules, through
 
     def _scanner(self, i: int):
+        import marshal
+
         mres, unless = self.lexers[i]
         compiled = []
-        for pattern, flags, args in mres:
+        for pattern, flags, args in marshal.loads(mres):
             made = None
             if args is not None:
                 try:

@@ -7,11 +7,12 @@ regex stored compiled (CPython's `_sre` code) so that no regex is compiled at st
 """
 from __future__ import annotations
 
+import marshal
 import os
 import re
 import sys
 
-FORMAT = 1  # bump when the layout of the tables changes
+FORMAT = 2  # bump when the layout of the tables changes
 
 
 def lark_version() -> str | None:
@@ -131,6 +132,7 @@ def build(lark_parser, indenter) -> dict | None:
             mres = []
             for mre in scanner._mres:
                 mres.append((mre.pattern, int(mre.flags), _sre_args(mre.pattern, mre.flags)))
+            mres = marshal.dumps(tuple(mres))  # loaded when the lexer is first used
             unless = {}
             for name, cb in callbacks.items():
                 if not hasattr(cb, "scanner"):
@@ -140,7 +142,7 @@ def build(lark_parser, indenter) -> dict | None:
                     return None
             newline |= set(basic.newline_types)
             lexer_index[id(basic)] = len(lexers)
-            lexers.append((tuple(mres), unless))
+            lexers.append((mres, unless))
         state_lexer[state] = lexer_index[id(basic)]
 
     ind = indenter
@@ -170,8 +172,6 @@ def load(data: bytes, grammar: str):
     """(True, the tables) stored in a cache file's bytes (None: lark parses this grammar
     itself), or (False, None) when they were built from anything else than this grammar,
     this Python and this lark."""
-    import marshal
-
     try:
         stored = marshal.loads(data)
     except (EOFError, ValueError, TypeError):
@@ -182,8 +182,6 @@ def load(data: bytes, grammar: str):
 
 
 def dump(tables, grammar: str) -> bytes:
-    import marshal
-
     return marshal.dumps({"identity": identity(grammar), "tables": tables})
 
 
