@@ -624,11 +624,27 @@ def parse(source: Source) -> Document:
                            notes=["a problem needs at least a body, a state and a `find` line"])
     _check_depth(source)
     loops = None
-    if "for" in text or ".." in text:  # else loops.expand finds none (not even imported)
+    if _may_loop(text):  # else loops.expand finds none (and is not even imported)
         from .loops import expand
 
         loops = expand(text)  # `for` blocks and `body b[1..N]` written out (None: no loops)
     return _parse(source, Source(source.name, loops.text) if loops else source, loops)
+
+
+def _may_loop(text: str) -> bool:
+    """False when the text has no line starting `for ` and no `..` (so no loop for
+    loops.expand, whose regex looks for exactly those)."""
+    if ".." in text:
+        return True
+    i = text.find("for")
+    while i >= 0:
+        j = i
+        while j > 0 and text[j - 1] in " \t":
+            j -= 1
+        if (j == 0 or text[j - 1] == "\n") and text[i + 3:i + 4] in (" ", "\t"):
+            return True
+        i = text.find("for", i + 3)
+    return False
 
 
 _DIGITS = None

@@ -159,3 +159,20 @@ def test_one_shot_solve_imports_no_lark(tmp_path):
     lark = subprocess.run([sys.executable, "-c", code, seed], capture_output=True, text=True,
                           env=dict(env, MOMENTUM_LARK_ONLY="1"), timeout=120)
     assert again.stdout == first.stdout == lark.stdout and "rod.omega@3" in again.stdout
+
+
+def test_loop_precheck_misses_no_loop():
+    """syntax._may_loop (which spares importing loops) is true wherever loops.expand's
+    own test finds a loop."""
+    import random
+
+    from momentum_cli import loops
+
+    rng = random.Random(5)
+    pieces = ["for", " ", "\t", "\n", "x", ".", "..", "body b[1", "]", "#", "f", "or", "\r"]
+    texts = [f.read_text(encoding="utf-8") for f in FILES]
+    texts += ["".join(rng.choice(pieces) for _ in range(rng.randint(1, 12)))
+              for _ in range(5000)]
+    for text in texts:
+        if loops._MAYBE.search(text):
+            assert syntax._may_loop(text), repr(text)
