@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
-from dataclasses import field
 
 from . import syntax as S
 from .aliases import StateChains
@@ -42,7 +41,7 @@ from .expr import (
     to_text,
 )
 from .principles import PrinciplesMixin, _acts_on, _internal
-from .records import record
+from .records import field, record
 from .references import FindSpec, ReferencesMixin
 from .scene import (
     STATE_QTYS,

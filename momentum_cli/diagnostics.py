@@ -5,10 +5,9 @@ only `cli.py` turns them into exit codes.
 """
 from __future__ import annotations
 
-from dataclasses import field
 from enum import IntEnum
 
-from .records import record
+from .records import field, record
 from .source import Source, Span, render_snippet
 
 

@@ -14,9 +14,8 @@ import math
 import os
 import re
 from collections import Counter
-from dataclasses import field
 
-from .records import record
+from .records import field, record
 from .units import UnitError, parse_unit
 
 CLASSES = ("right", "rounding", "sign error", "unit slip", "wrong", "missing")

@@ -10,12 +10,11 @@ inputs known by then. Out: the outputs' values, set in solve's `values`.
 from __future__ import annotations
 
 import math
-from dataclasses import field
 
 from .diagnostics import ProblemError
 from .expr import Known, Var, add_all, evaluate, mul, variables
 from .numbers import fmt_num
-from .records import record
+from .records import field, record
 from .source import Span
 
 

@@ -11,9 +11,8 @@ from __future__ import annotations
 import fnmatch
 import os
 import re
-from dataclasses import field
 
-from .records import record
+from .records import field, record
 
 _SIMULATE = re.compile(r"^[ \t]*simulate[ \t]+from\b", re.M)
 _FIND = re.compile(r"^[ \t]*find\b", re.M)

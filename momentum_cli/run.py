@@ -7,10 +7,9 @@ exception.
 from __future__ import annotations
 
 import sys
-from dataclasses import field
 
 from .diagnostics import Diagnostic, ExitCode, ProblemError
-from .records import record
+from .records import field, record
 from .source import Source, Span
 from .syntax import MAX_BYTES
 

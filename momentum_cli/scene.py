@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import field
 
 from . import syntax as S
 from .diagnostics import Collector, ProblemError, did_you_mean
@@ -16,7 +15,7 @@ from .elements.kinds import Clause, JointKind, Prop, Restitution, Tangential, Tr
 from .elements.geometry import centre, line_of_centres
 from .expr import Const, hypot
 from .quantity import Evaluator, Q, constant, constant_vector, unit_readings
-from .records import record
+from .records import field, record
 from .source import Span
 from .unit_system import FileUnits
 from .unit_system import detect as detect_units

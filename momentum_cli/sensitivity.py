@@ -22,7 +22,6 @@ get derivatives.
 from __future__ import annotations
 
 import math
-from dataclasses import field
 
 from .bounds import size_of
 from .compile import compile_scene
@@ -30,7 +29,7 @@ from .diagnostics import ProblemError
 from .expr import diff, evaluate, magnitude, variables
 from .given_numbers import GivenNumber, given_numbers, replaced
 from .gradient import gradient
-from .records import record
+from .records import field, record
 from .traced_partials import traced_partials
 
 STEP = 1e-5  # the central difference's step, relative to the number (absolute for a zero

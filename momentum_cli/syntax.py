@@ -7,7 +7,6 @@ built once per process and cached on disk, outside the package directory.
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
 
 from .diagnostics import ProblemError
@@ -456,6 +455,7 @@ def _cache_dir() -> str | None:
 
 
 def _cache_key(text: str) -> str:
+    import hashlib  # here: its import (OpenSSL) costs a one-shot run that never needs lark
     import sys
 
     import lark

@@ -9,12 +9,11 @@ follow from the body-by-body rows the solve uses, so they are shown, not solved.
 from __future__ import annotations
 
 import math
-from dataclasses import field
 
 from .elements.keys import state_key
 from .elements.kinds import JointKind
 from .expr import V2, ZERO, Add, Const, E, Known, Mul, Var, add, add_all, mul, neg
-from .records import record
+from .records import field, record
 
 
 @record

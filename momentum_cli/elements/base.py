@@ -9,10 +9,9 @@ simulate iterate over elements; nothing else switches on their kind.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import field
 
 from ..expr import ZERO, E
-from ..records import record
+from ..records import field, record
 from ..source import Span
 from .keys import Key
 from .kinds import PhaseKind, Regime

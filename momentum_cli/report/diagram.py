@@ -8,13 +8,12 @@ configuration at the start of the transition, for the terminal list and the SVG 
 from __future__ import annotations
 
 import math
-from dataclasses import field
 
 from ..elements.keys import Key, state_key
 from ..elements.kinds import Component, JointKind, KeyKind, Tangential
 from ..expr import evaluate, variables
 from ..numbers import fmt_num
-from ..records import record
+from ..records import field, record
 from ..units import ANGULAR_IMPULSE, FORCE, IMPULSE, LENGTH, VELOCITY
 from .reader import Reader
 

@@ -6,12 +6,11 @@ the three outputs cannot disagree about a number.
 from __future__ import annotations
 
 import math
-from dataclasses import field
 
 from ..compile import System
 from ..expr import evaluate, magnitude, variables
 from ..numbers import fmt_num, fmt_tiny
-from ..records import record
+from ..records import field, record
 from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY

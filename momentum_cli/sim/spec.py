@@ -7,12 +7,10 @@ This module does not import `scene` (scene calls it; no import cycle).
 """
 from __future__ import annotations
 
-from dataclasses import field
-
 from .. import syntax as S
 from ..diagnostics import ProblemError, did_you_mean
 from ..elements.kinds import Clause, JointKind
-from ..records import record
+from ..records import field, record
 from ..source import Span
 from ..units import FORCE, MOMENT, TIME
 
