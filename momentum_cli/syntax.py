@@ -763,17 +763,19 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
     """`_parse` itself: syntax_run where it can (no lark import once its tables are
     cached), else lark's parse and the transformer (which also report every error)."""
     text = expanded.text
-    if loops is None:
-        fast = _fast_parser()
-        if fast is not None:
-            from .syntax_run import Fallback
+    fast = _fast_parser()
+    if fast is not None:
+        from .syntax_run import Fallback
 
-            try:
-                nodes = fast.parse(text if text.endswith("\n") else text + "\n")
-            except Fallback:
-                nodes = None
-            if nodes is not None:
-                return Document(source, tuple(_plus_minus(s, source.text) for s in nodes))
+        _SPANS[0] = loops  # the nodes' spans point into the file, not the expanded text
+        try:
+            nodes = fast.parse(text if text.endswith("\n") else text + "\n")
+        except Fallback:
+            nodes = None
+        finally:
+            _SPANS[0] = None
+        if nodes is not None:
+            return Document(source, tuple(_plus_minus(s, source.text) for s in nodes))
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
     try:

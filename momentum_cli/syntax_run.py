@@ -128,16 +128,18 @@ class Parser:
                 if size:
                     raw, rb, rh = vals[-size:], boxes[-size:], hs[-size:]
                     del stack[-size:], vals[-size:], boxes[-size:], hs[-size:]
-                    first = last = None
-                    for b in rb:
-                        if b is not None:
-                            first = b
-                            break
-                    for b in reversed(rb):
-                        if b is not None:
-                            last = b
-                            break
-                    h = max(rh)
+                    first, last = rb[0], rb[-1]  # the first and last child with a place
+                    if first is None:
+                        for b in rb:
+                            if b is not None:
+                                first = b
+                                break
+                    if last is None:
+                        for b in reversed(rb):
+                            if b is not None:
+                                last = b
+                                break
+                    h = max(rh) if size > 1 else rh[0]
                 else:
                     raw, rb, rh, first, last, h = [], [], [], None, None, 0
                 if include is None:

@@ -62,6 +62,23 @@ def test_every_example_same_nodes(monkeypatch):
     assert taken >= len(FILES) * 3 // 4  # the rest: `for` loops (written out first)
 
 
+def test_lark_only_for_errors(monkeypatch):
+    """Every example that parses (loops written out included) is parsed without lark."""
+    assert syntax._fast_parser() is not None  # its tables built or loaded first
+
+    def no_lark():
+        raise AssertionError("lark's parser was used")
+
+    monkeypatch.setattr(syntax, "parser", no_lark)
+    for f in FILES:
+        if f.name.startswith("bad_"):
+            continue
+        try:
+            syntax.parse(Source(f.name, f.read_text(encoding="utf-8")))
+        except ProblemError:
+            pass  # a bad value, found while building nodes: lark is not needed for it
+
+
 def test_big_file_same_nodes(monkeypatch):
     from momentum_cli.bench import chain_text
 
