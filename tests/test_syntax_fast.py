@@ -81,6 +81,9 @@ def test_blocks_comments_and_long_lists_same_tree(small):
 
 
 def _outcome(text: str, fast: bool, monkeypatch):
+    """The lark path (syntax_run off: test_syntax_run compares it with lark's) with or
+    without syntax_fast."""
+    monkeypatch.setattr(syntax, "_fast_parser", lambda: None)
     monkeypatch.setattr(syntax, "FAST_BYTES", 0 if fast else 10 ** 12)
     try:
         return ("ok", syntax.parse(Source("f.mom", text)))

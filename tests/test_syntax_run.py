@@ -193,3 +193,29 @@ def test_loop_precheck_misses_no_loop():
     for text in texts:
         if loops._MAYBE.search(text):
             assert syntax._may_loop(text), repr(text)
+
+
+def test_walk_is_lark_transformer():
+    """syntax._walk (the lark path's tree -> nodes) equals lark's Transformer with the
+    same rules, on every example without loops and on a big file."""
+    from momentum_cli.bench import chain_text
+
+    p = syntax.parser()
+    texts = [f.read_text(encoding="utf-8") for f in FILES]
+    for text in texts + [chain_text(100)]:
+        if syntax._may_loop(text):
+            continue
+        try:
+            tree = p.parse(_text(text))
+        except Exception:
+            continue
+        try:
+            want = ("ok", syntax._ToNodes().transform(tree).children)
+        except Exception as exc:
+            want = ("error", type(exc).__name__)
+        try:
+            got = ("ok", syntax._walk(tree))
+        except Exception as exc:
+            got = ("error", "VisitError")
+        if want[0] == "ok":
+            assert got == want
