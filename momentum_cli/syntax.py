@@ -796,14 +796,16 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
     except LarkError as exc:  # anything else lark reports is still the file's syntax
         raise ProblemError(f"syntax error: {_first_line(exc)}", Span(1, 1), code="syntax") \
             from None
-    _check_tree_depth(tree)
     _SPANS[0] = loops
     try:
         statements = _walk(tree)
-    except ProblemError:
-        raise
-    except Exception:  # as lark's transformer says it (its VisitError)
-        try:
+    except Exception as exc:
+        # a tree too deep is refused before any node is built (_check_tree_depth, on
+        # this error path only: the walk measures the depth as it goes)
+        _check_tree_depth(tree)
+        if isinstance(exc, ProblemError):
+            raise
+        try:  # as lark's transformer says it (its VisitError)
             statements = _ToNodes(len(text) >= FAST_BYTES).transform(tree).children
         except VisitError as exc:
             if isinstance(exc.orig_exc, ProblemError):
@@ -815,19 +817,26 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
     return Document(source, tuple(_plus_minus(s, source.text) for s in statements))
 
 
+class _TooDeep(Exception):
+    """The walk went deeper than _check_tree_depth allows (which then says where)."""
+
+
 def _walk(tree) -> list:
     """The start tree's children as nodes: lark's transformer with syntax.Rules (what
-    _make_transformer makes), without its per-node dispatch. Recursive: the tree's depth
-    is bounded (_check_tree_depth ran first)."""
+    _make_transformer makes), without its per-node dispatch; _TooDeep past the depth
+    _check_tree_depth allows (so the recursion stays bounded)."""
     from lark import Tree
 
     rules = Rules()
+    limit = MAX_DEPTH + 8
 
-    def walk(node):
-        ch = [walk(c) if isinstance(c, Tree) else c for c in node.children]
+    def walk(node, depth):
+        if depth > limit:
+            raise _TooDeep
+        ch = [walk(c, depth + 1) if isinstance(c, Tree) else c for c in node.children]
         return getattr(rules, node.data)(node.meta, ch)
 
-    return [walk(c) if isinstance(c, Tree) else c for c in tree.children]
+    return [walk(c, 1) if isinstance(c, Tree) else c for c in tree.children]
 
 
 def _plus_minus(stmt, text: str):

@@ -219,3 +219,35 @@ def test_walk_is_lark_transformer():
             got = ("error", "VisitError")
         if want[0] == "ok":
             assert got == want
+
+
+@pytest.mark.parametrize("text", [
+    "let a = " + " + ".join(["1"] * 240) + "\n",
+    "gain b 1 -> 2:\n    rate 1 kg/s\n    rate 2 kg/s\nlet a = " + " + ".join(["1"] * 240) + "\n",
+    "gain b 1 -> 2:\n    rate 1 kg/s\n    rate 2 kg/s\n",
+    "let a = " + " - ".join(["2"] * 150) + "\nlet b = 1\n",
+])
+def test_lark_path_errors_as_before(text, monkeypatch):
+    """The lark path (depth measured during the walk) reports what it reported when the
+    whole tree was checked first and then transformed: a too-deep tree before any
+    callback's error."""
+    def before():
+        tree = syntax.parser().parse(_text(text))
+        try:
+            syntax._check_tree_depth(tree)
+            return ("ok", syntax._ToNodes().transform(tree).children)
+        except ProblemError as exc:
+            return ("error", [(d.code, d.message, d.span) for d in exc.diagnostics])
+        except Exception as exc:  # lark's VisitError around a callback's ProblemError
+            orig = exc.orig_exc
+            return ("error", [(d.code, d.message, d.span) for d in orig.diagnostics])
+
+    got = _outcome(text, False, monkeypatch)
+    if got[0] == "error":
+        got = ("error", [d[:3] for d in got[1]])
+    else:
+        got = ("ok", list(got[1]))
+    want = before()
+    if want[0] == "ok":
+        want = ("ok", [syntax._plus_minus(s, text) for s in want[1]])
+    assert got == want
