@@ -586,8 +586,9 @@ def parser():
 @functools.lru_cache(maxsize=1)
 def _fast_parser():
     """syntax_run's parser for this grammar, its tables read from the cache (else built
-    from lark's parser and cached); None when it does not reproduce this grammar or
-    $MOMENTUM_LARK_ONLY is set (the tests compare the two): lark parses everything."""
+    from lark's parser and cached); None when it does not reproduce this grammar, there
+    is no cache folder, or $MOMENTUM_LARK_ONLY is set (the tests compare the two): then
+    lark parses everything."""
     if os.environ.get("MOMENTUM_LARK_ONLY"):
         return None
     from . import syntax_run, syntax_tables
@@ -595,7 +596,9 @@ def _fast_parser():
     text = grammar_text()
     folder = _cache_dir()
     path = syntax_tables.cache_path(folder, text)
-    data = _read_cache(path) if path else None
+    if path is None:
+        return None  # nowhere to keep them: building them (0.1 s) would not pay off
+    data = _read_cache(path)
     found, tables = syntax_tables.load(data, text) if data else (False, None)
     if not found:
         p = parser()
@@ -604,7 +607,10 @@ def _fast_parser():
             _write_cache(path, syntax_tables.dump(tables, text))
     if tables is None:
         return None
-    run = syntax_run.Parser(tables, Rules(), MAX_DEPTH)
+    try:
+        run = syntax_run.Parser(tables, Rules(), MAX_DEPTH)
+    except Exception:  # tables of another shape (never written so): lark parses
+        return None
     return run if run.ok else None
 
 
