@@ -1,8 +1,9 @@
 """Parse: problem text -> frozen syntax nodes that keep their line:column.
 
 The grammar is `grammar/momentum.lark` (shipped inside the package). Lark types stop
-here: nodes hold our `Span`, never lark's `Token` or `Meta`. The LALR parser is
-built once per process and cached on disk, outside the package directory.
+here: nodes hold our `Span`, never lark's `Token` or `Meta`. The LALR parser is built
+once and cached on disk, outside the package; good files are parsed from its tables
+without importing lark (syntax_run.py), errors and very big files by lark itself.
 """
 from __future__ import annotations
 

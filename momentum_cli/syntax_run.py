@@ -1,11 +1,8 @@
-"""Parse without lark: text -> the statements' nodes, driven by syntax_tables' tables.
+"""Parse without lark: text -> statement nodes, driven by syntax_tables' tables.
 
-In: the tables (lark's LALR table, contextual lexer and indenter as plain data) and the
-rule callbacks (syntax.Rules, the methods that turn lark's tree into nodes). Out: the
-`start` rule's children, exactly as lark's parse and then the transformer give them
-(the same tokens, positions and callbacks, called as the tree is reduced), or Fallback
-for anything else (a syntax error, an error in a callback, a tree too deep): the caller
-then parses with lark, which reports it exactly as before.
+In: the tables and the rule callbacks (syntax.Rules). Out: what lark's parse and then
+the transformer give (same tokens, positions, callbacks, called as rules are reduced),
+or Fallback for anything else (errors, deep trees): lark then parses and reports it.
 """
 from __future__ import annotations
 

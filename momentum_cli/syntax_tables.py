@@ -1,9 +1,8 @@
 """The LALR parser as plain data, so that a run need not import lark at all.
 
-In: lark's parser for grammar/momentum.lark (syntax.parser: its parse table, rules,
-contextual lexer and indenter settings). Out: tuples, dicts, strings and ints (marshal,
-cached on disk beside lark's own cache) that syntax_run.py drives, with every lexer
-regex stored compiled (CPython's `_sre` code) so that no regex is compiled at start-up.
+In: lark's parser (syntax.parser: parse table, rules, contextual lexer, indenter). Out:
+marshal-able tables for syntax_run.py, cached beside lark's pickle, every lexer regex
+stored compiled (CPython's `_sre` code): no regex is compiled at start-up.
 """
 from __future__ import annotations
 
