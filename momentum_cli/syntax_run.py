@@ -29,6 +29,10 @@ class Tok(str):
     def __repr__(self):
         return f"Tok({self.type!r}, {str(self)!r})"
 
+    def __reduce__(self):  # pickle and copy (str's own would call __new__ with the text only)
+        return (Tok, (self.type, str(self), self.line, self.column, self.end_line,
+                      self.end_column))
+
 
 class Box:
     """The place of a subtree (lark's Meta, as the rule callbacks and parents read it)."""

@@ -251,3 +251,20 @@ def test_lark_path_errors_as_before(text, monkeypatch):
     if want[0] == "ok":
         want = ("ok", [syntax._plus_minus(s, text) for s in want[1]])
     assert got == want
+
+
+def test_parsed_documents_pickle_and_tokens_copy():
+    """Worker processes send results back pickled: a document parsed by syntax_run (and
+    any token it might hold) survives pickle and copy."""
+    import copy
+    import pickle
+
+    from momentum_cli.syntax_run import Tok
+
+    text = (ROOT / "examples" / "seed_rod_drop_smooth.mom").read_text(encoding="utf-8")
+    doc = syntax.parse(Source("seed.mom", text))
+    assert pickle.loads(pickle.dumps(doc)).statements == doc.statements
+    t = Tok("NAME", "rod", 1, 2, 1, 5)
+    for u in (pickle.loads(pickle.dumps(t)), copy.copy(t), copy.deepcopy(t)):
+        assert u == "rod" and (u.type, u.line, u.column, u.end_line, u.end_column) == \
+            ("NAME", 1, 2, 1, 5)
