@@ -16,6 +16,7 @@ from ..expr import evaluate, variables
 from ..numbers import fmt_num
 from ..records import record
 from ..units import ANGULAR_IMPULSE, FORCE, IMPULSE, LENGTH, VELOCITY
+from .abbrev import name_list
 from .reader import Reader
 
 POSITION = ("x", "y", "angle")  # unchanged by an impact
@@ -308,7 +309,7 @@ class _Builder:
             b.placed = True
         if guessed:
             self.notes.append(f"positions at state {self.t.before} are not known: "
-                              f"{', '.join(guessed)} drawn schematically"
+                              f"{name_list(guessed, 'bodies')} drawn schematically"
                               + (" (the rest where contacts and joints put them)"
                                  if len(guessed) < len(bodies) else ""))
 

@@ -15,6 +15,7 @@ from ..records import record
 from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
+from .abbrev import abbreviate, name_list
 from .statements import statements
 from .reader import (
     STATE_DIMS,
@@ -335,7 +336,7 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
         status = "ok"
         if mine and worst > 1e-6:
             status = "warning"
-            lossy = ", ".join(u for u, e in mine.items() if e > 1e-6)
+            lossy = name_list([u for u, e in mine.items() if e > 1e-6], "unknowns")
             detail += (f"; digits may be lost in {lossy}: try --precision refine or "
                        "--precision exact")
         out.append(CheckReport(name, status, detail, _finite(shown)))
@@ -363,7 +364,10 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
             status, what = "warning", "GAINED (not physical for an impact)"
         else:
             status, what = "ok", "lost"
-        of = f"T of {{{', '.join(t.bodies)}}}: " if t.bodies else ""
+        of = ""
+        if t.bodies:  # a long list as its first and last bodies and their number
+            names, n = abbreviate(t.bodies)
+            of = f"T of {{{names}}}" + (f" ({n} bodies)" if n else "") + ": "
         out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", status,
                                f"{of}T{t.before} = {fmt_num(a / k, sig)} {J}, T{t.after} = "
                                f"{fmt_num(b / k, sig)} {J}, {what} "
