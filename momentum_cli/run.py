@@ -271,7 +271,8 @@ def _solve_job(job):
     try:
         res = solve_source(source, solve_all, sig, precision, overrides, units, sensitivity)
         if render is not None and res.report is not None:
-            res.report = Rendered(render(res.report), list(res.report.checks))
+            with _NoCyclicGC():  # a big report's text: as for its solve (see _NoCyclicGC)
+                res.report = Rendered(render(res.report), list(res.report.checks))
         return res
     except ModuleNotFoundError as exc:  # the installation, not momentum, is broken
         return FileResult(source.name, "internal", None, None, [Diagnostic(

@@ -391,7 +391,7 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 traceback_flag, results, strict, color, deterministic, overrides=(),
                 jsonl=False, view=None, sensitivity=False) -> ExitCode:
     """Print (or collect, for JSON) each file's result in order; the worst exit code."""
-    from .run import Rendered, solve_source
+    from .run import Rendered, _NoCyclicGC, solve_source
 
     out, err = sys.stdout, sys.stderr
     console = _console(mode, color)
@@ -413,26 +413,8 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
         code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
         worst = max(worst, code)
         if mode == "json":
-            from .report.json_out import result_dict
-
-            d = result_dict(name, res.status if res.status != "internal" else "error",
-                            res.report, res.diagnostics)
-            if d.get("title") is None:
-                d["title"] = _title_of(res)
-            if res.expects and res.report is None:
-                from .report.model import expectation_dict
-
-                d["expectations"] = [expectation_dict(c) for c in res.expects]
-            if jsonl:
-                import json
-
-                from .report.json_out import clean
-
-                out.write(json.dumps(clean(d), allow_nan=False,
-                                     ensure_ascii=not _is_utf8(out)) + "\n")
-                out.flush()
-            else:
-                results.append(d)
+            with _NoCyclicGC():  # a big result's dicts and text: no collector passes
+                _json_result(name, res, out, results, jsonl)
             continue
         _print_diagnostics(res, err, tint)
         for c in res.expects if res.report is None else ():  # `expect` lines of a failed file
@@ -455,9 +437,34 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 out.write("\n")
             out.write(res.report.text)
         else:
-            console = _render(res.report, mode, console, i, digits, simulation=False,
-                              detail=(view or {}).get("detail", "full"))
+            with _NoCyclicGC():
+                console = _render(res.report, mode, console, i, digits, simulation=False,
+                                  detail=(view or {}).get("detail", "full"))
     return worst
+
+
+def _json_result(name, res, out, results, jsonl: bool) -> None:
+    """One file's JSON result: a line of --jsonl, or the next entry of the document."""
+    from .report.json_out import result_dict
+
+    d = result_dict(name, res.status if res.status != "internal" else "error",
+                    res.report, res.diagnostics)
+    if d.get("title") is None:
+        d["title"] = _title_of(res)
+    if res.expects and res.report is None:
+        from .report.model import expectation_dict
+
+        d["expectations"] = [expectation_dict(c) for c in res.expects]
+    if jsonl:
+        import json
+
+        from .report.json_out import clean
+
+        out.write(json.dumps(clean(d), allow_nan=False,
+                             ensure_ascii=not _is_utf8(out)) + "\n")
+        out.flush()
+    else:
+        results.append(d)
 
 
 def _text_renderer(mode: str, quiet: bool, digits: int, detail: str):
