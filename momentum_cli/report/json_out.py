@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+from json.encoder import encode_basestring, encode_basestring_ascii
 
 SCHEMA_VERSION = "1"
 
@@ -20,6 +21,74 @@ def clean(x):
     if isinstance(x, (list, tuple)):
         return [clean(v) for v in x]
     return x
+
+
+class _Slow(Exception):
+    """A value the fast encoder leaves to `json` (a key that is not a string, an object
+    of another type, a cycle): the whole text is made by `json.dumps` instead."""
+
+
+def dumps(x, ascii_only: bool = False, indent: str = "") -> str:
+    """`json.dumps(clean(x), allow_nan=False, indent=2, ensure_ascii=ascii_only)`, byte
+    for byte, with every line after the first prefixed by `indent`: one recursive pass
+    that appends strings (the json module's indented encoder is pure Python, made of
+    generators, and `clean` is a second pass; a 10^4-ball result took seconds)."""
+    esc = encode_basestring_ascii if ascii_only else encode_basestring
+    out: list = []
+    try:
+        _encode(x, out, "\n" + indent, esc)
+    except (_Slow, RecursionError):
+        text = json.dumps(clean(x), allow_nan=False, indent=2, ensure_ascii=ascii_only)
+        return text.replace("\n", "\n" + indent) if indent else text
+    return "".join(out)
+
+
+_INF = float("inf")
+
+
+def _encode(x, out: list, nl: str, esc) -> None:
+    """`x` as json's indented encoder writes it (its tests, in its order), non-finite
+    floats as null (`clean`); `nl`: a newline and this level's indentation."""
+    if isinstance(x, str):
+        out.append(esc(x))
+    elif x is None:
+        out.append("null")
+    elif x is True:
+        out.append("true")
+    elif x is False:
+        out.append("false")
+    elif isinstance(x, int):
+        out.append(int.__repr__(x))
+    elif isinstance(x, float):
+        out.append(float.__repr__(x) if x == x and x != _INF and x != -_INF else "null")
+    elif isinstance(x, (list, tuple)):
+        if not x:
+            out.append("[]")
+            return
+        inner = nl + "  "
+        sep = "[" + inner
+        for v in x:
+            out.append(sep)
+            sep = "," + inner
+            _encode(v, out, inner, esc)
+        out.append(nl + "]")
+    elif isinstance(x, dict):
+        if not x:
+            out.append("{}")
+            return
+        inner = nl + "  "
+        sep = "{" + inner
+        for k, v in x.items():
+            if not isinstance(k, str):
+                raise _Slow
+            out.append(sep)
+            sep = "," + inner
+            out.append(esc(k))
+            out.append(": ")
+            _encode(v, out, inner, esc)
+        out.append(nl + "}")
+    else:
+        raise _Slow
 
 
 def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=None) -> dict:
@@ -70,9 +139,8 @@ class DocumentStream:
         self.head = head[:-2] + f',\n  {json.dumps(key)}: ['  # without the closing "\n}"
 
     def append(self, result: dict) -> None:
-        text = json.dumps(clean(result), allow_nan=False, indent=2, ensure_ascii=self.ascii_only)
-        self.out.write((self.head + "\n" if self.count == 0 else ",\n") +
-                       "\n".join("    " + line for line in text.split("\n")))
+        text = dumps(result, self.ascii_only, "    ")
+        self.out.write((self.head + "\n" if self.count == 0 else ",\n") + "    " + text)
         self.count += 1
 
     def close(self) -> None:
@@ -84,6 +152,5 @@ def document(results: list[dict], version: str, ascii_only: bool = False,
     """The JSON document (`results` of solve, `simulations` of simulate); `ascii_only`
     escapes non-ASCII text as \\uXXXX (for a stdout whose encoding is not UTF-8: the
     output stays valid JSON)."""
-    doc = {"schema_version": SCHEMA_VERSION, "momentum_version": version,
-           key: clean(results)}
-    return json.dumps(doc, allow_nan=False, indent=2, ensure_ascii=ascii_only) + "\n"
+    doc = {"schema_version": SCHEMA_VERSION, "momentum_version": version, key: results}
+    return dumps(doc, ascii_only) + "\n"
