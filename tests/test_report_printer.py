@@ -203,3 +203,19 @@ def test_json_text_leaves_what_it_does_not_know_to_the_json_module():
         pass
     else:
         raise AssertionError("an object json cannot encode must still raise TypeError")
+
+
+def test_json_text_of_str_and_int_subclasses_is_their_value():
+    import enum
+
+    class Kind(str, enum.Enum):
+        AUTO = "auto"
+
+    class Level(enum.IntEnum):
+        TWO = 2
+
+    class F(float):
+        pass
+
+    x = {Kind.AUTO: [Kind.AUTO, Level.TWO, F(0.5), F("nan"), {"k": (Kind.AUTO,)}]}
+    assert dumps(x) == json.dumps(clean(x), allow_nan=False, indent=2)

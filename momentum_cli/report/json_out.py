@@ -44,35 +44,35 @@ def dumps(x, ascii_only: bool = False, indent: str = "") -> str:
 
 
 _INF = float("inf")
+_FLOAT_REPR = float.__repr__
+_INT_REPR = int.__repr__
+
+
+def _scalar(x, esc):
+    """A value that is not a list, tuple or dict as json writes it, tested in json's
+    order (a str or int subclass such as an enum is the str or int it is); None for a
+    container."""
+    if isinstance(x, str):
+        return esc(x)
+    if x is None:
+        return "null"
+    if x is True:
+        return "true"
+    if x is False:
+        return "false"
+    if isinstance(x, int):
+        return _INT_REPR(x)
+    if isinstance(x, float):
+        return _FLOAT_REPR(x) if x == x and x != _INF and x != -_INF else "null"
+    if isinstance(x, (list, tuple, dict)):
+        return None
+    raise _Slow
 
 
 def _encode(x, out: list, nl: str, esc) -> None:
-    """`x` as json's indented encoder writes it (its tests, in its order), non-finite
-    floats as null (`clean`); `nl`: a newline and this level's indentation."""
-    if isinstance(x, str):
-        out.append(esc(x))
-    elif x is None:
-        out.append("null")
-    elif x is True:
-        out.append("true")
-    elif x is False:
-        out.append("false")
-    elif isinstance(x, int):
-        out.append(int.__repr__(x))
-    elif isinstance(x, float):
-        out.append(float.__repr__(x) if x == x and x != _INF and x != -_INF else "null")
-    elif isinstance(x, (list, tuple)):
-        if not x:
-            out.append("[]")
-            return
-        inner = nl + "  "
-        sep = "[" + inner
-        for v in x:
-            out.append(sep)
-            sep = "," + inner
-            _encode(v, out, inner, esc)
-        out.append(nl + "]")
-    elif isinstance(x, dict):
+    """`x` as json's indented encoder writes it, non-finite floats as null (`clean`);
+    `nl`: a newline and this level's indentation. The common exact types first."""
+    if isinstance(x, dict):
         if not x:
             out.append("{}")
             return
@@ -81,14 +81,43 @@ def _encode(x, out: list, nl: str, esc) -> None:
         for k, v in x.items():
             if not isinstance(k, str):
                 raise _Slow
-            out.append(sep)
+            t = type(v)
+            if t is str:
+                out.append(f"{sep}{esc(k)}: {esc(v)}")
+            elif t is float and v == v and v != _INF and v != -_INF:
+                out.append(f"{sep}{esc(k)}: {_FLOAT_REPR(v)}")
+            else:
+                s = _scalar(v, esc) if t is not dict and t is not list else None
+                if s is None:
+                    out.append(f"{sep}{esc(k)}: ")
+                    _encode(v, out, inner, esc)
+                else:
+                    out.append(f"{sep}{esc(k)}: {s}")
             sep = "," + inner
-            out.append(esc(k))
-            out.append(": ")
-            _encode(v, out, inner, esc)
         out.append(nl + "}")
+    elif isinstance(x, (list, tuple)):
+        if not x:
+            out.append("[]")
+            return
+        inner = nl + "  "
+        sep = "[" + inner
+        for v in x:
+            t = type(v)
+            if t is str:
+                out.append(sep + esc(v))
+            elif t is float and v == v and v != _INF and v != -_INF:
+                out.append(sep + _FLOAT_REPR(v))
+            else:
+                s = _scalar(v, esc) if t is not dict and t is not list else None
+                if s is None:
+                    out.append(sep)
+                    _encode(v, out, inner, esc)
+                else:
+                    out.append(sep + s)
+            sep = "," + inner
+        out.append(nl + "]")
     else:
-        raise _Slow
+        out.append(_scalar(x, esc))
 
 
 def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=None) -> dict:
