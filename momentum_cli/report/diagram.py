@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import field
 
-from ..elements.keys import Key, state_key
+from ..elements.keys import Key
 from ..elements.kinds import Component, JointKind, KeyKind, Tangential
 from ..expr import evaluate, variables
 from ..numbers import fmt_num
@@ -233,7 +233,7 @@ class _Builder:
         return self._by_what
 
     def _value(self, body: str, q: str, s: str):
-        v = self.values.get(state_key(body, q, s))
+        v = self.values.get(f"{body}.{q}@{s}")  # a Key is the str it prints: no Key made
         if v is None:
             st = self.sc.states.get(s)
             g = st.givens.get((body, q)) if st is not None else None

@@ -39,6 +39,13 @@ class EquationRow:
     role: str  # solved | check | not needed | undetermined
     solves: list = field(default_factory=list)  # unknowns its block solves (named in numeric)
 
+    def __init__(self, index, principle, group, line, symbolic, numeric, kind, role,
+                 solves=None):
+        """By hand: one row per equation (10^5 of them in a big scene), plain slots."""
+        self.index, self.principle, self.group, self.line = index, principle, group, line
+        self.symbolic, self.numeric, self.kind, self.role = symbolic, numeric, kind, role
+        self.solves = [] if solves is None else solves
+
 
 @record
 class Report:
