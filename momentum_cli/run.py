@@ -259,9 +259,12 @@ PARALLEL_MIN = 48  # files in one call from which a second process pays for itse
 class Rendered:
     """A solved file's report as text (`solve_many`'s `render`, run where it was solved),
     with the report's checks (--strict reads them). A worker ships this instead of the
-    report: a fifth of the bytes, and the parent neither rebuilds nor renders it."""
+    report: a fifth of the bytes, and the parent neither rebuilds nor renders it.
+    `fields`: for --json, the report's part of the result as JSON text
+    (json_out.encoded_fields) instead of `text`."""
     text: str
     checks: list
+    fields: dict | None = None
 
 
 def _solve_job(job):
@@ -272,7 +275,10 @@ def _solve_job(job):
         res = solve_source(source, solve_all, sig, precision, overrides, units, sensitivity)
         if render is not None and res.report is not None:
             with _NoCyclicGC():  # a big report's text: as for its solve (see _NoCyclicGC)
-                res.report = Rendered(render(res.report), list(res.report.checks))
+                made = render(res.report)
+                checks = list(res.report.checks)
+                res.report = Rendered(made, checks) if isinstance(made, str) else \
+                    Rendered("", checks, made)
         return res
     except ModuleNotFoundError as exc:  # the installation, not momentum, is broken
         return FileResult(source.name, "internal", None, None, [Diagnostic(

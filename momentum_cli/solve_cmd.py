@@ -337,7 +337,8 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
                             precision.value, overrides, view["units"], sensitivity,
-                            _text_renderer(mode, quiet, digits, view["detail"]))
+                            _text_renderer(mode, quiet, digits, view["detail"], jsonl,
+                                           not _is_utf8(out)))
     try:
         worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                             traceback_flag, results, strict, color, deterministic,
@@ -467,12 +468,18 @@ def _json_result(name, res, out, results, jsonl: bool) -> None:
         results.append(d)
 
 
-def _text_renderer(mode: str, quiet: bool, digits: int, detail: str):
+def _text_renderer(mode: str, quiet: bool, digits: int, detail: str, jsonl: bool = False,
+                   ascii_only: bool = False):
     """What turns a report into its printed text where the file is solved (a worker
     ships that text, not the report), for the outputs that are such a text: -q's
-    answers, plain's report; None for the others (rich, documents, JSON)."""
+    answers, plain's report, the JSON document's report fields (`ascii_only` as the
+    document); None for the others (rich, documents, --jsonl)."""
     from functools import partial
 
+    if mode == "json" and not jsonl:
+        from .report import json_out
+
+        return partial(json_out.encoded_fields, ascii_only=ascii_only)
     if mode == "json" or not (quiet or mode == "plain"):
         return None
     from .report import text

@@ -219,3 +219,29 @@ def test_json_text_of_str_and_int_subclasses_is_their_value():
 
     x = {Kind.AUTO: [Kind.AUTO, Level.TWO, F(0.5), F("nan"), {"k": (Kind.AUTO,)}]}
     assert dumps(x) == json.dumps(clean(x), allow_nan=False, indent=2)
+
+
+def test_a_result_encoded_where_it_was_solved_is_the_same_document():
+    """A worker ships `encoded_fields` (JSON text); the document is byte for byte the
+    one made from the report itself, in UTF-8 and in ASCII."""
+    import io
+    from pathlib import Path
+
+    from momentum_cli.report.json_out import DocumentStream, encoded_fields, result_dict
+    from momentum_cli.run import Rendered, read_source, solve_source
+
+    examples = sorted(Path(__file__).parent.parent.glob("examples/*.mom"))[:12]
+    for ascii_only in (False, True):
+        texts = []
+        for shipped in (False, True):
+            buf = io.StringIO()
+            doc = DocumentStream(buf, "test", ascii_only)
+            for p in examples:
+                res = solve_source(read_source(str(p)))
+                rep = res.report
+                if shipped and rep is not None:
+                    rep = Rendered("", list(rep.checks), encoded_fields(rep, ascii_only))
+                doc.append(result_dict(p.name, res.status, rep, res.diagnostics))
+            doc.close()
+            texts.append(buf.getvalue())
+        assert texts[0] == texts[1] and '"equations": [' in texts[0]

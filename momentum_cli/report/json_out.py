@@ -23,23 +23,15 @@ def clean(x):
     return x
 
 
-class _Slow(Exception):
-    """A value the fast encoder leaves to `json` (a key that is not a string, an object
-    of another type, a cycle): the whole text is made by `json.dumps` instead."""
-
-
 def dumps(x, ascii_only: bool = False, indent: str = "") -> str:
     """`json.dumps(clean(x), allow_nan=False, indent=2, ensure_ascii=ascii_only)`, byte
     for byte, with every line after the first prefixed by `indent`: one recursive pass
     that appends strings (the json module's indented encoder is pure Python, made of
-    generators, and `clean` is a second pass; a 10^4-ball result took seconds)."""
+    generators, and `clean` is a second pass; a 10^4-ball result took seconds). An
+    `Encoded` value is written as it is."""
     esc = encode_basestring_ascii if ascii_only else encode_basestring
     out: list = []
-    try:
-        _encode(x, out, "\n" + indent, esc)
-    except (_Slow, RecursionError):
-        text = json.dumps(clean(x), allow_nan=False, indent=2, ensure_ascii=ascii_only)
-        return text.replace("\n", "\n" + indent) if indent else text
+    _encode(x, out, "\n" + indent, esc)
     return "".join(out)
 
 
@@ -66,7 +58,7 @@ def _scalar(x, esc):
         return _FLOAT_REPR(x) if x == x and x != _INF and x != -_INF else "null"
     if isinstance(x, (list, tuple, dict)):
         return None
-    raise _Slow
+    raise TypeError(f"Object of type {x.__class__.__name__} is not JSON serializable")
 
 
 def _encode(x, out: list, nl: str, esc) -> None:
@@ -78,12 +70,19 @@ def _encode(x, out: list, nl: str, esc) -> None:
             return
         inner = nl + "  "
         sep = "{" + inner
+        start = len(out)
         for k, v in x.items():
-            if not isinstance(k, str):
-                raise _Slow
+            if not isinstance(k, str):  # json's own conversion of such keys, for this dict
+                del out[start:]
+                text = json.dumps(clean(x), allow_nan=False, indent=2,
+                                  ensure_ascii=esc is encode_basestring_ascii)
+                out.append(text.replace("\n", nl))
+                return
             t = type(v)
             if t is str:
                 out.append(f"{sep}{esc(k)}: {esc(v)}")
+            elif t is Encoded:
+                out.append(f"{sep}{esc(k)}: {v}")
             elif t is float and v == v and v != _INF and v != -_INF:
                 out.append(f"{sep}{esc(k)}: {_FLOAT_REPR(v)}")
             else:
@@ -121,39 +120,65 @@ def _encode(x, out: list, nl: str, esc) -> None:
 
 
 def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=None) -> dict:
-    d: dict = {"file": file, "status": status, "title": rep.title if rep else None,
+    """One file's result. `rep`: its report, or what a worker made of it (an object with
+    `fields`, `report_fields` already encoded: see `encoded_fields`)."""
+    fields = getattr(rep, "fields", None) if rep is not None else None
+    if rep is not None and fields is None:
+        fields = report_fields(rep)
+    d: dict = {"file": file, "status": status, "title": fields["title"] if fields else None,
                "answers": [], "unknowns": [], "equations": [], "checks": [],
                "diagnostics": [x.to_json() for x in diagnostics]}
-    if rep is not None:
-        # the schema's fields only: unknowns in SI; an answer's value in its unit (`find
-        # ... in UNIT`, else the reader's units) beside si_value
-        d["answers"] = [{k: a[k] for k in ("name", "value", "unit", "si_value")}
-                        for a in rep.answers]
-        d["unknowns"] = [{k: u[k] for k in ("name", "si_value", "unit")} for u in rep.unknowns]
-        rows = [r for t in rep.transitions for r in t["equations"]]
-        rows += [r for rs in rep.other_equations.values() for r in rs]
-        rows.sort(key=lambda r: r.index)
-        d["equations"] = [dict(index=r.index + 1, principle=r.principle, group=r.group,
-                               line=r.line, symbolic=r.symbolic, numeric=r.numeric,
-                               kind=r.kind, role=r.role) for r in rows]
-        d["checks"] = [dict(name=c.name, status=c.status, detail=c.detail, value=c.value)
-                       for c in rep.checks]
-        d["blocks"] = [dict(b) for b in rep.blocks]
-        d["transitions"] = [dict(kind=t["kind"], before=t["before"], after=t["after"],
-                                 line=t["line"], why=t["why"]) for t in rep.transitions]
-        d["regimes"] = list(rep.regimes)
-        d["counts"] = dict(rep.counts)
-        if rep.flows:
-            d["flows"] = [dict(r) for r in rep.flows]
-        if rep.diagrams:
-            d["diagrams"] = [x.to_dict() for x in rep.diagrams]
-        if rep.expectations:
-            d["expectations"] = [dict(e) for e in rep.expectations]
-        if rep.sensitivities:
-            d["sensitivities"] = rep.sensitivities
+    for k, v in (fields or {}).items():
+        if k != "title":
+            d[k] = v  # answers ... checks in their places, the rest after diagnostics
     if check_counts is not None:
         d["counts"] = dict(check_counts)
     return d
+
+
+def report_fields(rep) -> dict:
+    """The report's part of a result, in the result's key order (title first)."""
+    # the schema's fields only: unknowns in SI; an answer's value in its unit (`find
+    # ... in UNIT`, else the reader's units) beside si_value
+    d: dict = {"title": rep.title}
+    d["answers"] = [{k: a[k] for k in ("name", "value", "unit", "si_value")}
+                    for a in rep.answers]
+    d["unknowns"] = [{k: u[k] for k in ("name", "si_value", "unit")} for u in rep.unknowns]
+    rows = [r for t in rep.transitions for r in t["equations"]]
+    rows += [r for rs in rep.other_equations.values() for r in rs]
+    rows.sort(key=lambda r: r.index)
+    d["equations"] = [dict(index=r.index + 1, principle=r.principle, group=r.group,
+                           line=r.line, symbolic=r.symbolic, numeric=r.numeric,
+                           kind=r.kind, role=r.role) for r in rows]
+    d["checks"] = [dict(name=c.name, status=c.status, detail=c.detail, value=c.value)
+                   for c in rep.checks]
+    d["blocks"] = [dict(b) for b in rep.blocks]
+    d["transitions"] = [dict(kind=t["kind"], before=t["before"], after=t["after"],
+                             line=t["line"], why=t["why"]) for t in rep.transitions]
+    d["regimes"] = list(rep.regimes)
+    d["counts"] = dict(rep.counts)
+    if rep.flows:
+        d["flows"] = [dict(r) for r in rep.flows]
+    if rep.diagrams:
+        d["diagrams"] = [x.to_dict() for x in rep.diagrams]
+    if rep.expectations:
+        d["expectations"] = [dict(e) for e in rep.expectations]
+    if rep.sensitivities:
+        d["sensitivities"] = rep.sensitivities
+    return d
+
+
+class Encoded(str):
+    """A value's JSON text, made where the file was solved (a worker), written by
+    `dumps` as it is: for a value of a result inside `DocumentStream`'s document."""
+
+
+def encoded_fields(rep, ascii_only: bool = False) -> dict:
+    """`report_fields` with each value already JSON text, indented as `DocumentStream`
+    writes a result's values: a worker ships this small dict of strings, not the report,
+    and the parent only joins it."""
+    return {k: v if k == "title" else Encoded(dumps(v, ascii_only, "      "))
+            for k, v in report_fields(rep).items()}
 
 
 class DocumentStream:
