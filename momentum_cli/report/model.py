@@ -9,7 +9,7 @@ import math
 from dataclasses import field
 
 from ..compile import System
-from ..expr import evaluate, magnitude, variables
+from ..expr import Add, Const, Known, Mul, evaluate, variables
 from ..numbers import fmt_num, fmt_tiny
 from ..records import record
 from ..expr import Var
@@ -384,6 +384,37 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
     return out
 
 
+def value_and_magnitude(e, values) -> tuple[float, float]:
+    """(`evaluate(e)`, `magnitude(e)`) in one walk, the same floats: a term that is not a
+    sum, nor a product with one sum, has magnitude |value| (evaluated once, not twice)."""
+    t = type(e)
+    if t is Add:
+        vals, mags = [], []
+        for x in e.terms:
+            v, m = value_and_magnitude(x, values)
+            vals.append(v)
+            mags.append(m)
+        return math.fsum(vals), sum(mags)
+    if t is Mul:
+        fs = e.factors
+        for f in fs:  # a zero known factor: both are 0 (as evaluate and magnitude say)
+            if (type(f) is Const or type(f) is Known) and f.value == 0.0:
+                return 0.0, 0.0
+        sums = [f for f in fs if type(f) is Add]
+        if len(sums) == 1:
+            r = k = 1.0
+            for f in fs:
+                if f is sums[0]:
+                    v, m = value_and_magnitude(f, values)
+                else:
+                    v = evaluate(f, values)
+                    k *= v
+                r *= v
+            return r, abs(k) * m
+    v = evaluate(e, values)
+    return v, abs(v)
+
+
 def _residual_checks(sol: Solution) -> list[CheckReport]:
     """The largest relative residual of the momentum equations that were solved."""
     system, values = sol.system, sol.values
@@ -395,8 +426,8 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
             if "impulse-momentum" not in e.principle:
                 continue
             try:
-                r = abs(evaluate(e.residual, values))
-                s = magnitude(e.residual, values)
+                r, s = value_and_magnitude(e.residual, values)
+                r = abs(r)
             except KeyError:  # it also holds an unknown no equation determines
                 continue
             worst = max(worst, r / s if s > 0 else r)
