@@ -155,7 +155,7 @@ def _outcome(f):
         return type(exc)
 
 
-@settings(max_examples=400, deadline=None)
+@settings(max_examples=200, deadline=None)
 @given(TREES, substitutions(), st.booleans(), st.sampled_from([6, 3, 1]))
 def test_printing_with_leaves_substituted_equals_printing_the_copy(e, leaf, numeric, sig):
     assert _outcome(lambda: to_text(e, numeric, sig, leaf)) == \
@@ -169,7 +169,7 @@ def test_printing_without_substitution_is_unchanged(e, numeric, sig):
         _outcome(lambda: _ref_txt(e, numeric, sig)[0])
 
 
-@settings(max_examples=500, deadline=None)
+@settings(max_examples=300, deadline=None)
 @given(NUMBERS, st.integers(min_value=1, max_value=17))
 def test_fmt_num_fast_path_equals_general(x, sig):
     assert fmt_num(x, sig) == _ref_fmt(x, sig)
@@ -188,7 +188,7 @@ JSONISH = st.recursive(
     max_leaves=20)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(JSONISH, st.booleans(), st.sampled_from(["", "    "]))
 def test_json_text_equals_the_json_module(x, ascii_only, indent):
     want = json.dumps(clean(x), allow_nan=False, indent=2, ensure_ascii=ascii_only)
@@ -247,7 +247,7 @@ def test_a_result_encoded_where_it_was_solved_is_the_same_document():
         assert texts[0] == texts[1] and '"equations": [' in texts[0]
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(TREES, st.dictionaries(NAMES, st.floats(min_value=-1e6, max_value=1e6)))
 def test_value_and_magnitude_in_one_walk_equal_the_two_walks(e, values):
     from momentum_cli.expr import evaluate, magnitude
