@@ -508,80 +508,121 @@ def diff(e: E, name: str) -> E:
 
 # ---- printing ---------------------------------------------------------------------------------
 _PREC = {"add": 1, "mul": 2, "pow": 3, "atom": 4}
+_ADD, _MUL, _POW, _ATOM = 1, 2, 3, 4
 
 
-def to_text(e: E, numeric: bool = False, sig: int = 6) -> str:
-    """Print `e`; symbolically (knowns by name) or with numbers (knowns by value)."""
-    return _txt(e, numeric, sig)[0]
+def to_text(e: E, numeric: bool = False, sig: int = 6, leaf=None) -> str:
+    """Print `e`; symbolically (knowns by name) or with numbers (knowns by value).
+
+    `leaf(node, in_fn)`, if given, is the leaf printed in place of each Const, Known and
+    Var (`in_fn`: it is a function's argument): the text is that of the tree with its
+    leaves so replaced (no folding but what printing does), without copying the tree.
+    The report substitutes its numbers this way."""
+    return _txt(e, numeric, sig, leaf, False)[0]
 
 
 def _num(x: float, sig: int) -> str:
     return fmt_num(x, sig)
 
 
-def _txt(e: E, numeric: bool, sig: int) -> tuple[str, int]:
+def _leaf_txt(e: E, numeric: bool, sig: int) -> tuple[str, int]:
     t = type(e)
-    if t is Const:
-        s = _num(e.value, sig)
-        return s, (_PREC["add"] if s.startswith("-") else _PREC["atom"])
-    if t is Known:
-        if numeric:
-            s = _num(e.value, sig)
-            return s, (_PREC["add"] if s.startswith("-") else _PREC["atom"])
-        return e.name, _PREC["atom"]
-    if t is Var:
-        return e.name, _PREC["atom"]
+    if t is Var or (t is Known and not numeric):
+        return e.name, _ATOM
+    s = fmt_num(e.value, sig)
+    return s, (_ADD if s[:1] == "-" else _ATOM)
+
+
+def _pow_txt(b: str, p: int, exp: float, sig: int) -> tuple[str, int]:
+    if exp == 0.5:
+        return f"sqrt({b})", _ATOM
+    if exp == -1.0:
+        return f"1/{b if p >= _POW else '(' + b + ')'}", _MUL
+    bs = b if p > _POW else f"({b})"
+    return f"{bs}^{fmt_num(exp, sig)}", _POW
+
+
+def _join(items: list) -> str:
+    """Factors `a*b`, a factor below a product's precedence in parentheses; x*x as x^2."""
+    merged: list[str] = []
+    last = None
+    for s, p in items:
+        if p < _MUL:
+            s = f"({s})"
+        if s == last:
+            merged[-1] = last = f"{s}^2"
+        else:
+            merged.append(s)
+            last = s
+    return "*".join(merged) if merged else "1"
+
+
+def _txt(e: E, numeric: bool, sig: int, leaf=None, in_fn: bool = False) -> tuple[str, int]:
+    t = type(e)
+    if t is Const or t is Known or t is Var:
+        return _leaf_txt(e if leaf is None else leaf(e, in_fn), numeric, sig)
     if t is Add:
         parts = []
-        for i, x in enumerate(e.terms):
-            s, p = _txt(x, numeric, sig)
-            if i == 0:
+        for x in e.terms:
+            s = _txt(x, numeric, sig, leaf)[0]
+            if not parts:
                 parts.append(s)
-            elif s.startswith("-"):
+            elif s[:1] == "-":
                 parts.append(" - " + s[1:])
             else:
                 parts.append(" + " + s)
-        return "".join(parts), _PREC["add"]
+        return "".join(parts), _ADD
     if t is Mul:
-        fs = list(e.factors)
+        num: list = []
+        den: list = []
         sign = ""
-        if isinstance(fs[0], Const) and fs[0].value < 0:
-            sign = "-"
-            fs = fs[1:] if fs[0].value == -1.0 else [Const(-fs[0].value)] + fs[1:]
-        num, den = [], []
-        for f in fs:
-            if isinstance(f, Pow) and f.exp < 0:
-                den.append(power(f.base, -f.exp))
+        first = True
+        for f in e.factors:
+            tf = type(f)
+            if tf is Const or tf is Known or tf is Var:
+                if leaf is not None:
+                    f = leaf(f, False)
+                if first and type(f) is Const and f.value < 0:
+                    sign = "-"
+                    first = False
+                    if f.value == -1.0:
+                        continue
+                    f = Const(-f.value)
+                num.append(_leaf_txt(f, numeric, sig))
+            elif tf is Pow and f.exp < 0:
+                den.append(_den_txt(f, numeric, sig, leaf))
             else:
-                num.append(f)
-        def join(items):
-            out = []
-            for f in items:
-                s, p = _txt(f, numeric, sig)
-                out.append(f"({s})" if p < _PREC["mul"] or (p == _PREC["add"]) else s)
-            # x*x prints as x^2
-            merged: list[str] = []
-            for s in out:
-                if merged and merged[-1] == s:
-                    merged[-1] = f"{s}^2"
-                else:
-                    merged.append(s)
-            return "*".join(merged) if merged else "1"
-        s = join(num)
+                num.append(_txt(f, numeric, sig, leaf))
+            first = False
+        s = _join(num)
         if den:
-            d = join(den)
+            d = _join(den)
             s += "/" + (f"({d})" if len(den) > 1 else d)
-        return sign + s, _PREC["mul"] if not sign else _PREC["add"]
+        return sign + s, _MUL if not sign else _ADD
     if t is Pow:
-        b, p = _txt(e.base, numeric, sig)
-        if e.exp == 0.5:
-            return f"sqrt({b})", _PREC["atom"]
-        if e.exp == -1.0:
-            return f"1/{b if p >= _PREC['pow'] else '(' + b + ')'}", _PREC["mul"]
-        bs = b if p > _PREC["pow"] else f"({b})"
-        return f"{bs}^{_num(e.exp, sig)}", _PREC["pow"]
-    a, _ = _txt(e.arg, numeric, sig)
-    return f"{e.name}({a})", _PREC["atom"]
+        b, p = _txt(e.base, numeric, sig, leaf)
+        return _pow_txt(b, p, e.exp, sig)
+    a = _txt(e.arg, numeric, sig, leaf, True)[0]
+    return f"{e.name}({a})", _ATOM
+
+
+def _den_txt(f: Pow, numeric: bool, sig: int, leaf) -> tuple[str, int]:
+    """A factor x^-p of a product, printed in its denominator as `power(x, p)` prints."""
+    p = -f.exp
+    b = f.base
+    tb = type(b)
+    if tb is Const or tb is Known or tb is Var:
+        if leaf is not None:
+            b = leaf(b, False)
+        if p == 1.0:
+            return _leaf_txt(b, numeric, sig)
+        r = power(b, p)  # a number folds, as it would in the tree
+        if type(r) is Const:
+            return _leaf_txt(r, numeric, sig)
+        bs, bp = _leaf_txt(b, numeric, sig)
+        return _pow_txt(bs, bp, p, sig)
+    bs, bp = _txt(b, numeric, sig, leaf)
+    return (bs, bp) if p == 1.0 else _pow_txt(bs, bp, p, sig)
 
 
 # ---- planar vectors of expressions ------------------------------------------------------------

@@ -12,6 +12,12 @@ DEFAULT_SIG = 6
 
 def fmt_num(x: float, sig: int = DEFAULT_SIG) -> str:
     """`x` to `sig` significant figures, without a trailing '.0' or a '-0'."""
+    if type(x) is float:  # the common case, in one format call: nan, inf and 0 print
+        s = f"{x:.{sig}g}"  # as below ('nan', 'inf', '-inf', '0'; '-0' for -0.0)
+        if "e" in s:
+            mant, exp = s.split("e")
+            return f"{mant}e{int(exp)}"
+        return "0" if s == "-0" else s
     if x is None:
         return "-"
     if isinstance(x, float) and (math.isnan(x) or math.isinf(x)):

@@ -258,9 +258,12 @@ PARALLEL_MIN = 48  # files in one call from which a second process pays for itse
 class Rendered:
     """A solved file's report as text (`solve_many`'s `render`, run where it was solved),
     with the report's checks (--strict reads them). A worker ships this instead of the
-    report: a fifth of the bytes, and the parent neither rebuilds nor renders it."""
+    report: a fifth of the bytes, and the parent neither rebuilds nor renders it.
+    `fields`: for --json, the report's part of the result as JSON text
+    (json_out.encoded_fields) instead of `text`."""
     text: str
     checks: list
+    fields: dict | None = None
 
 
 def _solve_job(job):
@@ -270,7 +273,11 @@ def _solve_job(job):
     try:
         res = solve_source(source, solve_all, sig, precision, overrides, units, sensitivity)
         if render is not None and res.report is not None:
-            res.report = Rendered(render(res.report), list(res.report.checks))
+            with _NoCyclicGC():  # a big report's text: as for its solve (see _NoCyclicGC)
+                made = render(res.report)
+                checks = list(res.report.checks)
+                res.report = Rendered(made, checks) if isinstance(made, str) else \
+                    Rendered("", checks, made)
         return res
     except ModuleNotFoundError as exc:  # the installation, not momentum, is broken
         return FileResult(source.name, "internal", None, None, [Diagnostic(

@@ -337,7 +337,8 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
     if not traceback_flag:  # many files: solved in parallel, reported in order
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
                             precision.value, overrides, view["units"], sensitivity,
-                            _text_renderer(mode, quiet, digits, view["detail"]))
+                            _text_renderer(mode, quiet, digits, view["detail"], jsonl,
+                                           not _is_utf8(out)))
     try:
         worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                             traceback_flag, results, strict, color, deterministic,
@@ -391,7 +392,7 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 traceback_flag, results, strict, color, deterministic, overrides=(),
                 jsonl=False, view=None, sensitivity=False) -> ExitCode:
     """Print (or collect, for JSON) each file's result in order; the worst exit code."""
-    from .run import Rendered, solve_source
+    from .run import Rendered, _NoCyclicGC, solve_source
 
     out, err = sys.stdout, sys.stderr
     console = _console(mode, color)
@@ -413,26 +414,8 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
         code = ExitCode.INTERNAL if res.status == "internal" else res.exit_code
         worst = max(worst, code)
         if mode == "json":
-            from .report.json_out import result_dict
-
-            d = result_dict(name, res.status if res.status != "internal" else "error",
-                            res.report, res.diagnostics)
-            if d.get("title") is None:
-                d["title"] = _title_of(res)
-            if res.expects and res.report is None:
-                from .report.model import expectation_dict
-
-                d["expectations"] = [expectation_dict(c) for c in res.expects]
-            if jsonl:
-                import json
-
-                from .report.json_out import clean
-
-                out.write(json.dumps(clean(d), allow_nan=False,
-                                     ensure_ascii=not _is_utf8(out)) + "\n")
-                out.flush()
-            else:
-                results.append(d)
+            with _NoCyclicGC():  # a big result's dicts and text: no collector passes
+                _json_result(name, res, out, results, jsonl)
             continue
         _print_diagnostics(res, err, tint)
         for c in res.expects if res.report is None else ():  # `expect` lines of a failed file
@@ -455,17 +438,48 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 out.write("\n")
             out.write(res.report.text)
         else:
-            console = _render(res.report, mode, console, i, digits, simulation=False,
-                              detail=(view or {}).get("detail", "full"))
+            with _NoCyclicGC():
+                console = _render(res.report, mode, console, i, digits, simulation=False,
+                                  detail=(view or {}).get("detail", "full"))
     return worst
 
 
-def _text_renderer(mode: str, quiet: bool, digits: int, detail: str):
+def _json_result(name, res, out, results, jsonl: bool) -> None:
+    """One file's JSON result: a line of --jsonl, or the next entry of the document."""
+    from .report.json_out import result_dict
+
+    d = result_dict(name, res.status if res.status != "internal" else "error",
+                    res.report, res.diagnostics)
+    if d.get("title") is None:
+        d["title"] = _title_of(res)
+    if res.expects and res.report is None:
+        from .report.model import expectation_dict
+
+        d["expectations"] = [expectation_dict(c) for c in res.expects]
+    if jsonl:
+        import json
+
+        from .report.json_out import clean
+
+        out.write(json.dumps(clean(d), allow_nan=False,
+                             ensure_ascii=not _is_utf8(out)) + "\n")
+        out.flush()
+    else:
+        results.append(d)
+
+
+def _text_renderer(mode: str, quiet: bool, digits: int, detail: str, jsonl: bool = False,
+                   ascii_only: bool = False):
     """What turns a report into its printed text where the file is solved (a worker
     ships that text, not the report), for the outputs that are such a text: -q's
-    answers, plain's report; None for the others (rich, documents, JSON)."""
+    answers, plain's report, the JSON document's report fields (`ascii_only` as the
+    document); None for the others (rich, documents, --jsonl)."""
     from functools import partial
 
+    if mode == "json" and not jsonl:
+        from .report import json_out
+
+        return partial(json_out.encoded_fields, ascii_only=ascii_only)
     if mode == "json" or not (quiet or mode == "plain"):
         return None
     from .report import text

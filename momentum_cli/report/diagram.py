@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import math
 
-from ..elements.keys import Key, state_key
+from ..elements.keys import Key
 from ..elements.kinds import Component, JointKind, KeyKind, Tangential
 from ..expr import evaluate, variables
 from ..numbers import fmt_num
 from ..records import field, record
 from ..units import ANGULAR_IMPULSE, FORCE, IMPULSE, LENGTH, VELOCITY
+from .abbrev import name_list
 from .reader import Reader
 
 POSITION = ("x", "y", "angle")  # unchanged by an impact
@@ -231,7 +232,7 @@ class _Builder:
         return self._by_what
 
     def _value(self, body: str, q: str, s: str):
-        v = self.values.get(state_key(body, q, s))
+        v = self.values.get(f"{body}.{q}@{s}")  # a Key is the str it prints: no Key made
         if v is None:
             st = self.sc.states.get(s)
             g = st.givens.get((body, q)) if st is not None else None
@@ -307,7 +308,7 @@ class _Builder:
             b.placed = True
         if guessed:
             self.notes.append(f"positions at state {self.t.before} are not known: "
-                              f"{', '.join(guessed)} drawn schematically"
+                              f"{name_list(guessed, 'bodies')} drawn schematically"
                               + (" (the rest where contacts and joints put them)"
                                  if len(guessed) < len(bodies) else ""))
 
@@ -364,9 +365,9 @@ class _Builder:
     def _impulses(self, a, body: DiagramBody) -> list[DiagramImpulse]:
         t, vals = self.t, self.values
         names = variables(a.J.x) | variables(a.J.y)
+        torque = variables(a.torque) if a.torque is not None else set()
         base = _Over(vals)  # an unknown nothing solved (an angle not needed) reads 0
-        for n in names | variables(a.arm.x) | variables(a.arm.y) | \
-                (variables(a.torque) if a.torque is not None else set()):
+        for n in names | variables(a.arm.x) | variables(a.arm.y) | torque:
             if not _impulse(n):
                 base.setdefault(n, 0.0)
         p = a.point
@@ -384,11 +385,23 @@ class _Builder:
             point = "G" if p.name == a.body else p.name
         out = []
         imp = sorted((n for n in names if _impulse(n)), key=str)
+        imp_set = set(imp)
         contact = self._contacts().get(a.what)
         if imp:
-            zero = base.over({n: 0.0 for n in imp})
+            # what J and the torque read, as `base` over the impulses at 0 reads it, in one
+            # plain dict (a lookup through no layers; a name `base` lacks stays missing)
+            zero = {}
+            for n in names | torque:
+                if n in imp_set:
+                    zero[n] = 0.0
+                else:
+                    try:
+                        zero[n] = base[n]
+                    except KeyError:
+                        pass
             for n in imp:
-                one = zero.over({n: 1.0})
+                one = dict(zero)
+                one[n] = 1.0
                 try:
                     d = (evaluate(a.J.x, one) - evaluate(a.J.x, zero),
                          evaluate(a.J.y, one) - evaluate(a.J.y, zero))
@@ -401,7 +414,7 @@ class _Builder:
                 symbol = _symbol(n, d, contact)
                 val = vals.get(n)
                 where, pos = point, at
-                c = self._moment_of(a, n, zero)
+                c = self._moment_of(a, n, zero, torque)
                 if c:  # applied at G with its moment: drawn on its line of action
                     pos = (at[0] + c / size * d[1], at[1] - c / size * d[0])
                     where = "its line of action"
@@ -427,13 +440,14 @@ class _Builder:
         return out
 
     @staticmethod
-    def _moment_of(a, n, zero) -> float:
+    def _moment_of(a, n, zero: dict, torque: set) -> float:
         """The moment about G per unit of impulse n that an element adds to its
-        application (a slider's reaction acts where the collar is, not at G)."""
-        if a.torque is None or n not in variables(a.torque):
+        application (a slider's reaction acts where the collar is, not at G); `torque`:
+        the unknowns of its torque."""
+        if a.torque is None or n not in torque:
             return 0.0
         try:
-            return evaluate(a.torque, zero.over({n: 1.0})) - evaluate(a.torque, zero)
+            return evaluate(a.torque, {**zero, n: 1.0}) - evaluate(a.torque, zero)
         except (KeyError, ValueError, ZeroDivisionError):
             return 0.0
 

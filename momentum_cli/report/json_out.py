@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+from json.encoder import encode_basestring, encode_basestring_ascii
 
 SCHEMA_VERSION = "1"
 
@@ -22,40 +23,162 @@ def clean(x):
     return x
 
 
+def dumps(x, ascii_only: bool = False, indent: str = "") -> str:
+    """`json.dumps(clean(x), allow_nan=False, indent=2, ensure_ascii=ascii_only)`, byte
+    for byte, with every line after the first prefixed by `indent`: one recursive pass
+    that appends strings (the json module's indented encoder is pure Python, made of
+    generators, and `clean` is a second pass; a 10^4-ball result took seconds). An
+    `Encoded` value is written as it is."""
+    esc = encode_basestring_ascii if ascii_only else encode_basestring
+    out: list = []
+    _encode(x, out, "\n" + indent, esc)
+    return "".join(out)
+
+
+_INF = float("inf")
+_FLOAT_REPR = float.__repr__
+_INT_REPR = int.__repr__
+
+
+def _scalar(x, esc):
+    """A value that is not a list, tuple or dict as json writes it, tested in json's
+    order (a str or int subclass such as an enum is the str or int it is); None for a
+    container."""
+    if isinstance(x, str):
+        return esc(x)
+    if x is None:
+        return "null"
+    if x is True:
+        return "true"
+    if x is False:
+        return "false"
+    if isinstance(x, int):
+        return _INT_REPR(x)
+    if isinstance(x, float):
+        return _FLOAT_REPR(x) if x == x and x != _INF and x != -_INF else "null"
+    if isinstance(x, (list, tuple, dict)):
+        return None
+    raise TypeError(f"Object of type {x.__class__.__name__} is not JSON serializable")
+
+
+def _encode(x, out: list, nl: str, esc) -> None:
+    """`x` as json's indented encoder writes it, non-finite floats as null (`clean`);
+    `nl`: a newline and this level's indentation. The common exact types first."""
+    if isinstance(x, dict):
+        if not x:
+            out.append("{}")
+            return
+        inner = nl + "  "
+        sep = "{" + inner
+        start = len(out)
+        for k, v in x.items():
+            if not isinstance(k, str):  # json's own conversion of such keys, for this dict
+                del out[start:]
+                text = json.dumps(clean(x), allow_nan=False, indent=2,
+                                  ensure_ascii=esc is encode_basestring_ascii)
+                out.append(text.replace("\n", nl))
+                return
+            t = type(v)
+            if t is str:
+                out.append(f"{sep}{esc(k)}: {esc(v)}")
+            elif t is Encoded:
+                out.append(f"{sep}{esc(k)}: {v}")
+            elif t is float and v == v and v != _INF and v != -_INF:
+                out.append(f"{sep}{esc(k)}: {_FLOAT_REPR(v)}")
+            else:
+                s = _scalar(v, esc) if t is not dict and t is not list else None
+                if s is None:
+                    out.append(f"{sep}{esc(k)}: ")
+                    _encode(v, out, inner, esc)
+                else:
+                    out.append(f"{sep}{esc(k)}: {s}")
+            sep = "," + inner
+        out.append(nl + "}")
+    elif isinstance(x, (list, tuple)):
+        if not x:
+            out.append("[]")
+            return
+        inner = nl + "  "
+        sep = "[" + inner
+        for v in x:
+            t = type(v)
+            if t is str:
+                out.append(sep + esc(v))
+            elif t is float and v == v and v != _INF and v != -_INF:
+                out.append(sep + _FLOAT_REPR(v))
+            else:
+                s = _scalar(v, esc) if t is not dict and t is not list else None
+                if s is None:
+                    out.append(sep)
+                    _encode(v, out, inner, esc)
+                else:
+                    out.append(sep + s)
+            sep = "," + inner
+        out.append(nl + "]")
+    else:
+        out.append(_scalar(x, esc))
+
+
 def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=None) -> dict:
-    d: dict = {"file": file, "status": status, "title": rep.title if rep else None,
+    """One file's result. `rep`: its report, or what a worker made of it (an object with
+    `fields`, `report_fields` already encoded: see `encoded_fields`)."""
+    fields = getattr(rep, "fields", None) if rep is not None else None
+    if rep is not None and fields is None:
+        fields = report_fields(rep)
+    d: dict = {"file": file, "status": status, "title": fields["title"] if fields else None,
                "answers": [], "unknowns": [], "equations": [], "checks": [],
                "diagnostics": [x.to_json() for x in diagnostics]}
-    if rep is not None:
-        # the schema's fields only: unknowns in SI; an answer's value in its unit (`find
-        # ... in UNIT`, else the reader's units) beside si_value
-        d["answers"] = [{k: a[k] for k in ("name", "value", "unit", "si_value")}
-                        for a in rep.answers]
-        d["unknowns"] = [{k: u[k] for k in ("name", "si_value", "unit")} for u in rep.unknowns]
-        rows = [r for t in rep.transitions for r in t["equations"]]
-        rows += [r for rs in rep.other_equations.values() for r in rs]
-        rows.sort(key=lambda r: r.index)
-        d["equations"] = [dict(index=r.index + 1, principle=r.principle, group=r.group,
-                               line=r.line, symbolic=r.symbolic, numeric=r.numeric,
-                               kind=r.kind, role=r.role) for r in rows]
-        d["checks"] = [dict(name=c.name, status=c.status, detail=c.detail, value=c.value)
-                       for c in rep.checks]
-        d["blocks"] = [dict(b) for b in rep.blocks]
-        d["transitions"] = [dict(kind=t["kind"], before=t["before"], after=t["after"],
-                                 line=t["line"], why=t["why"]) for t in rep.transitions]
-        d["regimes"] = list(rep.regimes)
-        d["counts"] = dict(rep.counts)
-        if rep.flows:
-            d["flows"] = [dict(r) for r in rep.flows]
-        if rep.diagrams:
-            d["diagrams"] = [x.to_dict() for x in rep.diagrams]
-        if rep.expectations:
-            d["expectations"] = [dict(e) for e in rep.expectations]
-        if rep.sensitivities:
-            d["sensitivities"] = rep.sensitivities
+    for k, v in (fields or {}).items():
+        if k != "title":
+            d[k] = v  # answers ... checks in their places, the rest after diagnostics
     if check_counts is not None:
         d["counts"] = dict(check_counts)
     return d
+
+
+def report_fields(rep) -> dict:
+    """The report's part of a result, in the result's key order (title first)."""
+    # the schema's fields only: unknowns in SI; an answer's value in its unit (`find
+    # ... in UNIT`, else the reader's units) beside si_value
+    d: dict = {"title": rep.title}
+    d["answers"] = [{k: a[k] for k in ("name", "value", "unit", "si_value")}
+                    for a in rep.answers]
+    d["unknowns"] = [{k: u[k] for k in ("name", "si_value", "unit")} for u in rep.unknowns]
+    rows = [r for t in rep.transitions for r in t["equations"]]
+    rows += [r for rs in rep.other_equations.values() for r in rs]
+    rows.sort(key=lambda r: r.index)
+    d["equations"] = [dict(index=r.index + 1, principle=r.principle, group=r.group,
+                           line=r.line, symbolic=r.symbolic, numeric=r.numeric,
+                           kind=r.kind, role=r.role) for r in rows]
+    d["checks"] = [dict(name=c.name, status=c.status, detail=c.detail, value=c.value)
+                   for c in rep.checks]
+    d["blocks"] = [dict(b) for b in rep.blocks]
+    d["transitions"] = [dict(kind=t["kind"], before=t["before"], after=t["after"],
+                             line=t["line"], why=t["why"]) for t in rep.transitions]
+    d["regimes"] = list(rep.regimes)
+    d["counts"] = dict(rep.counts)
+    if rep.flows:
+        d["flows"] = [dict(r) for r in rep.flows]
+    if rep.diagrams:
+        d["diagrams"] = [x.to_dict() for x in rep.diagrams]
+    if rep.expectations:
+        d["expectations"] = [dict(e) for e in rep.expectations]
+    if rep.sensitivities:
+        d["sensitivities"] = rep.sensitivities
+    return d
+
+
+class Encoded(str):
+    """A value's JSON text, made where the file was solved (a worker), written by
+    `dumps` as it is: for a value of a result inside `DocumentStream`'s document."""
+
+
+def encoded_fields(rep, ascii_only: bool = False) -> dict:
+    """`report_fields` with each value already JSON text, indented as `DocumentStream`
+    writes a result's values: a worker ships this small dict of strings, not the report,
+    and the parent only joins it."""
+    return {k: v if k == "title" else Encoded(dumps(v, ascii_only, "      "))
+            for k, v in report_fields(rep).items()}
 
 
 class DocumentStream:
@@ -70,9 +193,8 @@ class DocumentStream:
         self.head = head[:-2] + f',\n  {json.dumps(key)}: ['  # without the closing "\n}"
 
     def append(self, result: dict) -> None:
-        text = json.dumps(clean(result), allow_nan=False, indent=2, ensure_ascii=self.ascii_only)
-        self.out.write((self.head + "\n" if self.count == 0 else ",\n") +
-                       "\n".join("    " + line for line in text.split("\n")))
+        text = dumps(result, self.ascii_only, "    ")
+        self.out.write((self.head + "\n" if self.count == 0 else ",\n") + "    " + text)
         self.count += 1
 
     def close(self) -> None:
@@ -84,6 +206,5 @@ def document(results: list[dict], version: str, ascii_only: bool = False,
     """The JSON document (`results` of solve, `simulations` of simulate); `ascii_only`
     escapes non-ASCII text as \\uXXXX (for a stdout whose encoding is not UTF-8: the
     output stays valid JSON)."""
-    doc = {"schema_version": SCHEMA_VERSION, "momentum_version": version,
-           key: clean(results)}
-    return json.dumps(doc, allow_nan=False, indent=2, ensure_ascii=ascii_only) + "\n"
+    doc = {"schema_version": SCHEMA_VERSION, "momentum_version": version, key: results}
+    return dumps(doc, ascii_only) + "\n"

@@ -8,12 +8,13 @@ from __future__ import annotations
 import math
 
 from ..compile import System
-from ..expr import evaluate, magnitude, variables
+from ..expr import Add, Const, Known, Mul, evaluate, variables
 from ..numbers import fmt_num, fmt_tiny
 from ..records import field, record
 from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
+from .abbrev import abbreviate, name_list
 from .statements import statements
 from .reader import (
     STATE_DIMS,
@@ -36,6 +37,13 @@ class EquationRow:
     kind: str
     role: str  # solved | check | not needed | undetermined
     solves: list = field(default_factory=list)  # unknowns its block solves (named in numeric)
+
+    def __init__(self, index, principle, group, line, symbolic, numeric, kind, role,
+                 solves=None):
+        """By hand: one row per equation (10^5 of them in a big scene), plain slots."""
+        self.index, self.principle, self.group, self.line = index, principle, group, line
+        self.symbolic, self.numeric, self.kind, self.role = symbolic, numeric, kind, role
+        self.solves = [] if solves is None else solves
 
 
 @record
@@ -334,7 +342,7 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
         status = "ok"
         if mine and worst > 1e-6:
             status = "warning"
-            lossy = ", ".join(u for u, e in mine.items() if e > 1e-6)
+            lossy = name_list([u for u, e in mine.items() if e > 1e-6], "unknowns")
             detail += (f"; digits may be lost in {lossy}: try --precision refine or "
                        "--precision exact")
         out.append(CheckReport(name, status, detail, _finite(shown)))
@@ -362,7 +370,10 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
             status, what = "warning", "GAINED (not physical for an impact)"
         else:
             status, what = "ok", "lost"
-        of = f"T of {{{', '.join(t.bodies)}}}: " if t.bodies else ""
+        of = ""
+        if t.bodies:  # a long list as its first and last bodies and their number
+            names, n = abbreviate(t.bodies)
+            of = f"T of {{{names}}}" + (f" ({n} bodies)" if n else "") + ": "
         out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", status,
                                f"{of}T{t.before} = {fmt_num(a / k, sig)} {J}, T{t.after} = "
                                f"{fmt_num(b / k, sig)} {J}, {what} "
@@ -370,6 +381,37 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
                                f"({fmt_num(abs(frac) * 100 if abs(lost) > tol else 0.0, 4)} %)",
                                _finite(frac)))
     return out
+
+
+def value_and_magnitude(e, values) -> tuple[float, float]:
+    """(`evaluate(e)`, `magnitude(e)`) in one walk, the same floats: a term that is not a
+    sum, nor a product with one sum, has magnitude |value| (evaluated once, not twice)."""
+    t = type(e)
+    if t is Add:
+        vals, mags = [], []
+        for x in e.terms:
+            v, m = value_and_magnitude(x, values)
+            vals.append(v)
+            mags.append(m)
+        return math.fsum(vals), sum(mags)
+    if t is Mul:
+        fs = e.factors
+        for f in fs:  # a zero known factor: both are 0 (as evaluate and magnitude say)
+            if (type(f) is Const or type(f) is Known) and f.value == 0.0:
+                return 0.0, 0.0
+        sums = [f for f in fs if type(f) is Add]
+        if len(sums) == 1:
+            r = k = 1.0
+            for f in fs:
+                if f is sums[0]:
+                    v, m = value_and_magnitude(f, values)
+                else:
+                    v = evaluate(f, values)
+                    k *= v
+                r *= v
+            return r, abs(k) * m
+    v = evaluate(e, values)
+    return v, abs(v)
 
 
 def _residual_checks(sol: Solution) -> list[CheckReport]:
@@ -383,8 +425,8 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
             if "impulse-momentum" not in e.principle:
                 continue
             try:
-                r = abs(evaluate(e.residual, values))
-                s = magnitude(e.residual, values)
+                r, s = value_and_magnitude(e.residual, values)
+                r = abs(r)
             except KeyError:  # it also holds an unknown no equation determines
                 continue
             worst = max(worst, r / s if s > 0 else r)

@@ -254,22 +254,32 @@ def numeric_line(eq, values: dict, keep: set, system, reader: Reader, sig: int =
     r = reader if scale else Reader("si", reader.degrees)
     if symbolic and not scale:
         return eq.text()
-    sub = _Sub(values, keep, system, r, memo, slots, scale, symbolic)
+    leaf = _Sub(values, keep, system, r, memo, slots, scale, symbolic).leaf
     num = not symbolic
-    text = f"{to_text(sub(eq.lhs, False), num, sig)} = {to_text(sub(eq.rhs, False), num, sig)}"
+    # printed with the leaves substituted as they are reached (no copy of the tree)
+    text = f"{to_text(eq.lhs, num, sig, leaf)} = {to_text(eq.rhs, num, sig, leaf)}"
     if reader.system == "us" and not scale:
         text += "   (SI)"
     return text
 
 
 class _Sub:
-    """A copy of an expression tree with known leaves replaced by display numbers."""
+    """Known leaves replaced by display numbers: `leaf` one at a time (as `to_text`
+    prints), or a copy of a whole tree (`__call__`)."""
 
     def __init__(self, values, keep, system, reader, memo, slots, scale, names=False):
         self.values, self.keep, self.system, self.reader = values, keep, system, reader
         self.memo, self.slots, self.scale, self.names = memo, slots, scale, names
 
     def __call__(self, e: E, in_fn: bool) -> E:
+        t = type(e)
+        if t is Const or t is Var or t is Known:
+            return self.leaf(e, in_fn)
+        return map_children(e, self)
+
+    def leaf(self, e: E, in_fn: bool) -> E:
+        """The leaf shown in place of `e` (a Const, Known or Var; `in_fn`: it is a
+        function's argument)."""
         t = type(e)
         if t is Const:
             if not self.scale or e.value in (0.0, 1.0, -1.0):
@@ -291,7 +301,7 @@ class _Sub:
             if d is None and self.scale:
                 d = self.slots.get(id(e))
             return Const(v / self.reader.factor(d) if d else v)
-        return map_children(e, self)
+        return e
 
 
 # ---- the sign of an answer in words ----------------------------------------------------------------

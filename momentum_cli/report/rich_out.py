@@ -6,6 +6,7 @@ import, which plain and JSON output never pay.
 from __future__ import annotations
 
 from ..numbers import fmt_num
+from .abbrev import name_list
 from .model import Report, diagram_for
 from .text import _items
 
@@ -82,7 +83,8 @@ def render(rep: Report, console, sig: int = 6, steps: bool = True,
             how = (f"linear, cond {f(b['condition_number'])}" if b["method"] == "linear"
                    else "integrated" if b["method"] == "integrated"
                    else f"Newton, {b['iterations']} iterations")
-            console.print(f"  block {b['index']}: [bold]{escape(', '.join(b['unknowns']))}[/bold]"
+            console.print(f"  block {b['index']}: "
+                          f"[bold]{escape(name_list(b['unknowns'], 'unknowns'))}[/bold]"
                           f" ({how})")
             if "matrix" in b:
                 t = Table(box=box.MINIMAL, pad_edge=False)

@@ -38,11 +38,6 @@ class _Eq:
         return f"{to_text(self.lhs, numeric)} = {to_text(self.rhs, numeric)}"
 
 
-def _after(name: str, after: str, key: str) -> bool:
-    """An unknown of the transition: a state quantity after it, or one of its impulses."""
-    return name.endswith(f"@{after}") or name.endswith(f"@{key}")
-
-
 def _moving_together(law, values) -> bool:
     """Every body has the same velocity component afterwards (to round-off)."""
     if law.locked is None:
@@ -138,8 +133,10 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[di
             else:
                 vals = ChainMap(given, values)
         eq = _Eq(lhs, rhs)
-        keep = {n for n in variables(lhs) | variables(rhs)
-                if "'" in n or _after(n, t.after, t.key)}
+        both = names if lhs is law.lhs and rhs is law.rhs else \
+            variables(lhs) | variables(rhs)  # the law's own sides: their names are known
+        after, key = f"@{t.after}", f"@{t.key}"  # a state quantity after it, its impulses
+        keep = {n for n in both if "'" in n or n.endswith(after) or n.endswith(key)}
         p = law.parallel
         if p is not None and (p["body"], p["point"]) not in shown:
             shown.add((p["body"], p["point"]))

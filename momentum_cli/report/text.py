@@ -6,6 +6,7 @@ rich report, laid out with spaces so that locale and terminal width cannot chang
 from __future__ import annotations
 
 from ..numbers import fmt_num, fmt_tiny
+from .abbrev import abbreviate
 from .model import Report, diagram_for
 
 
@@ -88,8 +89,12 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
                    if b["method"] == "linear" else
                    "integrated numerically from its inputs" if b["method"] == "integrated" else
                    f"Newton, {b['iterations']} iterations, residual {fmt_tiny(b['residual'] or 0)}")
-            lines = ", ".join(map(str, b["lines"]))
-            out.append(f"  block {b['index']}: {', '.join(b['unknowns'])} ({how}; lines {lines})")
+            # a block of thousands: its first and last unknowns and lines, and how many
+            names, n = abbreviate(b["unknowns"])
+            lines, n_lines = abbreviate(b["lines"])
+            lines = f"{n_lines} lines: {lines}" if n_lines else f"lines {lines}"
+            count = f"{n} unknowns; " if n else ""
+            out.append(f"  block {b['index']}: {names} ({count}{how}; {lines})")
             if "matrix" in b:
                 rows = [[f(x) for x in row] + ["|", f(rhs)] for row, rhs in
                         zip(b["matrix"], b["rhs"])]
