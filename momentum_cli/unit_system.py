@@ -47,6 +47,18 @@ def detect(doc) -> FileUnits:
 
 
 _LEAF = (str, int, float, bool)
+_PLANS: dict = {}  # type -> its fields in walk order (reversed, for the stack), or ()
+
+
+def _plan(t) -> tuple:
+    """The fields of a record type to walk; () for a leaf record: a Span (line and
+    column numbers, half the nodes of a parsed file) never holds a unit."""
+    from .source import Span
+
+    fields = getattr(t, "_fields", None)
+    plan = () if not fields or issubclass(t, Span) else tuple(reversed(fields))
+    _PLANS[t] = plan
+    return plan
 
 
 def _units(root, limit: int = 200):
@@ -56,6 +68,7 @@ def _units(root, limit: int = 200):
     out: list[str] = []
     stack = [(root, 0)]
     pop, push = stack.pop, stack.append
+    plans = _PLANS
     while stack:
         node, depth = pop()
         if depth < 0:
@@ -67,10 +80,11 @@ def _units(root, limit: int = 200):
             for x in reversed(node):
                 push((x, depth + 1))
             continue
-        fields = getattr(type(node), "_fields", None)
-        if not fields:
-            continue
-        for f in reversed(fields):
+        t = type(node)
+        fields = plans.get(t)
+        if fields is None:
+            fields = _plan(t)
+        for f in fields:
             v = getattr(node, f, None)
             if f == "unit" and isinstance(v, str):
                 push((v, -1))  # a unit string: yielded in order when popped
