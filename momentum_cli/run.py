@@ -269,9 +269,11 @@ def _solve_job(job):
     With a `render` (the job's last item), a report is shipped as `Rendered` text."""
     source, solve_all, sig, precision, overrides, units, sensitivity, render = job
     try:
-        res = solve_source(source, solve_all, sig, precision, overrides, units, sensitivity)
-        if render is not None and res.report is not None:
-            res.report = Rendered(render(res.report), list(res.report.checks))
+        with _NoCyclicGC():  # the report's text too: collected once it is all freed
+            res = solve_source(source, solve_all, sig, precision, overrides, units,
+                               sensitivity)
+            if render is not None and res.report is not None:
+                res.report = Rendered(render(res.report), list(res.report.checks))
         return res
     except ModuleNotFoundError as exc:  # the installation, not momentum, is broken
         return FileResult(source.name, "internal", None, None, [Diagnostic(
