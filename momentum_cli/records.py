@@ -129,34 +129,36 @@ def _specialise(cls, generic, fields, defaults, factories, frozen: bool) -> None
     """Give `cls` a compiled __init__ equal to the generic one (same parameters, same
     defaults and factories, fields set in order; frozen records through their slot
     descriptors). Left generic if anything is unusual (a field that is not a slot)."""
-    if cls.__dict__.get("__init__") is not generic or "self" in fields:
-        return
-    env: dict = {"_MISS": _MISS, "_cls": cls}
+    if cls.__dict__.get("__init__") is not generic or \
+            any(f == "self" or f.startswith("_rec_") for f in fields):
+        return  # a field name that could meet the generated code's own names
+    env: dict = {"_rec_MISS": _MISS, "_rec_cls": cls}
     params, body = [], []
     optional = False
     for i, f in enumerate(fields):
         if f in defaults or f in factories:
             optional = True
-            params.append(f"{f}=_MISS")
+            params.append(f"{f}=_rec_MISS")
             if f in defaults:
-                env[f"_d{i}"] = defaults[f]
-                body.append(f"    if {f} is _MISS: {f} = _d{i}")
+                env[f"_rec_d{i}"] = defaults[f]
+                body.append(f"    if {f} is _rec_MISS: {f} = _rec_d{i}")
             else:
-                env[f"_f{i}"] = factories[f]
-                body.append(f"    if {f} is _MISS: {f} = _f{i}()")
+                env[f"_rec_f{i}"] = factories[f]
+                body.append(f"    if {f} is _rec_MISS: {f} = _rec_f{i}()")
         elif optional:  # a required field after a defaulted one (inherited fields)
-            params.append(f"{f}=_MISS")
-            body.append(f"    if {f} is _MISS: raise TypeError("
-                        f"_cls.__name__ + \"() missing argument '{f}'\")")
+            params.append(f"{f}=_rec_MISS")
+            body.append(f"    if {f} is _rec_MISS: raise TypeError("
+                        f"_rec_cls.__name__ + \"() missing argument '{f}'\")")
         else:
             params.append(f)
+    direct = not frozen and cls.__setattr__ is object.__setattr__
     for i, f in enumerate(fields):
-        if frozen:
+        if not direct:  # set as object.__setattr__ does, past the class's own __setattr__
             slot = next((b.__dict__[f] for b in cls.__mro__ if f in b.__dict__), None)
             if slot is None or not hasattr(slot, "__set__") or isinstance(slot, property):
                 return
-            env[f"_s{i}"] = slot.__set__
-            body.append(f"    _s{i}(self, {f})")
+            env[f"_rec_s{i}"] = slot.__set__
+            body.append(f"    _rec_s{i}(self, {f})")
         else:
             body.append(f"    self.{f} = {f}")
     src = f"def __init__(self, {', '.join(params)}):\n" + "\n".join(body or ["    pass"])
