@@ -428,16 +428,59 @@ def lstsq_small(J: list[list[float]], r: list[float]) -> list[float]:
         if J[0][0] != 0.0:
             return [r[0] / J[0][0]]
     elif len(J) == len(J[0]) and n <= SMALL:
-        rows = [{j: v for j, v in enumerate(row) if v != 0.0} for row in J]
-        A, b, _, c = equilibrate(rows, r, n)
-        try:
-            y, _ = _gauss_jordan(A, b, n)
-            return [y[j] / c[j] for j in range(n)]
-        except SingularError:
-            pass
+        x = _step_dense(J, r, n)
+        if x is not None:
+            return x
     import numpy as np
 
     return [float(v) for v in np.linalg.lstsq(np.array(J), np.array(r), rcond=None)[0]]
+
+
+def _step_dense(J: list[list[float]], r: list[float], n: int) -> list[float] | None:
+    """lstsq_small's square solve: `equilibrate` then `_gauss_jordan` on the dense rows,
+    the very same float operations in the same order (bit-identical x; None where
+    _gauss_jordan raises SingularError), without building sparse rows: Newton takes
+    thousands of these steps on 3- and 5-unknown blocks."""
+    R = []
+    for row in J:  # row scales: the largest nonzero entry (equilibrate)
+        vals = [abs(v) for v in row if v != 0.0]
+        R.append(_pow2(max(vals)) if vals else 1.0)
+    C = [0.0] * n
+    for i, row in enumerate(J):
+        ri = R[i]
+        for j, v in enumerate(row):
+            if v != 0.0:
+                a = abs(v) / ri
+                if a > C[j]:
+                    C[j] = a
+    C = [_pow2(x) for x in C]
+    A = [[v / R[i] / C[j] if v != 0.0 else 0.0 for j, v in enumerate(row)]
+         for i, row in enumerate(J)]
+    norm1 = max((sum(abs(A[i][j]) for i in range(n)) for j in range(n)), default=0.0)
+    M = [A[i] + [r[i] / R[i]] + [1.0 if k == i else 0.0 for k in range(n)] for i in range(n)]
+    for col in range(n):  # Gauss-Jordan with partial pivoting on [A | b | I]
+        piv, best = col, abs(M[col][col])
+        for i in range(col + 1, n):
+            a = abs(M[i][col])
+            if a > best:  # max(): the first of equal magnitudes
+                piv, best = i, a
+        if M[piv][col] == 0.0:
+            return None
+        M[col], M[piv] = M[piv], M[col]
+        p = M[col][col]
+        rowp = [x / p for x in M[col]]
+        M[col] = rowp
+        for i in range(n):
+            if i != col:
+                Mi = M[i]
+                f = Mi[col]
+                if f != 0.0:
+                    M[i] = [a - f * b for a, b in zip(Mi, rowp)]
+    inv_norm1 = max(sum(abs(M[i][n + 1 + j]) for i in range(n)) for j in range(n))
+    cond = norm1 * inv_norm1
+    if not math.isfinite(cond) or cond > SINGULAR_COND:
+        return None
+    return [M[j][n] / C[j] for j in range(n)]
 
 
 # ---- rank-revealing elimination: structure and numbers agree ---------------------------------

@@ -4,7 +4,9 @@ In: `E` trees (a block's residuals, its Jacobian). Out: a function of the values
 returning their values, computed by the very operations `expr.evaluate` performs
 (math.fsum of each sum, products from 1.0 left to right, `**`, the same math
 functions), so every float is bit-identical; a tree walk per evaluation is replaced
-by one call. Trees too deep for Python's compiler are not lowered (None).
+by one call. Trees too deep for Python's compiler are not lowered (None). The source
+names constants, never prints them, so the same shape of block (a variant of a file in
+a batch, a regime tried again) reuses its compiled code.
 """
 from __future__ import annotations
 
@@ -13,6 +15,9 @@ import math
 from .expr import FUNCS, Add, Const, Fn, Known, Mul, Pow, Var
 
 MAX_DEPTH = 60  # nesting Python's parser and compiler take comfortably
+CACHE_SIZE = 256  # compiled sources kept (compile() is ~0.5 ms for a small block)
+CACHE_CHARS = 20_000  # longer sources (large blocks) are compiled each time
+_CODE: dict = {}
 
 
 class _TooDeep(Exception):
@@ -75,7 +80,19 @@ def lower(rows):
         return None
     code = f"def _lowered(v):\n    return [{body}]\n"
     try:
-        exec(compile(code, "<lowered>", "exec"), w.ns)
+        exec(_compiled(code), w.ns)
     except (RecursionError, MemoryError, SyntaxError):
         return None
     return w.ns["_lowered"]
+
+
+def _compiled(code: str):
+    """compile(code), from the cache when this source was compiled before."""
+    obj = _CODE.get(code)
+    if obj is None:
+        obj = compile(code, "<lowered>", "exec")
+        if len(code) <= CACHE_CHARS:
+            if len(_CODE) >= CACHE_SIZE:
+                _CODE.clear()
+            _CODE[code] = obj
+    return obj

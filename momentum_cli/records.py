@@ -5,6 +5,8 @@ with ~70 classes that was a sixth of a one-shot solve. A record has slots, keywo
 positional construction, defaults (and `field(default_factory=...)`), a repr,
 field-wise equality, and optional immutability (`frozen=True` raises
 `dataclasses.FrozenInstanceError` on assignment, as a frozen dataclass does).
+A class constructed often (HOT times) then gets a compiled `__init__` (one small
+`exec`, ~5x faster per call): many files in one run build ~10^2 records each.
 """
 from __future__ import annotations
 
@@ -42,6 +44,8 @@ def _is_field(v) -> bool:
 
     dc = sys.modules.get("dataclasses")  # a dataclasses.field() also works
     return dc is not None and isinstance(v, dc.Field)
+
+HOT = 64  # constructions of a class after which its __init__ is compiled
 
 
 def record(cls=None, *, frozen: bool = False, identity: bool = False):
@@ -87,8 +91,12 @@ def _build(cls, frozen: bool, identity: bool):
     n = len(all_fields)
     setter = object.__setattr__
     new_cls: list = []
+    calls = [0]
 
     def __init__(self, *args, **kw):
+        calls[0] += 1
+        if calls[0] == HOT:
+            _specialise(new_cls[0], __init__, all_fields, defaults, factories, frozen)
         if not kw and len(args) == n:  # the common call: every field, in order
             for name, v in zip(all_fields, args):
                 setter(self, name, v)
@@ -149,3 +157,49 @@ def _build(cls, frozen: bool, identity: bool):
     new.__module__ = cls.__module__
     new_cls.append(new)
     return new
+
+
+_MISS = object()  # an argument not given (compiled __init__)
+
+
+def _specialise(cls, generic, fields, defaults, factories, frozen: bool) -> None:
+    """Give `cls` a compiled __init__ equal to the generic one (same parameters, same
+    defaults and factories, fields set in order; frozen records through their slot
+    descriptors). Left generic if anything is unusual (a field that is not a slot)."""
+    if cls.__dict__.get("__init__") is not generic or \
+            any(f == "self" or f.startswith("_rec_") for f in fields):
+        return  # a field name that could meet the generated code's own names
+    env: dict = {"_rec_MISS": _MISS, "_rec_cls": cls}
+    params, body = [], []
+    optional = False
+    for i, f in enumerate(fields):
+        if f in defaults or f in factories:
+            optional = True
+            params.append(f"{f}=_rec_MISS")
+            if f in defaults:
+                env[f"_rec_d{i}"] = defaults[f]
+                body.append(f"    if {f} is _rec_MISS: {f} = _rec_d{i}")
+            else:
+                env[f"_rec_f{i}"] = factories[f]
+                body.append(f"    if {f} is _rec_MISS: {f} = _rec_f{i}()")
+        elif optional:  # a required field after a defaulted one (inherited fields)
+            params.append(f"{f}=_rec_MISS")
+            body.append(f"    if {f} is _rec_MISS: raise TypeError("
+                        f"_rec_cls.__name__ + \"() missing argument '{f}'\")")
+        else:
+            params.append(f)
+    direct = not frozen and cls.__setattr__ is object.__setattr__
+    for i, f in enumerate(fields):
+        if not direct:  # set as object.__setattr__ does, past the class's own __setattr__
+            slot = next((b.__dict__[f] for b in cls.__mro__ if f in b.__dict__), None)
+            if slot is None or not hasattr(slot, "__set__") or isinstance(slot, property):
+                return
+            env[f"_rec_s{i}"] = slot.__set__
+            body.append(f"    _rec_s{i}(self, {f})")
+        else:
+            body.append(f"    self.{f} = {f}")
+    src = f"def __init__(self, {', '.join(params)}):\n" + "\n".join(body or ["    pass"])
+    exec(src, env)  # noqa: S102 (generated from the field names, nothing else)
+    fast = env["__init__"]
+    fast.__qualname__ = f"{cls.__qualname__}.__init__"
+    cls.__init__ = fast

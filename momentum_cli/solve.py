@@ -893,6 +893,7 @@ def _singular(eqs, names, cond=None, exact=False) -> ProblemError:
 
 
 SPREAD = (0.7, -0.7, 2.0, -2.0, 0.3, -1.3, 1.1, -0.4)
+DEDUPE_STARTS = True  # Newton runs once from each distinct start (False: from every one)
 
 
 def _starts(system: System, names: list[str], values, eqs=()) -> list[list[float]]:
@@ -954,7 +955,12 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
     J = [[diff(f, n) for n in names] for f in F]
     lowered = (lower([F]), lower(J))  # one call per evaluation, the same floats
     roots = []
+    tried = set()  # a start met again (hinted unknowns repeat theirs) ends where it did
     for x0 in _starts(system, names, values, eqs):
+        key = tuple((v, math.copysign(1.0, v)) for v in x0)
+        if key in tried and DEDUPE_STARTS:
+            continue
+        tried.add(key)
         r = _newton_from(F, J, names, values, x0, lowered)
         if r is None:
             continue

@@ -47,33 +47,60 @@ def detect(doc) -> FileUnits:
 
 
 _LEAF = (str, int, float, bool)
+_SEQ = ("<seq>",)  # the plan of a list or tuple: its items
+_PLANS: dict = {}  # type -> () (nothing inside), _SEQ, or its fields [(name, is unit)]
+
+
+def _plan(t) -> tuple:
+    """What the walk looks at in a node of type `t`, decided once per type as the walk
+    always did per node: a leaf (str, int, float, bool and their subclasses, None)
+    nothing; a list or tuple its items; a record its fields, in reverse for the stack.
+    A Span (line and column numbers, half the nodes of a parsed file) never holds a
+    unit: nothing."""
+    from .source import Span
+
+    if t is type(None) or issubclass(t, _LEAF):
+        plan: tuple = ()
+    elif issubclass(t, (list, tuple)):
+        plan = _SEQ
+    else:
+        fields = getattr(t, "_fields", None)
+        plan = () if not fields or issubclass(t, Span) else \
+            tuple((f, f == "unit") for f in reversed(fields))
+    _PLANS[t] = plan
+    return plan
 
 
 def _units(root, limit: int = 200):
     """Every `unit` string in the syntax tree (records, lists and tuples of them), nodes
     deeper than `limit` skipped; a walk with its own stack (a generator per node made a
-    10^4-ball file's walk cost 0.45 s)."""
+    10^4-ball file's walk cost 0.45 s), one plan lookup per node."""
     out: list[str] = []
     stack = [(root, 0)]
     pop, push = stack.pop, stack.append
+    plans = _PLANS
     while stack:
         node, depth = pop()
         if depth < 0:
             out.append(node)
             continue
-        if depth > limit or node is None or isinstance(node, _LEAF):
+        if depth > limit:
             continue
-        if isinstance(node, (list, tuple)):
+        t = type(node)
+        plan = plans.get(t)
+        if plan is None:
+            plan = _plan(t)
+        if not plan:
+            continue
+        depth += 1
+        if plan is _SEQ:
             for x in reversed(node):
-                push((x, depth + 1))
+                push((x, depth))
             continue
-        fields = getattr(type(node), "_fields", None)
-        if not fields:
-            continue
-        for f in reversed(fields):
+        for f, is_unit in plan:
             v = getattr(node, f, None)
-            if f == "unit" and isinstance(v, str):
+            if is_unit and isinstance(v, str):
                 push((v, -1))  # a unit string: yielded in order when popped
-            elif v is not None and not isinstance(v, _LEAF):
-                push((v, depth + 1))
+            elif v is not None:
+                push((v, depth))
     return out

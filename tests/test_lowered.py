@@ -55,3 +55,19 @@ def test_zero_factor_hides_partners_and_deep_trees_fall_back():
     for _ in range(MAX_DEPTH + 5):
         deep = Fn("sin", deep)
     assert lower([[deep]]) is None
+
+
+def test_same_shape_reuses_compiled_code_with_its_own_constants():
+    """Two blocks of one shape (a variant of a file) share compiled code, never constants."""
+    from momentum_cli import lowered
+
+    def tree(m, e):
+        x, y = Var("x"), Var("y")
+        return [[Add((Mul((Const(m), x)), Mul((Const(-e), Pow(y, 2.0))), Fn("cos", x)))]]
+
+    env = {"x": 0.3, "y": -1.7}
+    a, b = lower(tree(2.5, 0.5)), lower(tree(3.5, 0.9))
+    assert len(lowered._CODE) >= 1
+    for (m, e), f in (((2.5, 0.5), a), ((3.5, 0.9), b)):
+        assert _same(f(env), [[evaluate(tree(m, e)[0][0], env)]])
+    assert a.__code__ is b.__code__

@@ -1,0 +1,94 @@
+"""A record's compiled __init__ (records.HOT constructions on) builds the same objects,
+and refuses the same bad calls, as the generic one it replaces."""
+from dataclasses import FrozenInstanceError, field
+
+import pytest
+
+from momentum_cli import records
+from momentum_cli.records import record
+
+
+def _classes():
+    """Fresh classes of every shape: required, defaulted, factory, frozen, inherited
+    (a required field after a defaulted one)."""
+    @record
+    class Plain:
+        a: int
+        b: str
+        c: float = 1.5
+        d: list = field(default_factory=list)
+
+    @record(frozen=True)
+    class Frozen:
+        x: int
+        y: tuple = ()
+
+    @record
+    class Base:
+        p: int
+        q: int = 7
+
+    @record
+    class Child(Base):
+        r: str
+
+    return Plain, Frozen, Base, Child
+
+
+CALLS = [  # (class index, args, kwargs)
+    (0, (1, "s"), {}), (0, (1, "s", 2.5), {}), (0, (1,), {"b": "t", "d": [1]}),
+    (0, (), {"a": 3, "b": "u", "c": 0.0}), (0, (1, "s", 2.0, [9]), {}),
+    (1, (4,), {}), (1, (4, (1, 2)), {}), (1, (), {"x": 5}),
+    (2, (1,), {}), (2, (1, 2), {}), (3, (1, 2, "r"), {}), (3, (1,), {"r": "z"}),
+]
+BAD = [(0, (), {}), (0, (1, "s", 1.0, [], 5), {}), (0, (1, "s"), {"e": 1}),
+       (1, (), {}), (3, (1,), {}), (3, (1, 2), {"q": 3, "r": "x"})]
+
+
+def _build(cls_index, args, kw):
+    classes = _classes()
+    return classes, classes[cls_index](*args, **kw)
+
+
+def _compiled(classes):
+    for cls in classes:  # pass the threshold with a valid call of each class
+        generic = cls.__init__
+        for _ in range(records.HOT):
+            cls(1, "s") if cls.__name__ == "Plain" else cls(1, 2, "r") \
+                if cls.__name__ == "Child" else cls(1)
+        assert cls.__init__ is not generic
+    return classes
+
+
+@pytest.mark.parametrize("case", CALLS)
+def test_compiled_init_builds_the_same_record(case):
+    i, args, kw = case
+    _, slow = _build(i, args, kw)
+    classes = _compiled(_classes())
+    fast = classes[i](*args, **kw)
+    assert repr(fast) == repr(slow)
+    assert [getattr(fast, f) for f in fast._fields] == [getattr(slow, f) for f in slow._fields]
+
+
+def test_factories_give_a_new_object_each_time():
+    Plain = _compiled(_classes())[0]
+    a, b = Plain(1, "s"), Plain(1, "s")
+    assert a.d == [] and a.d is not b.d
+
+
+def test_frozen_stays_frozen():
+    Frozen = _compiled(_classes())[1]
+    r = Frozen(3)
+    with pytest.raises(FrozenInstanceError):
+        r.x = 4
+    assert hash(r) == hash(Frozen(3)) and r == Frozen(3)
+
+
+@pytest.mark.parametrize("case", BAD)
+def test_compiled_init_refuses_the_same_calls(case):
+    i, args, kw = case
+    with pytest.raises(TypeError):
+        _build(i, args, kw)
+    classes = _compiled(_classes())
+    with pytest.raises(TypeError):
+        classes[i](*args, **kw)
