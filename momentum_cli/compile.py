@@ -391,7 +391,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if p is None or p.body is None:
             return V2(ZERO, ZERO)
         r = self.arm(p, sid, normal, sign)
-        return self.vel(p.body, sid) + omega_cross(self.sv(p.body, "omega", sid), r)
+        v = self.vel(p.body, sid)  # first: the order unknowns are made in is the columns'
+        w = self.sv(p.body, "omega", sid)
+        if w is ZERO and _plain_const(r.x) and _plain_const(r.y):
+            return v  # a particle: w x r folds to zeros, and v + 0 is v
+        return v + omega_cross(w, r)
 
     def point_position(self, p: PointOn | None, sid: str) -> V2:
         if p is None:
@@ -792,6 +796,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return f"angular momentum is conserved about {points.pop()} (all external impulses " \
                    "act there)"
         return "no point is free of external angular impulse"
+
+def _plain_const(e: E) -> bool:
+    """A float constant (not a sweep's traced number, whose zero products are kept)."""
+    return type(e) is Const and type(e.value) is float
+
 
 def _unit(v) -> tuple[float, float]:
     n = math.hypot(v[0], v[1])
