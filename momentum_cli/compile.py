@@ -197,7 +197,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self.regimes = regimes
         self.unknowns: dict[str, Unknown] = {}
         self.equations: list[Equation] = []
-        self._seen: set[str] = set()
+        self._seen: set[str] = set()  # principle|text of each equation (see `eq`)
+        self._by_principle: dict | None = {}  # principle -> its equation, or their texts
         self.notes = Collector(list(scene.notes.items))
         self.friction: list[FrictionSite] = []
         self.invalid: list[tuple[Span, str]] = []
@@ -408,13 +409,37 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def eq(self, lhs: E, rhs: E, principle: str, group: str, span: Span | None,
            kind: EquationKind = EquationKind.AUTO) -> Equation | None:
         e = Equation(lhs, rhs, principle, group, span, kind)
-        key = principle + "|" + e.text()
-        if key in self._seen:
-            return None
-        self._seen.add(key)
+        if self._by_principle is not None and "|" in principle:
+            self._seen_by_key()
+        if self._by_principle is not None:
+            # a repeat has the same principle and prints the same: print an equation
+            # only when its principle is seen again (most are unique: it names a body)
+            same = self._by_principle.get(principle)
+            if same is None:
+                self._by_principle[principle] = e
+            else:
+                if type(same) is Equation:
+                    same = self._by_principle[principle] = {same.text()}
+                t = e.text()
+                if t in same:
+                    return None
+                same.add(t)
+        else:
+            key = principle + "|" + e.text()
+            if key in self._seen:
+                return None
+            self._seen.add(key)
         e.index = len(self.equations)
         self.equations.append(e)
         return e
+
+    def _seen_by_key(self) -> None:
+        """From now on, repeats by `principle|text` (a principle with a `|` in it could
+        meet another's text there: the keys decide, as they always did)."""
+        for principle, same in self._by_principle.items():
+            for t in ([same.text()] if type(same) is Equation else same):
+                self._seen.add(principle + "|" + t)
+        self._by_principle = None
 
     # ---- the compile ------------------------------------------------------------------------------
     def run(self) -> System:

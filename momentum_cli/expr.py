@@ -256,8 +256,10 @@ def evaluate(e: E, values: dict[str, float]) -> float:
         return e.value
     if t is Var:
         return values[e.name]
-    if t is Add:
-        return math.fsum(evaluate(x, values) for x in e.terms)
+    if t is Add:  # leaves inline: this walk runs over every equation and answer
+        return math.fsum([x.value if type(x) is Const or type(x) is Known else
+                          values[x.name] if type(x) is Var else evaluate(x, values)
+                          for x in e.terms])
     if t is Mul:
         fs = e.factors
         for f in fs:  # a zero known factor hides its partners (as in `variables`)
@@ -265,7 +267,9 @@ def evaluate(e: E, values: dict[str, float]) -> float:
                 return 0.0
         r = 1.0
         for f in fs:
-            r *= evaluate(f, values)
+            tf = type(f)
+            r *= f.value if tf is Const or tf is Known else \
+                values[f.name] if tf is Var else evaluate(f, values)
         return r
     if t is Pow:
         return evaluate(e.base, values) ** e.exp
@@ -388,7 +392,7 @@ def affine(e: E, block: set[str], values: dict[str, float]) -> tuple[dict[str, f
     Unknowns outside the block take their solved value from `values`.
     Raises NonLinear if `e` is not affine in the block.
     """
-    return _affine(e, block, values, _Reals)
+    return _affine_float(e, block, values)
 
 
 def affine_exact(e: E, block: set[str], values: dict) -> tuple[dict[str, Fraction], Fraction]:
@@ -437,6 +441,73 @@ def _affine(e: E, block: set[str], values: dict, num) -> tuple[dict, object]:
     if c:
         raise NonLinear()
     return {}, num.fn(e.name, k)
+
+
+def _affine_float(e: E, block: set[str], values: dict) -> tuple[dict, object]:
+    """`_affine` with `_Reals`, the same operations in the same order (the same floats,
+    signed zeros included), with the leaves handled inline: a big block's rows are
+    formed ~2x faster (tests/test_fast_walks.py compares the two)."""
+    t = type(e)
+    if t is Const or t is Known:
+        return {}, e.value
+    if t is Var:
+        if e.name in block:
+            return {e.name: 1.0}, 0.0
+        return {}, values[e.name]
+    if t is Add:
+        coef: dict = {}
+        const = 0.0
+        for x in e.terms:
+            tx = type(x)
+            if tx is Var:
+                if x.name in block:
+                    const += 0.0
+                    coef[x.name] = coef.get(x.name, 0.0) + 1.0
+                else:
+                    const += values[x.name]
+                continue
+            if tx is Const or tx is Known:
+                const += x.value
+                continue
+            c, k = _affine_float(x, block, values)
+            const += k
+            for n, v in c.items():
+                coef[n] = coef.get(n, 0.0) + v
+        return coef, const
+    if t is Mul:
+        fs = e.factors
+        for f in fs:
+            tf = type(f)
+            if (tf is Const or tf is Known) and f.value == 0.0 and not keeps(f.value):
+                return {}, 0.0
+        coef, const = {}, 1.0
+        for f in fs:
+            tf = type(f)
+            if tf is Const or tf is Known:
+                k = f.value
+                coef = {n: v * k for n, v in coef.items()} if coef else {}
+                const *= k
+                continue
+            if tf is Var:
+                if f.name in block:
+                    c, k = {f.name: 1.0}, 0.0
+                else:
+                    k = values[f.name]
+                    coef = {n: v * k for n, v in coef.items()} if coef else {}
+                    const *= k
+                    continue
+            else:
+                c, k = _affine_float(f, block, values)
+            if c and coef:
+                raise NonLinear()
+            if c:
+                coef = {n: v * const for n, v in c.items()}
+                const = k * const
+            else:
+                coef = {n: v * k for n, v in coef.items()} if coef else {}
+                const *= k
+        return coef, const
+    return _affine(e, block, values, _Reals)
 
 
 def magnitude(e: E, values: dict[str, float]) -> float:
