@@ -335,15 +335,24 @@ def variables(e: E, out: set | None = None) -> set[str]:
     t = type(e)
     if t is Var:
         out.add(e.name)
-    elif t is Add:
+    elif t is Add:  # leaves inline: the analysis walks every equation
         for x in e.terms:
-            variables(x, out)
+            tx = type(x)
+            if tx is Var:
+                out.add(x.name)
+            elif tx is not Const and tx is not Known:
+                variables(x, out)
     elif t is Mul:
-        for f in e.factors:
+        fs = e.factors
+        for f in fs:
             if (type(f) is Const or type(f) is Known) and f.value == 0.0:
                 return out
-        for f in e.factors:
-            variables(f, out)
+        for f in fs:
+            tf = type(f)
+            if tf is Var:
+                out.add(f.name)
+            elif tf is not Const and tf is not Known:
+                variables(f, out)
     elif t is Pow:
         variables(e.base, out)
     elif t is Fn:

@@ -1,0 +1,256 @@
+"""The expression walks with leaves handled inline (expr.affine, evaluate, variables;
+bounds.derivatives, term_size) give bit-for-bit what the plain recursive walks give, and
+the compiler's repeat test (`_Compiler.eq`) decides as the `principle|text` keys did.
+
+The reference walks below are the plain recursions the fast ones replaced, written
+out again here: every equation, answer and alternative form of every example and of
+some generated chains is walked both ways, at the solved values, with the block of
+each equation, every unknown, and none as the affine block. Floats are compared by
+repr (signed zeros count)."""
+from __future__ import annotations
+
+import math
+
+import pytest
+from conftest import EXAMPLES
+
+from momentum_cli import bounds
+from momentum_cli.bench import chain_text
+from momentum_cli.compile import _Compiler
+from momentum_cli.diagnostics import ProblemError
+from momentum_cli.expr import (
+    FUNCS,
+    Add,
+    Const,
+    Fn,
+    Known,
+    Mul,
+    NonLinear,
+    Pow,
+    Var,
+    _affine,
+    _Reals,
+    affine,
+    evaluate,
+    is_zero,
+    variables,
+)
+from momentum_cli.scene import build
+from momentum_cli.solve import solve_scene
+from momentum_cli.source import Source
+from momentum_cli.syntax import parse
+
+
+# ---- the plain walks ----------------------------------------------------------------------
+def ref_evaluate(e, values):
+    t = type(e)
+    if t is Const or t is Known:
+        return e.value
+    if t is Var:
+        return values[e.name]
+    if t is Add:
+        return math.fsum(ref_evaluate(x, values) for x in e.terms)
+    if t is Mul:
+        for f in e.factors:
+            if (type(f) is Known or type(f) is Const) and f.value == 0.0:
+                return 0.0
+        r = 1.0
+        for f in e.factors:
+            r *= ref_evaluate(f, values)
+        return r
+    if t is Pow:
+        return ref_evaluate(e.base, values) ** e.exp
+    return float(FUNCS[e.name](ref_evaluate(e.arg, values)))
+
+
+def ref_variables(e, out=None):
+    out = set() if out is None else out
+    t = type(e)
+    if t is Var:
+        out.add(e.name)
+    elif t is Add:
+        for x in e.terms:
+            ref_variables(x, out)
+    elif t is Mul:
+        for f in e.factors:
+            if (type(f) is Const or type(f) is Known) and f.value == 0.0:
+                return out
+        for f in e.factors:
+            ref_variables(f, out)
+    elif t is Pow:
+        ref_variables(e.base, out)
+    elif t is Fn:
+        ref_variables(e.arg, out)
+    return out
+
+
+def ref_grad(e, w, values, out):
+    t = type(e)
+    if t is Var:
+        out[e.name] = out.get(e.name, 0.0) + w
+    elif t is Add:
+        for x in e.terms:
+            ref_grad(x, w, values, out)
+    elif t is Mul:
+        fs = e.factors
+        if any(is_zero(f) for f in fs):
+            return
+        vals = [ref_evaluate(f, values) for f in fs]
+        for i, f in enumerate(fs):
+            if type(f) is Const or type(f) is Known:
+                continue
+            k = w
+            for j, v in enumerate(vals):
+                if j != i:
+                    k *= v
+            ref_grad(f, k, values, out)
+    elif t is Pow:
+        if type(e.base) is not Const and type(e.base) is not Known:
+            ref_grad(e.base, w * e.exp * ref_evaluate(e.base, values) ** (e.exp - 1.0), values,
+                     out)
+    elif t is Fn:
+        if type(e.arg) is not Const and type(e.arg) is not Known:
+            a = ref_evaluate(e.arg, values)
+            d = {"sin": lambda: math.cos(a), "cos": lambda: -math.sin(a),
+                 "tan": lambda: 1 / math.cos(a) ** 2, "exp": lambda: math.exp(a),
+                 "asin": lambda: 1 / math.sqrt(1 - a * a),
+                 "acos": lambda: -1 / math.sqrt(1 - a * a), "atan": lambda: 1 / (1 + a * a),
+                 "ln": lambda: 1 / a, "log": lambda: 1 / a,
+                 "abs": lambda: math.copysign(1.0, a)}[e.name]()
+            ref_grad(e.arg, w * d, values, out)
+
+
+def ref_derivatives(e, values):
+    out: dict = {}
+    try:
+        ref_grad(e, 1.0, values, out)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return {v: math.inf for v in ref_variables(e)}
+    return out
+
+
+def ref_term_size(e, values):
+    t = type(e)
+    if t is Const or t is Known:
+        return abs(e.value)
+    if t is Var:
+        return abs(values[e.name])
+    if t is Add:
+        return sum(ref_term_size(x, values) for x in e.terms)
+    if t is Mul:
+        if any(is_zero(f) for f in e.factors):
+            return 0.0
+        r = 1.0
+        for f in e.factors:
+            r *= ref_term_size(f, values)
+        return r
+    if t is Pow:
+        if e.exp > 0:
+            return ref_term_size(e.base, values) ** e.exp
+        return abs(ref_evaluate(e, values))
+    v = abs(ref_evaluate(e, values))
+    try:
+        slope = bounds._fn_slope(e, values)
+    except (ValueError, ZeroDivisionError, OverflowError):
+        return v
+    return max(v, slope * ref_term_size(e.arg, values))
+
+
+# ---- comparing ----------------------------------------------------------------------------
+def outcome(f, *args):
+    """f's result with floats as repr (signed zeros, nan), or the exception's type."""
+    try:
+        return _reprs(f(*args))
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError, NonLinear) as exc:
+        return type(exc).__name__
+
+
+def _reprs(x):
+    if isinstance(x, float):
+        return repr(x)
+    if isinstance(x, dict):
+        return [(k, _reprs(v)) for k, v in x.items()]  # the order counts too
+    if isinstance(x, (tuple, list)):
+        return [_reprs(v) for v in x]
+    if isinstance(x, set):
+        return sorted(x)
+    return x
+
+
+def walks_agree(e, values, blocks) -> None:
+    assert outcome(evaluate, e, values) == outcome(ref_evaluate, e, values)
+    assert list(variables(e)) == list(ref_variables(e))  # the same insertion order
+    assert outcome(bounds.derivatives, e, values) == outcome(ref_derivatives, e, values)
+    assert outcome(bounds.term_size, e, values) == outcome(ref_term_size, e, values)
+    for block in blocks:
+        assert outcome(affine, e, block, values) == \
+            outcome(_affine, e, block, values, _Reals), (block, e)
+
+
+def scenes():
+    for path in sorted(EXAMPLES.glob("*.mom")):
+        yield path.name, path.read_text(encoding="utf-8")
+    for n in (2, 5, 30):
+        yield f"chain {n}", chain_text(n)
+
+
+@pytest.mark.parametrize("name,text", [pytest.param(n, t, id=n) for n, t in scenes()])
+def test_fast_walks_equal_plain_walks(name, text):
+    try:
+        sol = solve_scene(build(parse(Source(name, text))))
+    except ProblemError:
+        pytest.skip("the example is an error case")
+    system, values = sol.system, sol.values
+    everything = set(system.unknowns)
+    of_block = {k: set(b.unknowns) for b in sol.structure.blocks for k in b.equations}
+    exprs = [(e.residual, of_block.get(e.index, set())) for e in system.equations]
+    exprs += [(f.expr, set()) for f in system.finds]
+    exprs += [(f.alt, set()) for f in system.finds if f.alt is not None]
+    partial = dict(list(values.items())[: len(values) // 2])  # some unknowns missing
+    for e, block in exprs:
+        walks_agree(e, values, [block, everything, set()])
+        walks_agree(e, partial, [block])
+
+
+def test_fast_walks_corner_cases():
+    x, y = Var("x"), Var("y")
+    values = {"x": -0.0, "y": 3.0}
+    cases = [
+        Add((Const(0.0), x, Mul((Const(-1.0), x)))),  # cancels to a signed zero
+        Mul((Known("m", 2.0), Add((x, Mul((Const(-1.0), y)))))),
+        Mul((Known("k", 0.0), Var("missing"))),  # a zero factor hides a missing value
+        Mul((Var("missing"), Known("k", 0.0))),
+        Mul((x, y)),  # not affine in {x, y}
+        Add((Pow(Add((x, y)), 2.0), Fn("sin", y), Mul((Const(3.0), Fn("cos", x))))),
+        Pow(Const(0.0), -1.0),
+        Add((Var("missing"), Const(1.0))),
+    ]
+    for e in cases:
+        walks_agree(e, values, [{"x"}, {"x", "y"}, set(), {"y"}])
+
+
+def _compiler():
+    return _Compiler(build(parse(Source("c.mom", chain_text(2)))), {})
+
+
+def test_repeat_test_keeps_the_first_of_equal_equations():
+    c = _compiler()
+    x, y = Var("x"), Var("y")
+    assert c.eq(x, y, "p", "g", None) is not None
+    assert c.eq(y, x, "p", "g", None) is not None  # prints differently: kept
+    assert c.eq(x, y, "p", "g", None) is None  # the same principle and text: a repeat
+    assert c.eq(x, y, "q", "g", None) is not None  # another principle: kept
+    assert [e.index for e in c.equations] == [0, 1, 2]
+
+
+def test_repeat_test_with_a_bar_in_a_principle_uses_the_keys():
+    """`principle|text` keys can meet across principles when a principle holds a `|`:
+    from then on the keys decide, with every earlier equation among them."""
+    c = _compiler()
+    x, y = Var("x"), Var("y")
+    assert c.eq(x, y, "p", "g", None) is not None
+    assert c.eq(x, y, "a|b", "g", None) is not None
+    assert c.eq(x, y, "p", "g", None) is None
+    assert c.eq(x, y, "a|b", "g", None) is None
+    assert c.eq(y, x, "p", "g", None) is not None
+    assert len(c.equations) == 3
