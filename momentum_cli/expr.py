@@ -157,15 +157,15 @@ def is_zero(e: E) -> bool:
 
 
 def add(a: E, b: E) -> E:
-    if isinstance(a, Const) and a.value == 0.0 and not keeps(a.value):
+    # exact types, as in `mul` (no node class has subclasses)
+    ta, tb = type(a), type(b)
+    if ta is Const and a.value == 0.0 and not keeps(a.value):
         return b
-    if isinstance(b, Const) and b.value == 0.0 and not keeps(b.value):
+    if tb is Const and b.value == 0.0 and not keeps(b.value):
         return a
-    if isinstance(a, Const) and isinstance(b, Const):
+    if ta is Const and tb is Const:
         return Const(a.value + b.value)
-    ta = a.terms if isinstance(a, Add) else (a,)
-    tb = b.terms if isinstance(b, Add) else (b,)
-    return Add(ta + tb)
+    return Add((a.terms if ta is Add else (a,)) + (b.terms if tb is Add else (b,)))
 
 
 def add_all(terms) -> E:
@@ -205,6 +205,16 @@ def mul(a: E, b: E) -> E:
             return ZERO
         if b.value == 1.0 and not keeps(b.value):
             return a
+    # two factors, neither a product: what the general fold below gives, directly
+    if ta is not Mul and tb is not Mul:
+        if ta is Const:
+            if type(a.value) is float:  # c = 1.0 * a, neither 0 nor 1 (see above)
+                return Mul((Const(a.value), b))
+        elif tb is Const:
+            if type(b.value) is float:
+                return Mul((Const(b.value), a))
+        else:
+            return Mul((a, b))
     fs = (a.factors if ta is Mul else (a,)) + (b.factors if tb is Mul else (b,))
     # keep one leading constant
     c = 1.0

@@ -254,3 +254,77 @@ def test_repeat_test_with_a_bar_in_a_principle_uses_the_keys():
     assert c.eq(x, y, "a|b", "g", None) is None
     assert c.eq(y, x, "p", "g", None) is not None
     assert len(c.equations) == 3
+
+
+# ---- building: mul and add take shortcuts for two plain factors or terms ------------------
+def ref_mul(a, b):
+    """The general fold of `mul` (no shortcut beyond the 0 and 1 of a constant)."""
+    from momentum_cli.expr import ZERO, keeps
+
+    ta, tb = type(a), type(b)
+    if ta is Const:
+        if tb is Const:
+            return Const(a.value * b.value)
+        if a.value == 0.0 and not keeps(a.value):
+            return ZERO
+        if a.value == 1.0 and not keeps(a.value):
+            return b
+    elif tb is Const:
+        if b.value == 0.0 and not keeps(b.value):
+            return ZERO
+        if b.value == 1.0 and not keeps(b.value):
+            return a
+    fs = (a.factors if ta is Mul else (a,)) + (b.factors if tb is Mul else (b,))
+    c = 1.0
+    rest = []
+    for f in fs:
+        if type(f) is Const:
+            c *= f.value
+        else:
+            rest.append(f)
+    if c == 0.0 and not keeps(c):
+        return ZERO
+    if not rest:
+        return Const(c)
+    if c == 1.0 and not keeps(c):
+        return rest[0] if len(rest) == 1 else Mul(tuple(rest))
+    return Mul((Const(c), *rest))
+
+
+def shape(e):
+    t = type(e)
+    if t is Const:
+        return ("C", repr(e.value))
+    if t is Known:
+        return ("K", e.name, repr(e.value))
+    if t is Var:
+        return ("V", e.name)
+    if t is Add:
+        return ("+", *map(shape, e.terms))
+    if t is Mul:
+        return ("*", *map(shape, e.factors))
+    if t is Pow:
+        return ("^", shape(e.base), e.exp)
+    return (e.name, shape(e.arg))
+
+
+def test_mul_and_add_shortcuts_build_the_general_trees():
+    from momentum_cli.expr import add, mul
+
+    x, y = Var("x"), Var("y")
+    nodes = [Const(2.5), Const(1.0), Const(0.0), Const(-0.0), Const(math.nan), Known("m", 3.0),
+             Known("z", 0.0), x, Add((x, y)), Mul((Const(-1.0), x)), Mul((x, y)),
+             Pow(x, 2.0), Fn("sin", y)]
+    for a in nodes:
+        for b in nodes:
+            assert shape(mul(a, b)) == shape(ref_mul(a, b)), (a, b)
+            ta, tb = type(a), type(b)
+            if ta is Const and a.value == 0.0:
+                want = b
+            elif tb is Const and b.value == 0.0:
+                want = a
+            elif ta is Const and tb is Const:
+                want = Const(a.value + b.value)
+            else:
+                want = Add((a.terms if ta is Add else (a,)) + (b.terms if tb is Add else (b,)))
+            assert shape(add(a, b)) == shape(want), (a, b)
