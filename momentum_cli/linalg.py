@@ -351,6 +351,7 @@ class SparseLU:
             del col_rows[j]
             self.steps.append((i, j, ops))
         self.rows = rows
+        self._back = None  # solve's pivot rows, made on the first solve
         self.zero = Fraction(0) if exact else 0.0
         self.conv = conv
 
@@ -361,15 +362,17 @@ class SparseLU:
             if ri:
                 for k, f in ops:
                     rhs[k] -= f * ri
-        x = {}
-        for i, j, _ in reversed(self.steps):
-            row = self.rows[i]
-            s = rhs[i] - sum(v * x[c] for c, v in row.items() if c != j)
-            x[j] = s / row[j]
+        back = self._back
+        if back is None:  # each pivot row without its pivot, in its order (replayed often)
+            back = self._back = [(i, j, [(c, v) for c, v in self.rows[i].items() if c != j],
+                                  self.rows[i][j]) for i, j, _ in reversed(self.steps)]
+        x = [None] * self.n  # every column is some step's pivot
+        for i, j, off, piv in back:
+            x[j] = (rhs[i] - sum([v * x[c] for c, v in off])) / piv
         for k in self.leftover:  # equations beyond n must hold exactly
             if rhs[k] - sum(v * x[c] for c, v in self.rows[k].items()) != 0:
                 raise SingularError(math.inf, exact=True)
-        return [x[j] for j in range(self.n)]
+        return x
 
     def inverse_norm1_estimate(self) -> float:
         """A lower estimate of |A^-1|_1 from a few solves (LINPACK style)."""

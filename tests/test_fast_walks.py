@@ -328,3 +328,41 @@ def test_mul_and_add_shortcuts_build_the_general_trees():
             else:
                 want = Add((a.terms if ta is Add else (a,)) + (b.terms if tb is Add else (b,)))
             assert shape(add(a, b)) == shape(want), (a, b)
+
+
+# ---- the sparse solve's back substitution ---------------------------------------------------
+def ref_lu_solve(lu, b):
+    """SparseLU.solve as it was: pivot rows read from their dicts on every solve."""
+    rhs = [lu.conv(v) for v in b]
+    for i, _j, ops in lu.steps:
+        ri = rhs[i]
+        if ri:
+            for k, f in ops:
+                rhs[k] -= f * ri
+    x = {}
+    for i, j, _ in reversed(lu.steps):
+        row = lu.rows[i]
+        s = rhs[i] - sum(v * x[c] for c, v in row.items() if c != j)
+        x[j] = s / row[j]
+    return [x[j] for j in range(lu.n)]
+
+
+@pytest.mark.parametrize("exact", [False, True])
+def test_sparse_solve_replays_as_before(exact):
+    import random
+
+    from momentum_cli.linalg import SparseLU
+
+    rng = random.Random(7)
+    for n in (1, 5, 40, 200):
+        rows = []
+        for i in range(n):  # a chain with some long-range couplings and a wide scale
+            row = {i: rng.uniform(0.5, 2.0) * 10 ** rng.randint(-8, 8)}
+            for c in (i - 1, i + 1, rng.randrange(n)):
+                if 0 <= c < n and c != i:
+                    row[c] = rng.uniform(-1.0, 1.0) * 10 ** rng.randint(-8, 8)
+            rows.append(row)
+        lu = SparseLU(rows, n, exact=exact)
+        for _ in range(3):
+            b = [rng.uniform(-1.0, 1.0) for _ in range(n)]
+            assert [repr(v) for v in lu.solve(b)] == [repr(v) for v in ref_lu_solve(lu, b)]
