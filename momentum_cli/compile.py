@@ -213,6 +213,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._chains = None  # aliases.StateChains, when the states form simple chains
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
+        self._mass: dict[str, Known] = {}  # the declared masses (no burn or gain)
         self._next: dict[str, list[str]] | None = None  # for holds_at
         self._prev: dict[str, str] | None = None  # for mass
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
@@ -330,8 +331,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def mass(self, body: str, sid: str) -> E:
         """A body's mass at a state: as declared, or what the last burn before it left."""
+        if self.flows is None:  # then masses never change: one node per body
+            hit = self._mass.get(body)
+            if hit is None:
+                hit = self._mass[body] = Known(f"m_{body}", self.scene.bodies[body].mass)
+            return hit
         b = self.scene.bodies[body]
-        if self.flows is None or not self.flows.masses:
+        if not self.flows.masses:
             return Known(f"m_{body}", b.mass)
         seen = {sid}
         cur = sid
