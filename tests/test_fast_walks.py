@@ -367,3 +367,29 @@ def test_sparse_solve_replays_as_before(exact):
             b = [rng.uniform(-1.0, 1.0) for _ in range(n)]
             got, want = lu.solve(b), ref_lu_solve(lu, b)
             assert got == want if exact else [repr(v) for v in got] == [repr(v) for v in want]
+
+
+# ---- one unknown, one equation --------------------------------------------------------------
+def _solved(f, *args):
+    from momentum_cli.linalg import SingularError
+
+    try:
+        x, q = f(*args)
+    except SingularError as exc:
+        return ("singular", repr(exc.cond))
+    return [repr(v) for v in x], [(k, _reprs(getattr(q, k))) for k in q._fields]
+
+
+def test_one_by_one_blocks_solve_as_the_general_path():
+    import random
+
+    from momentum_cli.linalg import solve, solve_rows
+
+    rng = random.Random(11)
+    specials = [0.0, -0.0, 1.0, -1.0, 3.0, 1e-300, -5e-324, 1e300, -1.7e308, 0.1, 2.0**-1074,
+                math.inf, -math.inf, math.nan]
+    values = specials + [rng.uniform(-1, 1) * 10 ** rng.randint(-300, 300) for _ in range(400)]
+    for a in values:
+        for b in rng.sample(values, 12) + [0.0, -0.0, a, -a, a * (1 + 2**-52)]:
+            assert _solved(solve, [{0: a}], [b], 1) == \
+                _solved(solve_rows, [{0: a}], [b], 1), (a, b)
