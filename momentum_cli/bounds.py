@@ -217,6 +217,9 @@ def propagate(system, reports, values, exact: bool = False):
 def _abs_inverse(A: list[dict[int, float]]) -> list[list[float]] | None:
     """|A^-1| of a small square matrix (Gauss-Jordan, partial pivoting); None if singular."""
     n = len(A)
+    if n == 1:  # the elimination below, on one entry: |1/a|
+        a = float(A[0].get(0, 0.0))
+        return None if a == 0.0 or not math.isfinite(a) else [[abs(1.0 / a)]]
     M = [[float(row.get(j, 0.0)) for j in range(n)] + [1.0 if i == j else 0.0 for j in range(n)]
          for i, row in enumerate(A)]
     for c in range(n):

@@ -393,3 +393,14 @@ def test_one_by_one_blocks_solve_as_the_general_path():
         for b in rng.sample(values, 12) + [0.0, -0.0, a, -a, a * (1 + 2**-52)]:
             assert _solved(solve, [{0: a}], [b], 1) == \
                 _solved(solve_rows, [{0: a}], [b], 1), (a, b)
+
+
+def test_abs_inverse_of_one_entry():
+    """bounds._abs_inverse of a 1x1 matrix: what its Gauss-Jordan gives, |(1/a)/... |, or
+    None when the entry is 0 or not finite."""
+    for a in (3.0, -0.1, 1e-300, -1e300, 2.0**-1074, 0.0, -0.0, math.inf, math.nan):
+        got = bounds._abs_inverse([{0: a}])
+        piv_row = [a / a, 1.0 / a] if a != 0.0 and math.isfinite(a) else None
+        want = None if piv_row is None else [[abs(piv_row[1])]]
+        assert _reprs(got) == _reprs(want), a
+    assert bounds._abs_inverse([{}]) is None
