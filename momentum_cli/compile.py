@@ -213,6 +213,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._chains = None  # aliases.StateChains, when the states form simple chains
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
+        self._T: dict[tuple, E] = {}  # _kinetic's answers, by state and bodies in order
         self._mass: dict[str, Known] = {}  # the declared masses (no burn or gain)
         self._next: dict[str, list[str]] | None = None  # for holds_at
         self._prev: dict[str, str] | None = None  # for mass
@@ -712,8 +713,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     # ---- energy phases ---------------------------------------------------------------------------
     def _kinetic(self, sid: str, bodies=None) -> E:
+        names = tuple(self.scene.bodies if bodies is None else bodies)
+        hit = self._T.get((sid, names))  # an impact's energy and its T_lost: one tree
+        if hit is None:
+            hit = self._T[(sid, names)] = self._kinetic_of(sid, names)
+        return hit
+
+    def _kinetic_of(self, sid: str, names) -> E:
         terms = []
-        names = self.scene.bodies if bodies is None else bodies
         for b in names:
             body = self.scene.bodies[b]
             v = self.vel(b, sid)
