@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 
 from .records import record
+from .source import Source, Span
 
 # names that decide the system; s, rad, rev, rpm, Hz, min, h belong to both
 US_NAMES = {"slug", "lb", "lbs", "lbf", "lbm", "ft", "in", "inch", "yd", "mi", "mph", "kip",
@@ -47,6 +48,7 @@ def detect(doc) -> FileUnits:
 
 
 _LEAF = (str, int, float, bool)
+_NO_UNITS = (Span, Source)  # a source location, the file itself: most nodes of a tree
 
 
 def _units(root, limit: int = 200):
@@ -56,6 +58,7 @@ def _units(root, limit: int = 200):
     out: list[str] = []
     stack = [(root, 0)]
     pop, push = stack.pop, stack.append
+    fields_of: dict[type, tuple] = {}  # each node class's fields, reversed, looked up once
     while stack:
         node, depth = pop()
         if depth < 0:
@@ -67,10 +70,12 @@ def _units(root, limit: int = 200):
             for x in reversed(node):
                 push((x, depth + 1))
             continue
-        fields = getattr(type(node), "_fields", None)
-        if not fields:
-            continue
-        for f in reversed(fields):
+        t = type(node)
+        fields = fields_of.get(t)
+        if fields is None:
+            fields = fields_of[t] = () if issubclass(t, _NO_UNITS) else \
+                tuple(reversed(getattr(t, "_fields", None) or ()))
+        for f in fields:
             v = getattr(node, f, None)
             if f == "unit" and isinstance(v, str):
                 push((v, -1))  # a unit string: yielded in order when popped

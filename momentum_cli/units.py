@@ -94,12 +94,24 @@ def dim_pow(a: Dim, p: float) -> Dim | None:
     return (out[0], out[1], out[2])
 
 
+_READINGS: dict[str, tuple] = {}  # parse_unit's answers: a file repeats a few units
+
+
 def parse_unit(text: str) -> list[tuple[float, Dim]]:
     """All readings of a pint-style unit expression (`m/s^2`, `kg*m**2`, `lb*ft`).
 
     Evaluated left to right as pint does. Returns one (factor, dim) pair, or two
     when `lb` makes it ambiguous (force reading first).
     """
+    hit = _READINGS.get(text)
+    if hit is None:
+        hit = tuple(_parse_unit(text))
+        if len(_READINGS) < 4096:
+            _READINGS[text] = hit
+    return list(hit)
+
+
+def _parse_unit(text: str) -> list[tuple[float, Dim]]:
     pos = 0
     readings: list[tuple[float, Dim]] = [(1.0, NONE)]
     first = True

@@ -404,3 +404,47 @@ def test_abs_inverse_of_one_entry():
         want = None if piv_row is None else [[abs(piv_row[1])]]
         assert _reprs(got) == _reprs(want), a
     assert bounds._abs_inverse([{}]) is None
+
+
+# ---- the scene's unit walk, and unit readings ----------------------------------------------
+def ref_units(root, limit=200):
+    """unit_system._units as it was: every node's fields, spans included."""
+    from momentum_cli.unit_system import _LEAF
+
+    out, stack = [], [(root, 0)]
+    while stack:
+        node, depth = stack.pop()
+        if depth < 0:
+            out.append(node)
+            continue
+        if depth > limit or node is None or isinstance(node, _LEAF):
+            continue
+        if isinstance(node, (list, tuple)):
+            stack.extend((x, depth + 1) for x in reversed(node))
+            continue
+        for f in reversed(getattr(type(node), "_fields", None) or ()):
+            v = getattr(node, f, None)
+            if f == "unit" and isinstance(v, str):
+                stack.append((v, -1))
+            elif v is not None and not isinstance(v, _LEAF):
+                stack.append((v, depth + 1))
+    return out
+
+
+@pytest.mark.parametrize("name,text", [pytest.param(n, t, id=n) for n, t in scenes()])
+def test_unit_walk_finds_what_the_full_walk_finds(name, text):
+    from momentum_cli.unit_system import _units
+
+    try:
+        doc = parse(Source(name, text))
+    except ProblemError:
+        pytest.skip("not parsed")
+    assert _units(doc) == ref_units(doc)
+
+
+def test_unit_readings_are_fresh_lists():
+    from momentum_cli.units import parse_unit
+
+    first = parse_unit("lb*ft/s^2")
+    first.append("changed")
+    assert parse_unit("lb*ft/s^2") == first[:-1] and len(first[:-1]) == 2
