@@ -54,31 +54,51 @@ _NO_UNITS = (Span, Source)  # a source location, the file itself: most nodes of 
 def _units(root, limit: int = 200):
     """Every `unit` string in the syntax tree (records, lists and tuples of them), nodes
     deeper than `limit` skipped; a walk with its own stack (a generator per node made a
-    10^4-ball file's walk cost 0.45 s)."""
+    10^4-ball file's walk cost 0.45 s). What a value is (nothing to walk, a sequence, a
+    record and its fields) is decided once per class."""
     out: list[str] = []
     stack = [(root, 0)]
     pop, push = stack.pop, stack.append
-    fields_of: dict[type, tuple] = {}  # each node class's fields, reversed, looked up once
+    kinds: dict[type, object] = {}  # class -> None (skip), SEQUENCE, or its fields reversed
     while stack:
         node, depth = pop()
         if depth < 0:
             out.append(node)
             continue
-        if depth > limit or node is None or isinstance(node, _LEAF):
-            continue
-        if isinstance(node, (list, tuple)):
-            for x in reversed(node):
-                push((x, depth + 1))
+        if depth > limit:
             continue
         t = type(node)
-        fields = fields_of.get(t)
-        if fields is None:
-            fields = fields_of[t] = () if issubclass(t, _NO_UNITS) else \
-                tuple(reversed(getattr(t, "_fields", None) or ()))
-        for f in fields:
+        kind = kinds[t] if t in kinds else _kind(kinds, t)
+        if kind is None:
+            continue
+        if kind is SEQUENCE:
+            for x in reversed(node):
+                if x is not None:
+                    push((x, depth + 1))
+            continue
+        for f in kind:
             v = getattr(node, f, None)
+            if v is None:
+                continue
             if f == "unit" and isinstance(v, str):
                 push((v, -1))  # a unit string: yielded in order when popped
-            elif v is not None and not isinstance(v, _LEAF):
+                continue
+            tv = type(v)
+            if (kinds[tv] if tv in kinds else _kind(kinds, tv)) is not None:
                 push((v, depth + 1))
     return out
+
+
+SEQUENCE = object()  # the walk's mark for a list or tuple: walk its items
+
+
+def _kind(kinds: dict, t: type):
+    """What the walk does with a value of class t (remembered in `kinds`)."""
+    if issubclass(t, _LEAF) or issubclass(t, _NO_UNITS) or t is type(None):
+        k = None
+    elif issubclass(t, (list, tuple)):
+        k = SEQUENCE
+    else:
+        k = tuple(reversed(getattr(t, "_fields", None) or ())) or None
+    kinds[t] = k
+    return k
