@@ -55,11 +55,34 @@ def _build(cls, frozen: bool, identity: bool):
     setter = object.__setattr__
     new_cls: list = []
 
+    # for a call with k < n positional arguments and no keywords: the rest of the fields
+    # with their default or factory (as the general path picks them), made on first use;
+    # None where one has neither (the general path raises)
+    tails: dict = {}
+
+    def tail_for(k):
+        rest = all_fields[k:]
+        if all(name in defaults or name in factories for name in rest):
+            tails[k] = [(name, None if name in defaults else factories[name],
+                         defaults.get(name)) for name in rest]
+        else:
+            tails[k] = None
+        return tails[k]
+
     def __init__(self, *args, **kw):
-        if not kw and len(args) == n:  # the common call: every field, in order
-            for name, v in zip(all_fields, args):
-                setter(self, name, v)
-            return
+        if not kw:
+            k = len(args)
+            if k == n:  # the common call: every field, in order
+                for name, v in zip(all_fields, args):
+                    setter(self, name, v)
+                return
+            tail = (tails[k] if k in tails else tail_for(k)) if k < n else None
+            if tail is not None:  # the leading fields, then the defaults
+                for name, v in zip(all_fields, args):
+                    setter(self, name, v)
+                for name, factory, v in tail:
+                    setter(self, name, factory() if factory is not None else v)
+                return
         if len(args) > n:
             raise TypeError(f"{cls.__name__}() takes {n} arguments, got {len(args)}")
         for name, v in zip(all_fields, args):
