@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, is_zero, variables
+from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, is_zero, keeps, variables
 
 ROUNDOFF = 64 * 2.0**-53  # forming a term or a residual from exact values: a few ulps each
 DENSE = 40  # |A^-1| in plain Python up to here (a 40x80 Gauss-Jordan is ~1 ms); beyond, a cond-based bound
@@ -29,25 +29,39 @@ def derivatives(e: E, values) -> dict[str, float]:
 
 
 def _grad(e: E, w: float, values, out: dict[str, float]) -> None:
+    """Accumulate w * d e / d v into out. Leaves are handled inline (the walk runs over
+    every solved equation); the products and sums are the reference's, in its order
+    (tests/test_fast_walks.py)."""
     t = type(e)
     if t is Var:
         out[e.name] = out.get(e.name, 0.0) + w
     elif t is Add:
         for x in e.terms:
-            _grad(x, w, values, out)
+            tx = type(x)
+            if tx is Var:
+                out[x.name] = out.get(x.name, 0.0) + w
+            elif tx is not Const and tx is not Known:
+                _grad(x, w, values, out)
     elif t is Mul:
         fs = e.factors
-        if any(is_zero(f) for f in fs):
-            return
-        vals = [evaluate(f, values) for f in fs]
+        for f in fs:  # a zero factor first: the others need no value then
+            if (type(f) is Const or type(f) is Known) and f.value == 0.0 and \
+                    not keeps(f.value):
+                return
+        vals = [f.value if type(f) is Const or type(f) is Known else
+                values[f.name] if type(f) is Var else evaluate(f, values) for f in fs]
         for i, f in enumerate(fs):
-            if type(f) is Const or type(f) is Known:
+            tf = type(f)
+            if tf is Const or tf is Known:
                 continue
             k = w
             for j, v in enumerate(vals):
                 if j != i:
                     k *= v
-            _grad(f, k, values, out)
+            if tf is Var:
+                out[f.name] = out.get(f.name, 0.0) + k
+            else:
+                _grad(f, k, values, out)
     elif t is Pow:
         if type(e.base) is not Const and type(e.base) is not Known:
             _grad(e.base, w * e.exp * evaluate(e.base, values) ** (e.exp - 1.0), values, out)
@@ -78,20 +92,28 @@ def _mag(e: E, values) -> float:
 def term_size(e: E, values) -> float:
     """The sum of the sizes of the terms of `e`, products taken factor by factor. A
     function counts with its sensitivity: cos(-90 deg) is 6e-17 in float64 but carries
-    the rounding of its argument, |sin(a)| |a| eps, so its size is ~1.57, not 6e-17."""
+    the rounding of its argument, |sin(a)| |a| eps, so its size is ~1.57, not 6e-17.
+    (Leaves inline; the same sums and products as the plain walk.)"""
     t = type(e)
     if t is Const or t is Known:
         return abs(e.value)
     if t is Var:
         return abs(values[e.name])
     if t is Add:
-        return sum(term_size(x, values) for x in e.terms)
+        return sum([abs(x.value) if type(x) is Const or type(x) is Known else
+                    abs(values[x.name]) if type(x) is Var else term_size(x, values)
+                    for x in e.terms])
     if t is Mul:
-        if any(is_zero(f) for f in e.factors):
-            return 0.0
+        fs = e.factors
+        for f in fs:
+            if (type(f) is Const or type(f) is Known) and f.value == 0.0 and \
+                    not keeps(f.value):
+                return 0.0
         r = 1.0
-        for f in e.factors:
-            r *= term_size(f, values)
+        for f in fs:
+            tf = type(f)
+            r *= abs(f.value) if tf is Const or tf is Known else \
+                abs(values[f.name]) if tf is Var else term_size(f, values)
         return r
     if t is Pow:
         if e.exp > 0:
@@ -195,6 +217,9 @@ def propagate(system, reports, values, exact: bool = False):
 def _abs_inverse(A: list[dict[int, float]]) -> list[list[float]] | None:
     """|A^-1| of a small square matrix (Gauss-Jordan, partial pivoting); None if singular."""
     n = len(A)
+    if n == 1:  # the elimination below, on one entry: |1/a|
+        a = float(A[0].get(0, 0.0))
+        return None if a == 0.0 or not math.isfinite(a) else [[abs(1.0 / a)]]
     M = [[float(row.get(j, 0.0)) for j in range(n)] + [1.0 if i == j else 0.0 for j in range(n)]
          for i, row in enumerate(A)]
     for c in range(n):

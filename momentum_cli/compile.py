@@ -196,7 +196,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self.regimes = regimes
         self.unknowns: dict[str, Unknown] = {}
         self.equations: list[Equation] = []
-        self._seen: set[str] = set()
+        self._seen: set[str] = set()  # principle|text of each equation (see `eq`)
+        self._by_principle: dict | None = {}  # principle -> its equation, or their texts
         self.notes = Collector(list(scene.notes.items))
         self.friction: list[FrictionSite] = []
         self.invalid: list[tuple[Span, str]] = []
@@ -211,6 +212,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._chains = None  # aliases.StateChains, when the states form simple chains
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
+        self._T: dict[tuple, E] = {}  # _kinetic's answers, by state and bodies in order
+        self._mass: dict[str, Known] = {}  # the declared masses (no burn or gain)
         self._next: dict[str, list[str]] | None = None  # for holds_at
         self._prev: dict[str, str] | None = None  # for mass
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
@@ -328,8 +331,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def mass(self, body: str, sid: str) -> E:
         """A body's mass at a state: as declared, or what the last burn before it left."""
+        if self.flows is None:  # then masses never change: one node per body
+            hit = self._mass.get(body)
+            if hit is None:
+                hit = self._mass[body] = Known(f"m_{body}", self.scene.bodies[body].mass)
+            return hit
         b = self.scene.bodies[body]
-        if self.flows is None or not self.flows.masses:
+        if not self.flows.masses:
             return Known(f"m_{body}", b.mass)
         seen = {sid}
         cur = sid
@@ -390,7 +398,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if p is None or p.body is None:
             return V2(ZERO, ZERO)
         r = self.arm(p, sid, normal, sign)
-        return self.vel(p.body, sid) + omega_cross(self.sv(p.body, "omega", sid), r)
+        v = self.vel(p.body, sid)  # first: the order unknowns are made in is the columns'
+        w = self.sv(p.body, "omega", sid)
+        if w is ZERO and _plain_const(r.x) and _plain_const(r.y):
+            return v  # a particle: w x r folds to zeros, and v + 0 is v
+        return v + omega_cross(w, r)
 
     def point_position(self, p: PointOn | None, sid: str) -> V2:
         if p is None:
@@ -403,13 +415,37 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def eq(self, lhs: E, rhs: E, principle: str, group: str, span: Span | None,
            kind: EquationKind = EquationKind.AUTO) -> Equation | None:
         e = Equation(lhs, rhs, principle, group, span, kind)
-        key = principle + "|" + e.text()
-        if key in self._seen:
-            return None
-        self._seen.add(key)
+        if self._by_principle is not None and "|" in principle:
+            self._seen_by_key()
+        if self._by_principle is not None:
+            # a repeat has the same principle and prints the same: print an equation
+            # only when its principle is seen again (most are unique: it names a body)
+            same = self._by_principle.get(principle)
+            if same is None:
+                self._by_principle[principle] = e
+            else:
+                if type(same) is Equation:
+                    same = self._by_principle[principle] = {same.text()}
+                t = e.text()
+                if t in same:
+                    return None
+                same.add(t)
+        else:
+            key = principle + "|" + e.text()
+            if key in self._seen:
+                return None
+            self._seen.add(key)
         e.index = len(self.equations)
         self.equations.append(e)
         return e
+
+    def _seen_by_key(self) -> None:
+        """From now on, repeats by `principle|text` (a principle with a `|` in it could
+        meet another's text there: the keys decide, as they always did)."""
+        for principle, same in self._by_principle.items():
+            for t in ([same.text()] if type(same) is Equation else same):
+                self._seen.add(principle + "|" + t)
+        self._by_principle = None
 
     # ---- the compile ------------------------------------------------------------------------------
     def run(self) -> System:
@@ -676,8 +712,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     # ---- energy phases ---------------------------------------------------------------------------
     def _kinetic(self, sid: str, bodies=None) -> E:
+        names = tuple(self.scene.bodies if bodies is None else bodies)
+        hit = self._T.get((sid, names))  # an impact's energy and its T_lost: one tree
+        if hit is None:
+            hit = self._T[(sid, names)] = self._kinetic_of(sid, names)
+        return hit
+
+    def _kinetic_of(self, sid: str, names) -> E:
         terms = []
-        names = self.scene.bodies if bodies is None else bodies
         for b in names:
             body = self.scene.bodies[b]
             v = self.vel(b, sid)
@@ -791,6 +833,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return f"angular momentum is conserved about {points.pop()} (all external impulses " \
                    "act there)"
         return "no point is free of external angular impulse"
+
+def _plain_const(e: E) -> bool:
+    """A float constant (not a sweep's traced number, whose zero products are kept)."""
+    return type(e) is Const and type(e.value) is float
+
 
 def _unit(v) -> tuple[float, float]:
     n = math.hypot(v[0], v[1])

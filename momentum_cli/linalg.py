@@ -81,6 +81,14 @@ def equilibrate(rows: Rows, b: list[float], n: int):
 
 def solve(rows: Rows, b: list[float], n: int, precision: str = "float"):
     """x with A x = b (A given by sparse rows), and the Quality of the solve."""
+    if n == 1 and precision == "float" and len(rows) == 1 and len(rows[0]) == 1 and \
+            0 in rows[0]:  # one unknown, one equation: most blocks of a large scene
+        return solve_one(rows[0][0], b[0])
+    return solve_rows(rows, b, n, precision)
+
+
+def solve_rows(rows: Rows, b: list[float], n: int, precision: str = "float"):
+    """`solve` by the general path (equilibrate, eliminate, estimate)."""
     if precision == "exact":
         # rows may hold rationals (formed exactly): eliminate them as they are
         q = _exact(rows, b, n)
@@ -102,6 +110,33 @@ def solve(rows: Rows, b: list[float], n: int, precision: str = "float"):
         comps = [min(v, max(last, EPS)) for v in comps]
     x = [y[j] / c[j] for j in range(n)]
     return x, Quality(method, precision, cond, back, max(comps, default=normwise), iters, comps)
+
+
+def solve_one(a: float, b: float):
+    """`solve_rows` of a 1x1 block in float, step for step on scalars: the same x and
+    Quality to the last bit (tests/test_fast_walks.py), without the lists and dicts the
+    general path builds (a 10^4-ball chain has 10^4 such blocks)."""
+    r = _pow2(abs(a))  # equilibrate: row, then column, by powers of two
+    c = _pow2(abs(a) / r)
+    A = a / r / c
+    bs = b / r
+    norm1 = abs(A)  # _gauss_jordan
+    if A == 0.0:
+        raise SingularError(math.inf)
+    y = bs / A
+    cond = norm1 * abs(1.0 / A)
+    if not math.isfinite(cond) or cond > SINGULAR_COND:
+        raise SingularError(cond)
+    t = abs(A * y)  # snap_roundoff
+    if not t > 1e-15 * (abs(bs) + t):
+        y = 0.0
+    p, e = _two_product(A, y)  # _backward
+    num = abs(math.fsum([bs, -p, -e]))
+    denom = abs(A) * abs(y) + abs(bs)
+    back = num / denom if denom > 0 else num
+    normwise = cond * max(back, EPS)
+    comp = normwise * abs(y) / abs(y) if y != 0.0 else normwise  # _componentwise
+    return [y / c], Quality("python", "float", cond, back, comp, 0, [comp])
 
 
 def snap_roundoff(A: Rows, b: list[float], y: list[float]) -> list[float]:
@@ -351,6 +386,7 @@ class SparseLU:
             del col_rows[j]
             self.steps.append((i, j, ops))
         self.rows = rows
+        self._back = None  # solve's pivot rows, made on the first solve
         self.zero = Fraction(0) if exact else 0.0
         self.conv = conv
 
@@ -361,15 +397,17 @@ class SparseLU:
             if ri:
                 for k, f in ops:
                     rhs[k] -= f * ri
-        x = {}
-        for i, j, _ in reversed(self.steps):
-            row = self.rows[i]
-            s = rhs[i] - sum(v * x[c] for c, v in row.items() if c != j)
-            x[j] = s / row[j]
+        back = self._back
+        if back is None:  # each pivot row without its pivot, in its order (replayed often)
+            back = self._back = [(i, j, [(c, v) for c, v in self.rows[i].items() if c != j],
+                                  self.rows[i][j]) for i, j, _ in reversed(self.steps)]
+        x = [None] * self.n  # every column is some step's pivot
+        for i, j, off, piv in back:
+            x[j] = (rhs[i] - sum([v * x[c] for c, v in off])) / piv
         for k in self.leftover:  # equations beyond n must hold exactly
             if rhs[k] - sum(v * x[c] for c, v in self.rows[k].items()) != 0:
                 raise SingularError(math.inf, exact=True)
-        return [x[j] for j in range(self.n)]
+        return x
 
     def inverse_norm1_estimate(self) -> float:
         """A lower estimate of |A^-1|_1 from a few solves (LINPACK style)."""
