@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from .block_memo import abs_inverse
 from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, is_zero, variables
 
 ROUNDOFF = 64 * 2.0**-53  # forming a term or a residual from exact values: a few ulps each
@@ -177,7 +178,7 @@ def propagate(system, reports, values, exact: bool = False):
             x = abs(values.get(name, 0.0))
             cands = [scale[i] / a for i, a in cols[j]]
             size[name] = max(x, min(cands, default=x), big / unit[j] if unit[j] > 0 else 0.0)
-        inv = _abs_inverse(A) if n <= DENSE and len(A) == n else None
+        inv = abs_inverse(A, _abs_inverse) if n <= DENSE and len(A) == n else None
         q = rep.quality
         comps = q.components if q is not None and q.components else [0.0] * n
         for j, name in enumerate(names):

@@ -822,7 +822,8 @@ def _solve_block(system: System, structure: Structure, block, values,
 
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
     """Solve one linear block; a singular one is named by an exact rank test."""
-    from .linalg import SingularError, exact_rank_test, solve
+    from .block_memo import solve  # linalg.solve, once per distinct block
+    from .linalg import SingularError, exact_rank_test
 
     if not all(math.isfinite(x) for row in rows for x in row.values()) or \
             not all(math.isfinite(x) for x in rhs):
