@@ -48,33 +48,52 @@ def detect(doc) -> FileUnits:
 
 
 _LEAF = (str, int, float, bool, Span)  # a Span holds numbers only: not walked (~40 % of nodes)
+_SEQ = "seq"
+_PLAN: dict[type, object] = {type(None): ()}  # a node type -> the fields to walk (or _SEQ)
+
+
+def _plan(t: type):
+    """What to walk in a node of type t: nothing (a leaf), its items, or its fields."""
+    if issubclass(t, _LEAF):
+        return ()
+    if issubclass(t, (list, tuple)):
+        return _SEQ
+    return tuple(reversed(getattr(t, "_fields", None) or ()))  # pushed last-first
 
 
 def _units(root, limit: int = 200):
-    """Every `unit` string in the syntax tree (records, lists and tuples of them), nodes
-    deeper than `limit` skipped; a walk with its own stack (a generator per node made a
-    10^4-ball file's walk cost 0.45 s)."""
+    """Every `unit` string in the syntax tree (records, lists and tuples of them), in
+    pre-order, nodes deeper than `limit` skipped; a walk with its own stack and a plan
+    per node type (the walk of a 10^4-ball file: 0.45 s -> 0.2 s)."""
     out: list[str] = []
     stack = [(root, 0)]
     pop, push = stack.pop, stack.append
+    plan = _PLAN
     while stack:
         node, depth = pop()
-        if depth < 0:
+        if depth < 0:  # a unit string, in its place
             out.append(node)
             continue
-        if depth > limit or node is None or isinstance(node, _LEAF):
+        if depth > limit:
             continue
-        if isinstance(node, (list, tuple)):
+        what = plan.get(type(node))
+        if what is None:
+            what = plan[type(node)] = _plan(type(node))
+        if not what:
+            continue
+        depth += 1
+        if what is _SEQ:
             for x in reversed(node):
-                push((x, depth + 1))
+                w = plan.get(type(x))
+                if w is None or w:
+                    push((x, depth))
             continue
-        fields = getattr(type(node), "_fields", None)
-        if not fields:
-            continue
-        for f in reversed(fields):
+        for f in what:
             v = getattr(node, f, None)
             if f == "unit" and isinstance(v, str):
-                push((v, -1))  # a unit string: yielded in order when popped
-            elif v is not None and not isinstance(v, _LEAF):
-                push((v, depth + 1))
+                push((v, -1))
+                continue
+            w = plan.get(type(v))
+            if w is None or w:
+                push((v, depth))
     return out

@@ -1,20 +1,15 @@
-"""Remembered block solves (block_memo) give what a fresh solve gives, bit for bit, and
-the unit walk that skips spans finds every unit a full walk finds."""
+"""Remembered block solves (block_memo) give what a fresh solve gives, bit for bit."""
 from __future__ import annotations
 
 import math
 import random
 from fractions import Fraction
-from pathlib import Path
 
 import pytest
 
 from momentum_cli import block_memo
 from momentum_cli.bounds import _abs_inverse
 from momentum_cli.linalg import solve as fresh_solve
-
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-
 
 def _block(rng: random.Random, n: int):
     rows = [{j: rng.choice([1.0, -1.0, 0.1, 2.5, rng.uniform(-3, 3)])
@@ -69,38 +64,3 @@ def test_remembered_abs_inverse_equals_a_fresh_one():
         assert _same(got, want)
     assert block_memo.abs_inverse([{0: 0.0}], _abs_inverse) is None  # singular, remembered
 
-
-def _all_units(root) -> list[str]:
-    """Every `unit` string of the tree by a plain recursive walk that visits everything."""
-    out = []
-
-    def walk(node):
-        if node is None or isinstance(node, (str, int, float, bool)):
-            return
-        if isinstance(node, (list, tuple)):
-            for x in node:
-                walk(x)
-            return
-        for f in getattr(type(node), "_fields", ()) or ():
-            v = getattr(node, f, None)
-            if f == "unit" and isinstance(v, str):
-                out.append(v)
-            else:
-                walk(v)
-    walk(root)
-    return out
-
-
-def test_unit_walk_finds_every_unit():
-    from momentum_cli.source import Source
-    from momentum_cli.syntax import parse
-    from momentum_cli.unit_system import _units
-
-    files = sorted(EXAMPLES.glob("*.mom"))
-    assert files
-    for path in files:
-        try:
-            doc = parse(Source(path.name, path.read_text(encoding="utf-8")))
-        except Exception:  # an example of a bad file: nothing to walk
-            continue
-        assert sorted(_units(doc)) == sorted(_all_units(doc)), path.name
