@@ -113,6 +113,13 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
     return term_size(e, values)
 
 
+def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, float], float]:
+    """(`slopes(e)`, `size_of(e, values, size)`) with the tree walked once, not twice."""
+    dv, mag = derivatives_and_size(e, values)
+    slope = {v: abs(d) for v, d in dv.items()}
+    return slope, mag + sum(s * size.get(v, 0.0) for v, s in slope.items() if s)
+
+
 def slopes(e: E, values) -> dict[str, float]:
     """|d e / d v| for each unknown v of `e`, at the solved values."""
     return {v: abs(d) for v, d in derivatives(e, values).items()}

@@ -47,3 +47,18 @@ def test_one_walk_equals_two():
         assert _bits(mag) == _bits(_mag(e, values))
         failures += any(v == math.inf for v in want.values())
     assert failures  # the failing walks were exercised too
+
+
+def test_slopes_and_size_equal_their_two_walks():
+    from momentum_cli.bounds import size_of, slopes, slopes_and_size
+
+    rng = random.Random(5)
+    values = {"x": 2.0, "y": -0.5, "z": 0.0, "w": 1e200}
+    size = {"x": 3.0, "y": 0.25, "w": 1e10}
+    for _ in range(1000):
+        e = _tree(rng, 4)
+        slope, scale = slopes_and_size(e, values, size)
+        want = slopes(e, values)
+        assert [(v, _bits(s)) for v, s in slope.items()] == \
+            [(v, _bits(s)) for v, s in want.items()]
+        assert _bits(scale) == _bits(size_of(e, values, size, want))
