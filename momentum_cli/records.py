@@ -132,6 +132,9 @@ def _positional_init(cls, fields: tuple, general, defaults: dict, factories: dic
         sets.append(d.__set__)
     n = len(sets)
     table = tuple((f, s, defaults.get(f, _NO), factories.get(f)) for f, s in zip(fields, sets))
+    # the fields after the first k given by position, when every one has a default
+    tails = [None if any(d is _NO and fac is None for _, _, d, fac in table[k:]) else
+             tuple((s, d, fac) for _, s, d, fac in table[k:]) for k in range(n + 1)]
 
     def fill(self, args, kw):
         na = len(args)
@@ -139,6 +142,10 @@ def _positional_init(cls, fields: tuple, general, defaults: dict, factories: dic
             return general(self, *args, **kw)
         for s, v in zip(sets, args):
             s(self, v)
+        if not kw and tails[na] is not None:  # the leading fields by position, defaults
+            for s, d, factory in tails[na]:
+                s(self, d if factory is None else factory())
+            return
         used = 0
         for name, s, default, factory in table[na:]:
             if name in kw:
