@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from .block_memo import abs_inverse
 from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, is_zero, keeps, variables
 
 ROUNDOFF = 64 * 2.0**-53  # forming a term or a residual from exact values: a few ulps each
@@ -75,6 +76,62 @@ def _grad(e: E, w: float, values, out: dict[str, float]) -> None:
                  "ln": lambda: 1 / a, "log": lambda: 1 / a,
                  "abs": lambda: math.copysign(1.0, a)}[e.name]()
             _grad(e.arg, w * d, values, out)
+
+
+def derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
+    """(`derivatives(e)`, `_mag(e)`) in one walk of the tree, the same numbers in the same
+    order (a block's bounds walk each residual once, not twice); where either walk would
+    fail, each is taken on its own, as they handle it."""
+    out: dict[str, float] = {}
+    try:
+        return out, _grad_size(e, 1.0, values, out)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return derivatives(e, values), _mag(e, values)
+
+
+def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
+    """`_grad(e, w)` into `out`, returning `term_size(e)`."""
+    t = type(e)
+    if t is Const or t is Known:
+        return abs(e.value)
+    if t is Var:
+        out[e.name] = out.get(e.name, 0.0) + w
+        return abs(values[e.name])
+    if t is Add:
+        return sum([_grad_size(x, w, values, out) for x in e.terms])
+    if t is Mul:
+        fs = e.factors
+        if any(is_zero(f) for f in fs):
+            return 0.0
+        vals = [evaluate(f, values) for f in fs]
+        r = 1.0
+        for i, f in enumerate(fs):
+            if type(f) is Const or type(f) is Known:
+                r *= abs(f.value)
+                continue
+            k = w
+            for j, v in enumerate(vals):
+                if j != i:
+                    k *= v
+            r *= _grad_size(f, k, values, out)
+        return r
+    if t is Pow:
+        if type(e.base) is not Const and type(e.base) is not Known:
+            base = _grad_size(e.base, w * e.exp * evaluate(e.base, values) ** (e.exp - 1.0),
+                              values, out)
+        else:
+            base = abs(e.base.value)
+        return base ** e.exp if e.exp > 0 else abs(evaluate(e, values))
+    # a function: its own walks (rare; their failures are handled as they handle them)
+    _grad(e, w, values, out)
+    return term_size(e, values)
+
+
+def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, float], float]:
+    """(`slopes(e)`, `size_of(e, values, size)`) with the tree walked once, not twice."""
+    dv, mag = derivatives_and_size(e, values)
+    slope = {v: abs(d) for v, d in dv.items()}
+    return slope, mag + sum(s * size.get(v, 0.0) for v, s in slope.items() if s)
 
 
 def slopes(e: E, values) -> dict[str, float]:
@@ -172,13 +229,13 @@ def propagate(system, reports, values, exact: bool = False):
         newton = rep.method == "newton"
         for i, k in enumerate(rep.equations):
             f = system.equations[k].residual
-            dv = derivatives(f, values)
+            dv, mag = derivatives_and_size(f, values)
             up = {v: abs(s) for v, s in dv.items() if v not in col}
             for v, s in dv.items():
                 if v in col and s != 0:
                     A[i][col[v]] = s
                     cols[col[v]].append((i, abs(s)))
-            scale.append(size_of(f, values, size, up))
+            scale.append(mag + sum(s * size.get(v, 0.0) for v, s in up.items() if s))
             d = error_of(up, err)
             if not exact or newton:
                 d += ROUNDOFF * scale[-1]
@@ -199,7 +256,7 @@ def propagate(system, reports, values, exact: bool = False):
             x = abs(values.get(name, 0.0))
             cands = [scale[i] / a for i, a in cols[j]]
             size[name] = max(x, min(cands, default=x), big / unit[j] if unit[j] > 0 else 0.0)
-        inv = _abs_inverse(A) if n <= DENSE and len(A) == n else None
+        inv = abs_inverse(A, _abs_inverse) if n <= DENSE and len(A) == n else None
         q = rep.quality
         comps = q.components if q is not None and q.components else [0.0] * n
         for j, name in enumerate(names):

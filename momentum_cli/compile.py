@@ -213,7 +213,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
         self._T: dict[tuple, E] = {}  # _kinetic's answers, by state and bodies in order
-        self._mass: dict[str, Known] = {}  # the declared masses (no burn or gain)
+        self._vel: dict[tuple[str, str], V2] = {}  # vel's answers (made of sv's: as fixed)
+        self._mass: dict[str, E] = {}  # each body's declared mass, one Known
         self._next: dict[str, list[str]] | None = None  # for holds_at
         self._prev: dict[str, str] | None = None  # for mass
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
@@ -331,14 +332,12 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def mass(self, body: str, sid: str) -> E:
         """A body's mass at a state: as declared, or what the last burn before it left."""
-        if self.flows is None:  # then masses never change: one node per body
-            hit = self._mass.get(body)
-            if hit is None:
-                hit = self._mass[body] = Known(f"m_{body}", self.scene.bodies[body].mass)
-            return hit
         b = self.scene.bodies[body]
-        if not self.flows.masses:
-            return Known(f"m_{body}", b.mass)
+        if self.flows is None or not self.flows.masses:
+            m = self._mass.get(body)
+            if m is None:
+                m = self._mass[body] = Known(f"m_{body}", b.mass)
+            return m
         seen = {sid}
         cur = sid
         while True:
@@ -360,7 +359,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         return self._prev
 
     def vel(self, body: str, sid: str) -> V2:
-        return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
+        hit = self._vel.get((body, sid))
+        if hit is None:
+            hit = self._vel[(body, sid)] = V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
+        return hit
 
     def pos(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "x", sid), self.sv(body, "y", sid))

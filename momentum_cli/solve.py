@@ -822,7 +822,8 @@ def _solve_block(system: System, structure: Structure, block, values,
 
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
     """Solve one linear block; a singular one is named by an exact rank test."""
-    from .linalg import SingularError, exact_rank_test, solve
+    from .block_memo import solve  # linalg.solve, once per distinct block
+    from .linalg import SingularError, exact_rank_test
 
     if not all(math.isfinite(x) for row in rows for x in row.values()) or \
             not all(math.isfinite(x) for x in rhs):
@@ -1195,8 +1196,10 @@ def _value(expr: E, values, sol: Solution | None) -> tuple[float, float, float]:
     err = sol.errors if sol is not None and sol.errors is not None else {}
     si = float(evaluate_exact(expr, ChainMap(exact, values))) if exact is not None else \
         evaluate(expr, values)
-    slope = slopes(expr, values)
-    small = ROUNDOFF * size_of(expr, values, size, slope)
+    from .bounds import slopes_and_size  # one walk for both
+
+    slope, scale = slopes_and_size(expr, values, size)
+    small = ROUNDOFF * scale
     # rounding: of the final value in exact mode, of every term in float
     bound = error_of(slope, err) + (2 * 2.0**-53 * abs(si) if exact is not None else small)
     return si, bound, small
