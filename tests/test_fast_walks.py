@@ -312,7 +312,8 @@ def test_mul_and_add_shortcuts_build_the_general_trees():
     from momentum_cli.expr import add, mul
 
     x, y = Var("x"), Var("y")
-    nodes = [Const(2.5), Const(1.0), Const(0.0), Const(-0.0), Const(math.nan), Known("m", 3.0),
+    nodes = [Const(2.5), Const(1.0), Const(0.0), Const(-0.0), Const(math.nan), Const(math.inf),
+             Const(-1.0), Const(0.5), Known("m", 3.0),
              Known("z", 0.0), x, Add((x, y)), Mul((Const(-1.0), x)), Mul((x, y)),
              Pow(x, 2.0), Fn("sin", y)]
     for a in nodes:
