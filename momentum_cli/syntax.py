@@ -734,9 +734,9 @@ def _in_file(exc: ProblemError, loops) -> ProblemError:
 
 
 FAST_BYTES = 20_000  # files this large parse each repeated statement shape once
-# loop-free files this large go to lark and syntax_fast, not syntax_run (measured: the
-# 10^4-ball chain, 1.2 MB, 1.6 s against 3.0 s CPU; files of 100-200 kB cost the same)
-COPY_BYTES = 300_000
+# syntax_run parses every file it takes, big ones too: on a big loop-free file lark plus
+# syntax_fast's copies cost ~25 % less CPU but hold the whole lark tree at once (measured
+# on the 10^5-ball chain, 12 MB: 13.4 s and 2.3 GB resident, against 16.8 s and 0.3 GB)
 
 
 def _fast_tree(text: str):
@@ -772,9 +772,7 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
     """`_parse` itself: syntax_run where it can (no lark import once its tables are
     cached), else lark's parse and the transformer (which also report every error)."""
     text = expanded.text
-    # a big file without loops: syntax_fast's copies of one parse per repeated shape are
-    # cheaper than syntax_run's parse of every token (the nodes are the same)
-    fast = _fast_parser() if loops is not None or len(text) < COPY_BYTES else None
+    fast = _fast_parser()
     if fast is not None:
         from .syntax_run import Fallback
 
