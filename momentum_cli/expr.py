@@ -193,11 +193,6 @@ def neg(a: E) -> E:
 def mul(a: E, b: E) -> E:
     # exact types (no subclass of these exists): the hottest function of a compile
     ta, tb = type(a), type(b)
-    if tb is not Const and tb is not Mul:  # the common shapes, as the general path makes them
-        if ta is not Const and ta is not Mul:
-            return Mul((a, b))
-        if ta is Const and type(a.value) is float and a.value != 0.0 and a.value != 1.0:
-            return Mul((Const(a.value), b))
     if ta is Const:
         if tb is Const:
             return Const(a.value * b.value)

@@ -3,7 +3,7 @@
 The grammar is `grammar/momentum.lark` (shipped inside the package). Lark types stop
 here: nodes hold our `Span`, never lark's `Token` or `Meta`. The LALR parser is built
 once and cached on disk, outside the package; good files are parsed from its tables
-without importing lark (syntax_run.py), errors and very big files by lark itself.
+without importing lark (syntax_run.py), whatever it refuses (errors) by lark itself.
 """
 from __future__ import annotations
 

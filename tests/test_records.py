@@ -92,3 +92,55 @@ def test_compiled_init_refuses_the_same_calls(case):
     classes = _compiled(_classes())
     with pytest.raises(TypeError):
         classes[i](*args, **kw)
+
+
+# ---- what any constructor (generic or compiled) builds and how it refuses ----------------
+@record
+class _Base:
+    a: int
+    b: list = field(default_factory=list)
+    c: str = "x"
+
+
+@record
+class _Child(_Base):
+    d: int | None = None
+    e: float = 1.5
+
+
+@record(frozen=True)
+class _Pair:
+    x: object
+    y: object
+
+
+def _values(r) -> dict:
+    return {f: getattr(r, f) for f in type(r)._fields}
+
+
+def test_positional_keyword_defaults_and_inheritance():
+    assert _values(_Child(1, [2], "y", 4, 2.5)) == dict(a=1, b=[2], c="y", d=4, e=2.5)
+    assert _values(_Child(1)) == dict(a=1, b=[], c="x", d=None, e=1.5)
+    assert _values(_Child(1, d=7)) == dict(a=1, b=[], c="x", d=7, e=1.5)
+    assert _values(_Child(a=1, e=0.0, c="z")) == dict(a=1, b=[], c="z", d=None, e=0.0)
+    assert _Child(1).b is not _Child(1).b  # a fresh list from the factory each time
+    assert _values(_Pair(1, 2)) == dict(x=1, y=2) and _Pair(1, 2) == _Pair(y=2, x=1)
+
+
+def test_a_positional_prefix_is_the_keyword_call():
+    for k in range(1, 6):
+        args = [1, [2], "z", 4, 2.5][:k]
+        assert _values(_Child(*args)) == _values(_Child(**dict(zip(_Child._fields, args))))
+
+
+def test_refusals_name_what_is_wrong():
+    with pytest.raises(TypeError, match="missing argument 'a'"):
+        _Child()
+    with pytest.raises(TypeError, match="unexpected arguments"):
+        _Child(1, zork=2)
+    with pytest.raises(TypeError, match="takes 5 arguments"):
+        _Child(1, 2, 3, 4, 5, 6)
+    with pytest.raises(TypeError, match="missing argument 'y'"):
+        _Pair(1)
+    with pytest.raises(FrozenInstanceError):
+        _Pair(1, 2).x = 3
