@@ -777,8 +777,18 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         from .syntax_run import Fallback
 
         _SPANS[0] = loops  # the nodes' spans point into the file, not the expanded text
+        whole = text if text.endswith("\n") else text + "\n"
+        nodes = None
         try:
-            nodes = fast.parse(text if text.endswith("\n") else text + "\n")
+            if loops is None:  # the common statement forms a line at a time, the rest
+                from .syntax_lines import parse as by_lines  # by syntax_run
+
+                nodes = by_lines(whole, fast.parse)
+        except Exception:  # Fallback (a bracket open across lines, an error): parse whole
+            nodes = None
+        try:
+            if nodes is None:
+                nodes = fast.parse(whole)
         except Fallback:
             nodes = None
         finally:

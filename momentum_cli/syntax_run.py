@@ -93,16 +93,17 @@ class Parser:
         self.scanners[i] = sc = (tuple(compiled), unless)
         return sc
 
-    def parse(self, text: str) -> list:
-        """The start rule's children (statement nodes) of `text`, or Fallback."""
+    def parse(self, text: str, line: int = 1) -> list:
+        """The start rule's children (statement nodes) of `text`, or Fallback; `line`:
+        the number of its first line (a statement parsed alone, at its place in a file)."""
         try:
-            return self._parse(text)
+            return self._parse(text, line)
         except Fallback:
             raise
         except Exception:  # a callback's error, a malformed indent...: lark's to report
             raise Fallback from None
 
-    def _parse(self, text: str) -> list:
+    def _parse(self, text: str, first_line: int) -> list:
         states, rules, through, end = self.states, self.rules, self.through, self.end
         max_height = self.max_height
         stack, vals, boxes, hs = [self.start], [], [], []
@@ -185,7 +186,7 @@ class Parser:
         nl_type, opens, closes, indent_type, dedent_type, tab_len = self.indenter
         state_lexer, scanners = self.state_lexer, self.scanners
         ignore, newline = self.ignore, self.newline
-        n, pos, line, ls = len(text), 0, 1, 0
+        n, pos, line, ls = len(text), 0, first_line, 0
         paren, levels, last = 0, [0], None
         while pos < n:
             li = state_lexer[stack[-1]]
