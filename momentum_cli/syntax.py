@@ -921,11 +921,26 @@ def _first_line(exc: Exception) -> str:
     return (str(exc).strip().splitlines() or ["invalid input"])[0]
 
 
+_BRACKETS_ONLY = {c: None for c in range(128) if chr(c) not in "()[]{}"}
+_BRACKETS_ONLY.update({ord("["): "(", ord("{"): "(", ord("]"): ")", ord("}"): ")"})
+
+
 def _check_depth(source: Source) -> None:
     text = source.text
     if text.count("(") + text.count("[") + text.count("{") <= MAX_DEPTH:
         return  # too few brackets to nest that deep (the scan below costs per character)
     import re
+
+    # each pass drops the innermost pairs: a text whose brackets all pair up within
+    # MAX_DEPTH passes nests no deeper (the scan below then finds nothing)
+    only = text.translate(_BRACKETS_ONLY)  # (other characters than ASCII stay: exact scan)
+    for _ in range(MAX_DEPTH):
+        if not only:
+            return
+        shorter = only.replace("()", "")
+        if len(shorter) == len(only):
+            break  # unpaired brackets: the exact scan decides
+        only = shorter
 
     depth = best = 0
     for m in re.finditer(r"[()\[\]{}]", text):  # only the brackets, not every character
