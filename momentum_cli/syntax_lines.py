@@ -70,40 +70,39 @@ _UNIT = (r"(?>[A-Za-z_][A-Za-z_0-9]*(?:(?:\*\*|\^)-?[0-9]+)?"
 _ID = r"(?>[0-9]+)"
 _END = r"(?![A-Za-z_0-9])"  # a keyword ends where a name could not go on
 
-# a number with its unit, or a reference, maybe negated; `z`: where it ends (before spaces)
-_ATOM = re.compile(
-    rf"(?:(?P<neg>-) *)?(?:(?P<num>{_NUM})(?: *(?P<unit>{_UNIT}))?"
-    rf"|(?P<name>{_NAME})(?: *\[ *(?P<idx>{_NAME}(?: *- *{_NAME})*) *\])?"
-    rf"(?: *\. *(?P<mem>{_NAME}))?(?: *@ *(?P<a1>{_ID})(?: *-> *(?P<a2>{_ID}))?)?)(?P<z>) *")
-_PREF = re.compile(rf"(?P<n>{_NAME})(?: *\. *(?:end *\( *(?P<sg>[+-]) *\)|(?P<m>{_NAME})))?"
-                   rf"(?P<z>) *")
+# An expression of the forms read here, as groups in a fixed order (read by _x): a number
+# with its unit, or a reference, maybe negated (_A: 9 groups, the last empty, where it
+# ends); or a vector of two of them (_X: 29 groups). Atomic, as tokens are: `2 in mm` is
+# never re-read as `2` then `in mm`.
+_A = (rf"(?:(-) *)?(?>({_NUM})(?: *({_UNIT}))?|({_NAME})(?: *\[ *({_NAME}(?: *- *{_NAME})*)"
+      rf" *\])?(?: *\. *({_NAME}))?(?: *@ *({_ID})(?: *-> *({_ID}))?)?)()")
+_X = rf"(?:(\() *{_A} *, *{_A} *\)()|{_A})"
+_PREF = rf"(?>({_NAME})(?: *\. *(?:end *\( *([+-]) *\)|({_NAME})))?)()"  # 4 groups
 _TAIL = re.compile(r" *(?:#.*)?")
 _SP = re.compile(r" *")
-_ITEM = re.compile(
-    rf"(?P<n>{_NAME}) *(?:\. *(?P<q>{_NAME})(?P<qz>) *(?P<rel>[=<>]) *"
-    rf"|at +rest{_END}(?P<rz>) *|rolls +on +(?P<s>{_NAME})(?P<sz>) *)")
 _WORD = re.compile(_NAME)
 _HEAD = re.compile(r"[a-z]+(?![A-Za-z_0-9\[])")  # a whole word: a keyword
-_BODY = re.compile(rf"body +(?P<n>{_NAME}) *: *(?P<k>{_NAME}) *\( *")
-_ARG = re.compile(rf"(?P<n>{_NAME}) *= *")
-_LET = re.compile(rf"let +(?P<n>{_NAME}) *= *")
+_BODY = re.compile(rf"body +({_NAME}) *: *({_NAME}) *\( *")
+_ARG = re.compile(rf"({_NAME}) *= *{_X} *")  # 1 name, 2.. the value
+_LET = re.compile(rf"let +({_NAME}) *= *{_X} *")
+_ITEM = re.compile(rf"({_NAME}) *(?:\. *({_NAME})() *([=<>]) *{_X}|at +rest{_END}()"
+                   rf"|rolls +on +({_NAME})()) *")  # 1 2 3 4, 5.. value, 34, 35 36
 _STATE = re.compile(rf'state *(?P<id>{_ID}) *(?P<s>"[^"\n]*")? *(?P<c>:)? *')
 _TRANS = re.compile(rf"(?P<k>impact|interval|energy) *(?P<a>{_ID}) *-> *(?P<b>{_ID})"
                     rf"(?P<z>) *(?P<c>:)?")
-_CONTACT = re.compile(rf"contact *(?:(?P<l>{_NAME}) *: *)?")
-_WITH = re.compile(rf"with{_END} *")
-_NORMAL = re.compile(rf"normal{_END} *")
-_PROP = re.compile(rf"(?P<k>restitution|smooth|rough|friction|slip|separation|static)"
-                   rf"{_END}(?P<z>) *")
+# 1 label, 2-5 and 6-9 the points, 10.. the normal, 39 the colon of the properties
+_CONTACT = re.compile(rf"contact *(?:({_NAME}) *: *)?{_PREF} *with{_END} *{_PREF} *"
+                      rf"(?:normal{_END} *{_X} *)?(:)? *")
+_PROP = re.compile(rf"(restitution|smooth|rough|friction|slip|separation|static){_END}"
+                   rf"(?: *(\?)| *{_X})?() *")  # 1 kind, 2 `?`, 3.. the value, 32 its end
 _STOPS = re.compile(rf"(?P<n>{_NAME}) +(?:stops{_END}(?P<z>) *|rolls +on +(?P<s>{_NAME})"
                     rf"(?P<sz>) *)")
 _FREE = re.compile(rf"free +(?P<n>{_NAME})(?P<z>) *")
 _FIND = re.compile(r"find *")
-_NAMED = re.compile(rf"(?P<n>{_NAME}) *= *")
-_IN = re.compile(rf"in +(?P<u>{_UNIT})(?P<z>) *")
+# 1 name, 2.. the expression, 31 the unit, 32 its end
+_FINDITEM = re.compile(rf"(?:({_NAME}) *= *)?{_X}(?: *in +({_UNIT})())? *")
 _PROBLEM = re.compile(r'problem *(?P<s>"[^"\n]*")')
-_GRAVITY = re.compile(r"gravity *")
-_DIR = re.compile(rf"(?P<d>down|up|left|right){_END}")
+_GRAVITY = re.compile(rf"gravity *{_X} *(down|up|left|right){_END}")
 
 # words the grammar writes in quotes: where one is acceptable the lexer tries it before a
 # UNIT (a lower priority), and it wins even as a prefix (`5 inch` is `in` then `ch`); the
@@ -194,60 +193,49 @@ def _tail(s: str, p: int) -> None:
         raise _No
 
 
-def _expr(s: str, p: int, L: int):
-    """(node, end, next): a number with its unit, a reference, maybe negated, or a vector
-    of two of them, at s[p:]; end is where it ends, next after the spaces."""
-    if s.startswith("(", p):
-        q = _SP.match(s, p + 1).end()
-        x, _, q = _atom(s, q, L)
-        if not s.startswith(",", q):
-            raise _No
-        q = _SP.match(s, q + 1).end()
-        y, _, q = _atom(s, q, L)
-        if not s.startswith(")", q):
-            raise _No
-        return VecLit(Span(L, p + 1, L, q + 2), x, y), q + 1, _SP.match(s, q + 1).end()
-    return _atom(s, p, L)
-
-
-def _atom(s: str, p: int, L: int):
-    m = _ATOM.match(s, p)
-    if m is None:
-        raise _No
-    neg, num, u, name, idx, mem, a1, a2, _ = m.groups()
-    r = m.regs  # every group's place at once
-    z = r[9][0]
+def _a(g, r, i: int, L: int):
+    """The atom whose 9 groups start at group i (g: the match's groups(), r: its regs)."""
+    z = r[i + 8][0]
+    num = g[i]
     if num is not None:
-        st = r[2][0]
+        st = r[i + 1][0]
+        u = g[i + 1]
         if u is None:
             node = Num(Span(L, st + 1, L, z + 1), float(num))
         else:
-            if u not in _UNIT_OK and not _unit_ok(u) or not _UNIT_OK[u]:
+            ok = _UNIT_OK.get(u)
+            if not (_unit_ok(u) if ok is None else ok):
                 raise _No
             node = Num(Span(L, st + 1, L, z + 1), float(num), u,
-                       Span(L, r[3][0] + 1, L, z + 1))
+                       Span(L, r[i + 2][0] + 1, L, z + 1))
     else:
-        at = () if a1 is None else (a1,) if a2 is None else (a1, a2)
-        node = Ref(Span(L, r[4][0] + 1, L, z + 1), name,
-                   None if idx is None else idx.replace(" ", ""), mem, at)
-    if neg is not None:
-        node = Neg(Span(L, p + 1, L, z + 1), node)
-    return node, z, r[0][1]
+        idx, a1, a2 = g[i + 3], g[i + 5], g[i + 6]
+        node = Ref(Span(L, r[i + 3][0] + 1, L, z + 1), g[i + 2],
+                   None if idx is None else idx.replace(" ", ""), g[i + 4],
+                   () if a1 is None else (a1,) if a2 is None else (a1, a2))
+    if g[i - 1] is not None:
+        node = Neg(Span(L, r[i][0] + 1, L, z + 1), node)
+    return node, z
 
 
-def _pref(s: str, p: int, L: int):
-    """A point reference (`A`, `rod.A`, `rod.end(+)`): (node, end, next)."""
-    m = _PREF.match(s, p)
-    if m is None:
-        raise _No
-    z = m.start("z")
-    sg = m.group("sg")
-    if sg is not None:
-        return PointRef(Span(L, p + 1, L, z + 1), m.group("n"), end=sg), z, m.end()
-    mem = m.group("m")
-    if mem == "end":
+def _x(g, r, i: int, L: int):
+    """(node, end) of the expression whose 29 groups start at group i."""
+    if g[i - 1] is None:
+        return _a(g, r, i + 20, L)
+    x = _a(g, r, i + 1, L)[0]
+    y = _a(g, r, i + 10, L)[0]
+    z = r[i + 19][0]
+    return VecLit(Span(L, r[i][0] + 1, L, z + 1), x, y), z
+
+
+def _pref(g, r, i: int, L: int):
+    """The point reference (`A`, `rod.A`, `rod.end(+)`) of groups i..i+3."""
+    z = r[i + 3][0]
+    if g[i] is not None:
+        return PointRef(Span(L, r[i][0] + 1, L, z + 1), g[i - 1], end=g[i])
+    if g[i + 1] == "end":
         raise _No  # the keyword `end`, without its `(+)`
-    return PointRef(Span(L, p + 1, L, z + 1), m.group("n"), mem), z, m.end()
+    return PointRef(Span(L, r[i][0] + 1, L, z + 1), g[i - 1], g[i + 1])
 
 
 def _end(b: int) -> int:
@@ -257,7 +245,7 @@ def _end(b: int) -> int:
 # ---- statements ---------------------------------------------------------------------------
 def _body(lines, a, b, s, L):
     m = _BODY.match(s)
-    if m is None or m.group("k") == "composite" or _block(lines, a, b):
+    if m is None or m.group(2) == "composite" or _block(lines, a, b):
         raise _No
     args = []
     p = m.end()
@@ -268,8 +256,10 @@ def _body(lines, a, b, s, L):
             ma = _ARG.match(s, p)
             if ma is None:
                 raise _No
-            v, z, p = _expr(s, ma.end(), L)
-            args.append(Arg(Span(L, ma.start() + 1, L, z + 1), ma.group("n"), v))
+            g, r = ma.groups(), ma.regs
+            v, z = _x(g, r, 2, L)
+            args.append(Arg(Span(L, r[1][0] + 1, L, z + 1), g[0], v))
+            p = r[0][1]
             if s.startswith(",", p):
                 p = _SP.match(s, p + 1).end()
             elif s.startswith(")", p):
@@ -278,38 +268,36 @@ def _body(lines, a, b, s, L):
             else:
                 raise _No
     _tail(s, p)
-    shape = Shape(Span(L, m.start("k") + 1, L, p + 1), m.group("k"), tuple(args))
-    return BodyDecl(Span(L, 1, _end(b), 1), m.group("n"), (shape,), False)
+    shape = Shape(Span(L, m.start(2) + 1, L, p + 1), m.group(2), tuple(args))
+    return BodyDecl(Span(L, 1, _end(b), 1), m.group(1), (shape,), False)
 
 
 def _let(lines, a, b, s, L):
     m = _LET.match(s)
     if m is None or _block(lines, a, b):
         raise _No
-    v, _, p = _expr(s, m.end(), L)
-    _tail(s, p)
-    return Let(Span(L, 1, _end(b), 1), m.group("n"), v)
+    _tail(s, m.end())
+    return Let(Span(L, 1, _end(b), 1), m.group(1), _x(m.groups(), m.regs, 2, L)[0])
 
 
 def _items(s: str, p: int, L: int, out: list) -> None:
     """A comma list of state items from s[p:] to the line's end."""
+    match = _ITEM.match
     while True:
-        m = _ITEM.match(s, p)
+        m = match(s, p)
         if m is None:
             raise _No
-        rel = m.group("rel")
-        st = m.start()
-        if rel is not None:
-            v, z, p = _expr(s, m.end(), L)
-            out.append(Given(Span(L, st + 1, L, z + 1), m.group("n"), m.group("q"),
-                             Span(L, st + 1, L, m.start("qz") + 1), v, rel))
-        elif m.group("s") is not None:
-            out.append(RollsIn(Span(L, st + 1, L, m.start("sz") + 1), m.group("n"),
-                               m.group("s")))
-            p = m.end()
+        g, r = m.groups(), m.regs
+        st = r[0][0] + 1
+        if g[3] is not None:
+            v, z = _x(g, r, 5, L)
+            out.append(Given(Span(L, st, L, z + 1), g[0], g[1], Span(L, st, L, r[3][0] + 1),
+                             v, g[3]))
+        elif g[34] is not None:
+            out.append(RollsIn(Span(L, st, L, r[36][0] + 1), g[0], g[34]))
         else:
-            out.append(AtRest(Span(L, st + 1, L, m.start("rz") + 1), m.group("n")))
-            p = m.end()
+            out.append(AtRest(Span(L, st, L, r[34][0] + 1), g[0]))
+        p = r[0][1]
         if s.startswith(",", p):
             p = _SP.match(s, p + 1).end()
         else:
@@ -327,9 +315,10 @@ def _state(lines, a, b, s, L):
         _items(s, p, L, items)
     else:
         _tail(s, p)
-    for i in _block(lines, a, b):
-        x = lines[i]
-        _items(x, len(x) - len(x.lstrip(" ")), i + 1, items)
+    if b > a + 1:
+        for i in _block(lines, a, b):
+            x = lines[i]
+            _items(x, len(x) - len(x.lstrip(" ")), i + 1, items)
     label = m.group("s")
     return StateDecl(Span(L, 1, _end(b), 1), m.group("id"),
                      None if label is None else label[1:-1], tuple(items))
@@ -352,58 +341,72 @@ def _transition(lines, a, b, s, L):
                       Span(L, m.start("b") + 1, L, m.end("b") + 1))
 
 
+def _contact(s: str, p: int, L: int):
+    """`contact [LABEL:] A with B|ground [normal V] [: PROP, ...]`."""
+    m = _CONTACT.match(s, p)
+    if m is None:
+        raise _No
+    g, r = m.groups(), m.regs
+    pa = _pref(g, r, 2, L)
+    z = r[9][0]
+    if g[5] == "ground":
+        if g[6] is not None or g[7] is not None:
+            raise _No
+        pb = None
+    else:
+        pb = _pref(g, r, 6, L)
+    normal = None
+    if r[10][0] >= 0 or r[38][0] >= 0:
+        normal, z = _x(g, r, 10, L)
+    props = []
+    q = r[0][1]
+    if g[38] is not None:
+        match = _PROP.match
+        while True:
+            pm = match(s, q)
+            if pm is None:
+                raise _No
+            h, t = pm.groups(), pm.regs
+            k = h[0]
+            st = t[0][0] + 1
+            z = t[32][0]
+            has = t[3][0] >= 0 or t[31][0] >= 0
+            if k == "smooth" or k == "rough":
+                if has or h[1] is not None:
+                    raise _No
+                props.append(Prop(Span(L, st, L, z + 1), k))
+            elif h[1] is not None:
+                if k != "restitution":
+                    raise _No
+                props.append(Prop(Span(L, st, L, z + 1), "restitution?"))
+            elif not has:
+                raise _No
+            else:
+                v = _x(h, t, 3, L)[0]
+                if k == "restitution":
+                    law = "newton"
+                    if v.__class__ is _NumClass and v.unit in IMPACT_LAWS:
+                        law = v.unit
+                        v = Num(v.span, v.value)
+                    props.append(Prop(Span(L, st, L, z + 1), k, v, law))
+                else:
+                    props.append(Prop(Span(L, st, L, z + 1), k, v))
+            q = t[0][1]
+            if s.startswith(",", q):
+                q = _SP.match(s, q + 1).end()
+            else:
+                break
+    _tail(s, q)
+    return Contact(Span(L, p + 1, L, z + 1), g[0], pa, pb, normal, tuple(props))
+
+
 def _clause(s: str, p: int, L: int):
     """One clause of a transition's block: a contact, `B stops`, `B rolls on S`,
     `free B`."""
     w = _WORD.match(s, p)
     word = w and w.group()
     if word == "contact":  # (a clause starts with a name or a keyword: a whole word)
-        m = _CONTACT.match(s, p)
-        label = m.group("l")
-        pa, _, q = _pref(s, m.end(), L)
-        w = _WITH.match(s, q)
-        if w is None:
-            raise _No
-        pb, z, q = _pref(s, w.end(), L)
-        if pb.name == "ground":
-            if pb.member is not None or pb.end is not None:
-                raise _No
-            pb = None
-        normal, props = None, []
-        nm = _NORMAL.match(s, q)
-        if nm is not None:
-            normal, z, q = _expr(s, nm.end(), L)
-        if s.startswith(":", q):
-            q = _SP.match(s, q + 1).end()
-            while True:
-                pm = _PROP.match(s, q)
-                if pm is None:
-                    raise _No
-                k = pm.group("k")
-                st = pm.start()
-                if k in ("smooth", "rough"):
-                    z, q = pm.start("z"), pm.end()
-                    props.append(Prop(Span(L, st + 1, L, z + 1), k))
-                elif k == "restitution" and s.startswith("?", pm.end()):
-                    z = pm.end() + 1
-                    q = _SP.match(s, z).end()
-                    props.append(Prop(Span(L, st + 1, L, z + 1), "restitution?"))
-                else:
-                    v, z, q = _expr(s, pm.end(), L)
-                    if k == "restitution":
-                        law = "newton"
-                        if v.__class__ is _NumClass and v.unit in IMPACT_LAWS:
-                            law = v.unit
-                            v = Num(v.span, v.value)
-                        props.append(Prop(Span(L, st + 1, L, z + 1), k, v, law))
-                    else:
-                        props.append(Prop(Span(L, st + 1, L, z + 1), k, v))
-                if s.startswith(",", q):
-                    q = _SP.match(s, q + 1).end()
-                else:
-                    break
-        _tail(s, q)
-        return Contact(Span(L, p + 1, L, z + 1), label, pa, pb, normal, tuple(props))
+        return _contact(s, p, L)
     if word == "free":
         m = _FREE.match(s, p)
         if m is None:
@@ -426,20 +429,20 @@ def _find(lines, a, b, s, L):
     items = []
     p = m.end()
     while True:
-        st = p
-        mn = _NAMED.match(s, p)
-        name = None
-        if mn is not None:
-            name, p = mn.group("n"), mn.end()
-        v, z, p = _expr(s, p, L)
+        mi = _FINDITEM.match(s, p)
+        if mi is None:
+            raise _No
+        g, r = mi.groups(), mi.regs
+        v, z = _x(g, r, 2, L)
         unit = uspan = None
-        mi = _IN.match(s, p)
-        if mi is not None:
-            if v.__class__ is _NumClass and v.unit is None or not _unit_ok(mi.group("u")):
+        if g[30] is not None:
+            u = g[30]
+            if v.__class__ is _NumClass and v.unit is None or not _unit_ok(u):
                 raise _No  # `2 in mm` is one quantity
-            z = mi.start("z")
-            unit, uspan, p = mi.group("u"), Span(L, mi.start("u") + 1, L, z + 1), mi.end()
-        items.append(FindItem(Span(L, st + 1, L, z + 1), name, v, unit, uspan))
+            z = r[32][0]
+            unit, uspan = u, Span(L, r[31][0] + 1, L, z + 1)
+        items.append(FindItem(Span(L, p + 1, L, z + 1), g[0], v, unit, uspan))
+        p = r[0][1]
         if s.startswith(",", p):
             p = _SP.match(s, p + 1).end()
         else:
@@ -458,14 +461,10 @@ def _problem(lines, a, b, s, L):
 
 def _gravity(lines, a, b, s, L):
     m = _GRAVITY.match(s)
-    if _block(lines, a, b):
+    if m is None or _block(lines, a, b):
         raise _No
-    v, _, p = _expr(s, m.end(), L)
-    d = _DIR.match(s, p)
-    if d is None:
-        raise _No
-    _tail(s, d.end())
-    return Gravity(Span(L, 1, _end(b), 1), v, d.group("d"), None)
+    _tail(s, m.end())
+    return Gravity(Span(L, 1, _end(b), 1), _x(m.groups(), m.regs, 1, L)[0], m.group(30), None)
 
 
 _FORMS = {"body": _body, "let": _let, "state": _state, "impact": _transition,
