@@ -49,12 +49,18 @@ def _maker(cls):
     return make
 
 
+_MAKERS_OF = {c: _maker(c) for c in (
+    Span, Arg, AtRest, BodyDecl, Clause, Contact, Find, FindItem, Given, Gravity, Let, Neg, Num,
+    PointRef, Problem, Prop, Ref, RollsIn, Shape, StateDecl, Transition, VecLit)}
+
+
 _NumClass = Num
-Span = _maker(Span)
+Span = _MAKERS_OF[Span]
 (Arg, AtRest, BodyDecl, Clause, Contact, Find, FindItem, Given, Gravity, Let, Neg, Num,
- PointRef, Problem, Prop, Ref, RollsIn, Shape, StateDecl, Transition, VecLit) = map(
-    _maker, (Arg, AtRest, BodyDecl, Clause, Contact, Find, FindItem, Given, Gravity, Let, Neg,
-             Num, PointRef, Problem, Prop, Ref, RollsIn, Shape, StateDecl, Transition, VecLit))
+ PointRef, Problem, Prop, Ref, RollsIn, Shape, StateDecl, Transition, VecLit) = (
+    _MAKERS_OF[c] for c in (Arg, AtRest, BodyDecl, Clause, Contact, Find, FindItem, Given,
+                            Gravity, Let, Neg, Num, PointRef, Problem, Prop, Ref, RollsIn,
+                            Shape, StateDecl, Transition, VecLit))
 
 
 class _No(Exception):
@@ -184,7 +190,117 @@ def _statement(lines, a, b):
     f = _FORMS.get(word)
     if f is None:
         raise _No
+    if b == a + 1:  # a line of its own: its nodes depend on its text and number only
+        return _shaped(word, f, s, a + 1)
     return f(lines, a, b, s, a + 1)
+
+
+def _line_statement(f, s: str, L: int):
+    """Form `f` of a statement alone on line L (no block, nothing after it)."""
+    return f(None, L - 1, L, s, L)
+
+
+def _line_clause(_, s: str, L: int):
+    return _clause(s, len(s) - len(s.lstrip(" ")), L)
+
+
+# ---- one builder per shape of line ---------------------------------------------------------
+# Lines whose text differs only in its digits (`contact c17: b18 with b17` and `contact
+# c20: b21 with b20`) are read the same way, token for token at the same columns (the
+# grammar's terminals see digits only as a class): after a few such lines, a function
+# written for that shape builds the nodes straight from slices of the line.
+_MASK = bytes.maketrans(b"123456789", b"000000000")
+_PROBE = str.maketrans("0123456789", "1234567890")
+_NUMBER = re.compile(_NUM)
+BUILD_AFTER = 4  # lines of one shape read before its builder is written
+MAX_SHAPES = 20_000
+_SHAPES: dict = {}
+_BIG = 1 << 40  # the line number a template is read at (so its line fields are known)
+
+
+def _shaped(kind, f, s: str, L: int):
+    """The nodes of line s (number L) by `f` (a form) or by its shape's builder."""
+    key = (kind, s.encode().translate(_MASK))
+    hit = _SHAPES.get(key)
+    if hit is None or hit.__class__ is int:
+        run = _line_clause if kind is None else _line_statement
+        node = run(f, s, L)  # (_No: not a form read here; the count stays)
+        n = (hit or 0) + 1
+        if len(_SHAPES) >= MAX_SHAPES:
+            _SHAPES.clear()
+        _SHAPES[key] = _builder(run, f, s) if n >= BUILD_AFTER else n
+        return node
+    if hit is False:
+        return (_line_clause if kind is None else _line_statement)(f, s, L)
+    return hit(s, L)
+
+
+def _builder(run, f, s: str):
+    """A function (line, L) -> the nodes `run(f, line, L)` gives for every line of the
+    shape of s; False when one cannot be written (then each line is read). Read three
+    times (s, and s with its digits changed two ways), every text field is found at one
+    place only, and the function is checked against each reading."""
+    texts = (s, s.translate(_PROBE),
+             "".join(str((3 * i + 1) % 10) if c in "0123456789" else c
+                     for i, c in enumerate(s)))
+    try:
+        trees = [run(f, x, _BIG) for x in texts]
+        makers: list = []
+        src = _code(trees, texts, makers)
+        fn = eval(f"lambda s, L: {src}", {"_k": makers})  # noqa: S307 (from the nodes)
+        if any(fn(x, 7) != run(f, x, 7) for x in texts):
+            return False
+    except Exception:  # a field found nowhere or at two places, a deep tree...: read each
+        return False
+    return fn
+
+
+def _code(vs: list, texts: tuple, makers: list) -> str:
+    """An expression of s and L giving vs[i] for (texts[i], _BIG), for every i."""
+    v1 = vs[0]
+    t = v1.__class__
+    if any(v.__class__ is not t for v in vs):
+        raise ValueError
+    if v1 is None or t is bool or t is int:
+        if any(v != v1 for v in vs):
+            raise ValueError
+        d = v1 - _BIG if t is int else _BIG
+        return f"(L + {d})" if -1000 < d < 1000 else repr(v1)
+    if t is str:
+        if not any(c in "0123456789" for c in v1):
+            if any(v != v1 for v in vs):
+                raise ValueError
+            return repr(v1)
+        n = len(v1)
+        s = texts[0]
+        at = [a for a in range(len(s) - n + 1)
+              if all(x.startswith(v, a) for x, v in zip(texts, vs))]
+        if len(at) != 1 or any(len(v) != n for v in vs):
+            raise ValueError
+        return f"s[{at[0]}:{at[0] + n}]"
+    if t is tuple:
+        if any(len(v) != len(v1) for v in vs):
+            raise ValueError
+        return "(" + "".join(_code([v[i] for v in vs], texts, makers) + ", "
+                             for i in range(len(v1))) + ")"
+    make = _MAKERS_OF.get(t)
+    if make is None:
+        raise ValueError
+    if make not in makers:
+        makers.append(make)
+    args = []
+    for k in t._fields:
+        fs = [getattr(v, k) for v in vs]
+        if fs[0].__class__ is float:  # a Num's value: the number its span starts with
+            c = v1.span.column - 1
+            m = _NUMBER.match(texts[0], c)
+            if t is not _NumClass or v1.span.line != _BIG or m is None or \
+                    any(float(x[c:m.end()]) != f for x, f in zip(texts, fs)):
+                raise ValueError
+            args.append(f"float(s[{c}:{m.end()}])")
+        else:
+            args.append(_code(fs, texts, makers))
+    return f"_k[{makers.index(make)}]({', '.join(args)})"
 
 
 def _tail(s: str, p: int) -> None:
@@ -335,7 +451,7 @@ def _transition(lines, a, b, s, L):
     clauses = []
     for i in block:
         x = lines[i]
-        clauses.append(_clause(x, len(x) - len(x.lstrip(" ")), i + 1))
+        clauses.append(_shaped(None, None, x, i + 1))
     return Transition(Span(L, 1, _end(b), 1), m.group("k"), m.group("a"), m.group("b"),
                       tuple(clauses), Span(L, m.start("a") + 1, L, m.end("a") + 1),
                       Span(L, m.start("b") + 1, L, m.end("b") + 1))

@@ -283,3 +283,23 @@ def test_depth_check_shortcut_is_the_scan():
         except ProblemError as exc:
             got = (exc.diagnostics[0].span.line, exc.diagnostics[0].span.column)
         assert got == scan(text)
+
+
+def test_shape_builders_same_nodes(monkeypatch):
+    """With a builder written for every shape of line at its first use, the examples,
+    their mutations, chains and cradles (whose lines differ in their digits: b9/b10,
+    masses of every length) still give syntax_run's nodes."""
+    from momentum_cli.bench import chain_text
+    from test_hard import cradle_text
+
+    monkeypatch.setattr(syntax_lines, "BUILD_AFTER", 1)
+    monkeypatch.setattr(syntax_lines, "_SHAPES", {})
+    rng = random.Random(7)
+    bases = [f.read_text(encoding="utf-8") for f in FILES if f.stat().st_size < 20_000]
+    bases = [t for t in bases if not syntax._may_loop(t)]
+    texts = bases + [_mutate(rng.choice(bases), rng) for _ in range(300)]
+    texts += [chain_text(150), cradle_text(150, "sequence"), cradle_text(150, "simultaneous")]
+    for i, text in enumerate(texts):
+        _same_as_run(text, f"text {i}: {text[:200]!r}")
+    built = [v for v in syntax_lines._SHAPES.values() if callable(v)]
+    assert len(built) > 50
