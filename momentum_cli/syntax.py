@@ -781,9 +781,11 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         nodes = None
         try:
             if loops is None:  # the common statement forms a line at a time, the rest
+                import sys
+
                 from .syntax_lines import parse as by_lines  # by syntax_run
 
-                nodes = by_lines(whole, fast.parse)
+                nodes = by_lines(whole, fast.parse, sys.modules[__name__])
         except Exception:  # Fallback (a bracket open across lines, an error): parse whole
             nodes = None
         try:

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import re
 
-from .source import Span
-from .syntax import (IMPACT_LAWS, Arg, AtRest, BodyDecl, Clause, Contact, Find, FindItem,
-                     Given, Gravity, Let, Neg, Num, PointRef, Problem, Prop, Ref, RollsIn,
-                     Shape, StateDecl, Transition, VecLit)
+from . import source
+
+_NODES = ("Arg", "AtRest", "BodyDecl", "Clause", "Contact", "Find", "FindItem", "Given",
+          "Gravity", "Let", "Neg", "Num", "PointRef", "Problem", "Prop", "Ref", "RollsIn",
+          "Shape", "StateDecl", "Transition", "VecLit")
+_SETUP = [None]  # the syntax module whose node classes the makers below build
 
 
 def _maker(cls):
@@ -49,18 +51,24 @@ def _maker(cls):
     return make
 
 
-_MAKERS_OF = {c: _maker(c) for c in (
-    Span, Arg, AtRest, BodyDecl, Clause, Contact, Find, FindItem, Given, Gravity, Let, Neg, Num,
-    PointRef, Problem, Prop, Ref, RollsIn, Shape, StateDecl, Transition, VecLit)}
-
-
-_NumClass = Num
-Span = _MAKERS_OF[Span]
-(Arg, AtRest, BodyDecl, Clause, Contact, Find, FindItem, Given, Gravity, Let, Neg, Num,
- PointRef, Problem, Prop, Ref, RollsIn, Shape, StateDecl, Transition, VecLit) = (
-    _MAKERS_OF[c] for c in (Arg, AtRest, BodyDecl, Clause, Contact, Find, FindItem, Given,
-                            Gravity, Let, Neg, Num, PointRef, Problem, Prop, Ref, RollsIn,
-                            Shape, StateDecl, Transition, VecLit))
+def setup(syntax) -> None:
+    """Bind the node classes of `syntax` (passed in: syntax imports this module) and a
+    maker for each; the keywords of its grammar."""
+    global _MAKERS_OF, _NumClass, _KEYWORDS, IMPACT_LAWS
+    if _SETUP[0] is syntax:
+        return
+    classes = [source.Span] + [getattr(syntax, n) for n in _NODES]
+    _MAKERS_OF = {c: _maker(c) for c in classes}
+    _NumClass = syntax.Num
+    IMPACT_LAWS = syntax.IMPACT_LAWS
+    _KEYWORDS = keywords(syntax.grammar_text())
+    g = globals()
+    g["Span"] = _MAKERS_OF[source.Span]
+    for n, c in zip(_NODES, classes[1:]):
+        g[n] = _MAKERS_OF[c]
+    _UNIT_OK.clear()
+    _SHAPES.clear()
+    _SETUP[0] = syntax
 
 
 class _No(Exception):
@@ -115,6 +123,9 @@ _GRAVITY = re.compile(rf"gravity *{_X} *(down|up|left|right){_END}")
 # impact laws rank below UNIT
 _KEYWORDS: frozenset = frozenset()
 _UNIT_OK: dict = {}
+_MAKERS_OF: dict = {}  # node class -> its maker (setup)
+_NumClass = None
+IMPACT_LAWS: tuple = ()
 
 
 def keywords(grammar: str) -> frozenset:
@@ -130,14 +141,11 @@ def _unit_ok(u: str) -> bool:
     return ok
 
 
-def parse(text: str, rest):
+def parse(text: str, rest, syntax):
     """The statements of `text` (ending in "\\n"), or None (not plain: parse it whole).
-    `rest(chunk, line)` parses a statement not recognised here (it may raise)."""
-    global _KEYWORDS
-    if not _KEYWORDS:
-        from .syntax import grammar_text
-
-        _KEYWORDS = keywords(grammar_text())
+    `rest(chunk, line)` parses a statement not recognised here (it may raise); `syntax`:
+    the module whose nodes are built."""
+    setup(syntax)
     lines = text.split("\n")
     n = len(lines) - 1  # the last element is the "" after the final newline
     # a statement starts with a keyword at column 1: every other line (indented, blank,

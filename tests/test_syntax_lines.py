@@ -41,7 +41,7 @@ def _by_lines(text: str, counts=None):
         return fast.parse(chunk, line)
 
     try:
-        got = syntax_lines.parse(_whole(text), rest)
+        got = syntax_lines.parse(_whole(text), rest, syntax)
     except Fallback:
         return "fallback"
     if counts is not None and got is not None:
@@ -238,6 +238,7 @@ def test_records_built_by_the_makers_are_the_records():
 
     from momentum_cli.source import Span
 
+    syntax_lines.setup(syntax)
     made = syntax_lines.Span(1, 2, 3, 4)
     want = Span(1, 2, 3, 4)
     assert type(made) is Span and made == want and hash(made) == hash(want)
@@ -293,6 +294,7 @@ def test_shape_builders_same_nodes(monkeypatch):
     from test_hard import cradle_text
 
     monkeypatch.setattr(syntax_lines, "BUILD_AFTER", 1)
+    syntax_lines.setup(syntax)
     monkeypatch.setattr(syntax_lines, "_SHAPES", {})
     rng = random.Random(7)
     bases = [f.read_text(encoding="utf-8") for f in FILES if f.stat().st_size < 20_000]
