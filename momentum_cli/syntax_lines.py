@@ -200,12 +200,20 @@ def _statement(lines, a, b):
         raise _No
     if b == a + 1:  # a line of its own: its nodes depend on its text and number only
         return _shaped(word, f, s, a + 1)
+    if b - a <= SHORT_BLOCK:  # a short block: its nodes depend on its text and first line
+        return _shaped(word, f, "\n".join(lines[a:b]), a + 1)
     return f(lines, a, b, s, a + 1)
 
 
+SHORT_BLOCK = 6  # lines; a longer block is read a line at a time (_line_clause)
+
+
 def _line_statement(f, s: str, L: int):
-    """Form `f` of a statement alone on line L (no block, nothing after it)."""
-    return f(None, L - 1, L, s, L)
+    """Form `f` of the statement whose lines are s, the first being line L."""
+    if "\n" not in s:
+        return f(None, L - 1, L, s, L)
+    ls = s.split("\n")
+    return f(dict(enumerate(ls, L - 1)), L - 1, L - 1 + len(ls), ls[0], L)
 
 
 def _line_clause(_, s: str, L: int):
@@ -227,7 +235,8 @@ _BIG = 1 << 40  # the line number a template is read at (so its line fields are 
 
 
 def _shaped(kind, f, s: str, L: int):
-    """The nodes of line s (number L) by `f` (a form) or by its shape's builder."""
+    """The nodes of s (a line, or the lines of a short statement; the first is line L)
+    by `f` (a form; None: a clause) or by the builder of the shape of s."""
     key = (kind, s.encode().translate(_MASK))
     hit = _SHAPES.get(key)
     if hit is None or hit.__class__ is int:
@@ -244,7 +253,7 @@ def _shaped(kind, f, s: str, L: int):
 
 
 def _builder(run, f, s: str):
-    """A function (line, L) -> the nodes `run(f, line, L)` gives for every line of the
+    """A function (text, L) -> the nodes `run(f, text, L)` gives for every text of the
     shape of s; False when one cannot be written (then each line is read). Read three
     times (s, and s with its digits changed two ways), every text field is found at one
     place only, and the function is checked against each reading."""
@@ -273,6 +282,8 @@ def _code(vs: list, texts: tuple, makers: list) -> str:
         if any(v != v1 for v in vs):
             raise ValueError
         d = v1 - _BIG if t is int else _BIG
+        if d == 0:
+            return "L"  # (one int object for every span of the line)
         return f"(L + {d})" if -1000 < d < 1000 else repr(v1)
     if t is str:
         if not any(c in "0123456789" for c in v1):
@@ -300,10 +311,15 @@ def _code(vs: list, texts: tuple, makers: list) -> str:
     for k in t._fields:
         fs = [getattr(v, k) for v in vs]
         if fs[0].__class__ is float:  # a Num's value: the number its span starts with
-            c = v1.span.column - 1
+            k = v1.span.line - _BIG
+            if t is not _NumClass or not 0 <= k < 1000:
+                raise ValueError
+            c = 0
+            for _ in range(k):  # the start of the span's line (a text of several lines)
+                c = texts[0].index("\n", c) + 1
+            c += v1.span.column - 1
             m = _NUMBER.match(texts[0], c)
-            if t is not _NumClass or v1.span.line != _BIG or m is None or \
-                    any(float(x[c:m.end()]) != f for x, f in zip(texts, fs)):
+            if m is None or any(float(x[c:m.end()]) != f for x, f in zip(texts, fs)):
                 raise ValueError
             args.append(f"float(s[{c}:{m.end()}])")
         else:
