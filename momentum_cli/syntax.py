@@ -2,8 +2,9 @@
 
 The grammar is `grammar/momentum.lark` (shipped inside the package). Lark types stop
 here: nodes hold our `Span`, never lark's `Token` or `Meta`. The LALR parser is built
-once and cached on disk, outside the package; good files are parsed from its tables
-without importing lark (syntax_run.py), whatever it refuses (errors) by lark itself.
+once and cached on disk, outside the package; good files are parsed without importing
+lark: the common statement forms a line at a time (syntax_lines.py), the others from
+the parser's tables (syntax_run.py); whatever they refuse (errors) by lark itself.
 """
 from __future__ import annotations
 

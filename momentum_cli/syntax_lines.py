@@ -1,9 +1,10 @@
-"""Parse the common statement forms a line at a time: one regex match per token group.
+"""Parse the common statement forms a line at a time: one regex match per statement.
 
 In: a loop-free problem text ending in a newline, and `rest(text, line)` (syntax_run
 from that line) for any other statement. Out: the statement nodes syntax_run (and lark
 with syntax.Rules) give, every span included; None when something other than comments
-comes before the first statement: the caller parses the text whole.
+comes before the first statement: the caller parses the text whole. Lines of one shape
+(equal but for their digits) are built by a function written for that shape.
 """
 from __future__ import annotations
 
@@ -129,6 +130,7 @@ IMPACT_LAWS: tuple = ()
 
 
 def keywords(grammar: str) -> frozenset:
+    """The words `grammar` writes in quotes (its keywords)."""
     return frozenset(re.findall(r'"([A-Za-z_][A-Za-z_0-9]*)"', grammar))
 
 
@@ -217,6 +219,7 @@ def _line_statement(f, s: str, L: int):
 
 
 def _line_clause(_, s: str, L: int):
+    """A clause line of a transition's block (s with its indentation), line L."""
     return _clause(s, len(s) - len(s.lstrip(" ")), L)
 
 
@@ -229,7 +232,7 @@ _MASK = bytes.maketrans(b"123456789", b"000000000")
 _PROBE = str.maketrans("0123456789", "1234567890")
 _NUMBER = re.compile(_NUM)
 BUILD_AFTER = 4  # lines of one shape read before its builder is written
-MAX_SHAPES = 20_000
+MAX_SHAPES = 5_000  # (then forgotten: a bound on the memory they hold)
 _SHAPES: dict = {}
 _BIG = 1 << 40  # the line number a template is read at (so its line fields are known)
 
