@@ -102,6 +102,7 @@ _ARG = re.compile(rf"({_NAME}) *= *{_X} *")  # 1 name, 2.. the value
 _LET = re.compile(rf"let +({_NAME}) *= *{_X} *")
 _ITEM = re.compile(rf"({_NAME}) *(?:\. *({_NAME})() *([=<>]) *{_X}|at +rest{_END}()"
                    rf"|rolls +on +({_NAME})()) *")  # 1 2 3 4, 5.. value, 34, 35 36
+_REST = re.compile(rf"({_NAME}) +at +rest{_END}() *, *(?=[A-Za-z_])")  # not the last
 _STATE = re.compile(rf'state *(?P<id>{_ID}) *(?P<s>"[^"\n]*")? *(?P<c>:)? *')
 _TRANS = re.compile(rf"(?P<k>impact|interval|energy) *(?P<a>{_ID}) *-> *(?P<b>{_ID})"
                     rf"(?P<z>) *(?P<c>:)?")
@@ -161,8 +162,15 @@ def parse(text: str, rest, syntax):
             return None  # something before the first statement: the whole parse decides
     heads.append(n)
     out = []
+    shapes, mask, fn = _SHAPES, _MASK, _FUNCTION
     for k in range(len(heads) - 1):
         a, b = heads[k], heads[k + 1]
+        if b == a + 1:  # a line of a shape already seen: its builder, straight away
+            s = lines[a]
+            hit = shapes.get(s.encode().translate(mask))
+            if hit.__class__ is fn:
+                out.append(hit(s, b))
+                continue
         try:
             out.append(_statement(lines, a, b))
         except _No:
@@ -233,14 +241,16 @@ _PROBE = str.maketrans("0123456789", "1234567890")
 _NUMBER = re.compile(_NUM)
 BUILD_AFTER = 4  # lines of one shape read before its builder is written
 MAX_SHAPES = 5_000  # (then forgotten: a bound on the memory they hold)
-_SHAPES: dict = {}
+_SHAPES: dict = {}  # masked text -> lines of that shape read so far, or its builder
+_FUNCTION = type(lambda: 0)
 _BIG = 1 << 40  # the line number a template is read at (so its line fields are known)
 
 
 def _shaped(kind, f, s: str, L: int):
     """The nodes of s (a line, or the lines of a short statement; the first is line L)
     by `f` (a form; None: a clause) or by the builder of the shape of s."""
-    key = (kind, s.encode().translate(_MASK))
+    key = s.encode().translate(_MASK)  # (its first word tells the kind: a statement's
+    # keyword, or the indentation of a clause)
     hit = _SHAPES.get(key)
     if hit is None or hit.__class__ is int:
         run = _line_clause if kind is None else _line_statement
@@ -425,8 +435,13 @@ def _let(lines, a, b, s, L):
 
 def _items(s: str, p: int, L: int, out: list) -> None:
     """A comma list of state items from s[p:] to the line's end."""
-    match = _ITEM.match
+    match, rest = _ITEM.match, _REST.match
     while True:
+        m = rest(s, p)  # `B at rest, `: the common item, by a regex of few groups
+        if m is not None:
+            out.append(AtRest(Span(L, p + 1, L, m.end(2) + 1), m.group(1)))
+            p = m.end()
+            continue
         m = match(s, p)
         if m is None:
             raise _No
