@@ -49,7 +49,11 @@ def _maker(cls):
             return cls
     except Exception:  # a layout __class__ assignment refuses: the constructor
         return cls
+    _TWIN_OF[cls] = twin
     return make
+
+
+_TWIN_OF: dict = {}  # record class -> its plain twin (_maker)
 
 
 def setup(syntax) -> None:
@@ -275,9 +279,13 @@ def _builder(run, f, s: str):
                      for i, c in enumerate(s)))
     try:
         trees = [run(f, x, _BIG) for x in texts]
-        makers: list = []
-        src = _code(trees, texts, makers)
-        fn = eval(f"lambda s, L: {src}", {"_k": makers})  # noqa: S307 (from the nodes)
+        env = {"_new": object.__new__}
+        body: list = []
+        out = _code(trees, texts, (env, body))
+        src = "def build(s, L):\n" + "".join(f"    {x}\n" for x in body) + \
+            f"    return {out}\n"
+        exec(compile(src, "<syntax_lines>", "exec"), env)  # noqa: S102 (from the nodes)
+        fn = env["build"]
         if any(fn(x, 7) != run(f, x, 7) for x in texts):
             return False
     except Exception:  # a field found nowhere or at two places, a deep tree...: read each
@@ -285,8 +293,10 @@ def _builder(run, f, s: str):
     return fn
 
 
-def _code(vs: list, texts: tuple, makers: list) -> str:
-    """An expression of s and L giving vs[i] for (texts[i], _BIG), for every i."""
+def _code(vs: list, texts: tuple, out: tuple) -> str:
+    """An expression of s and L giving vs[i] for (texts[i], _BIG), for every i; the
+    records it names are built by statements appended to out[1] (a record: a plain twin
+    of its slots, filled, then given the record's class; out[0]: their globals)."""
     v1 = vs[0]
     t = v1.__class__
     if any(v.__class__ is not t for v in vs):
@@ -313,22 +323,21 @@ def _code(vs: list, texts: tuple, makers: list) -> str:
     if t is tuple:
         if any(len(v) != len(v1) for v in vs):
             raise ValueError
-        return "(" + "".join(_code([v[i] for v in vs], texts, makers) + ", "
+        return "(" + "".join(_code([v[i] for v in vs], texts, out) + ", "
                              for i in range(len(v1))) + ")"
-    make = _MAKERS_OF.get(t)
-    if make is None:
+    twin = _TWIN_OF.get(t)
+    if twin is None:
         raise ValueError
-    if make not in makers:
-        makers.append(make)
+    env, body = out
     args = []
     for k in t._fields:
         fs = [getattr(v, k) for v in vs]
         if fs[0].__class__ is float:  # a Num's value: the number its span starts with
-            k = v1.span.line - _BIG
-            if t is not _NumClass or not 0 <= k < 1000:
+            dl = v1.span.line - _BIG
+            if t is not _NumClass or not 0 <= dl < 1000:
                 raise ValueError
             c = 0
-            for _ in range(k):  # the start of the span's line (a text of several lines)
+            for _ in range(dl):  # the start of the span's line (a text of several lines)
                 c = texts[0].index("\n", c) + 1
             c += v1.span.column - 1
             m = _NUMBER.match(texts[0], c)
@@ -336,8 +345,14 @@ def _code(vs: list, texts: tuple, makers: list) -> str:
                 raise ValueError
             args.append(f"float(s[{c}:{m.end()}])")
         else:
-            args.append(_code(fs, texts, makers))
-    return f"_k[{makers.index(make)}]({', '.join(args)})"
+            args.append(_code(fs, texts, out))
+    name = t.__name__
+    env["_T" + name], env["_C" + name] = twin, t
+    v = f"o{len(body)}"
+    body.append(f"{v} = _new(_T{name}); " +
+                "".join(f"{v}.{k} = {a}; " for k, a in zip(t._fields, args)) +
+                f"{v}.__class__ = _C{name}")
+    return v
 
 
 def _tail(s: str, p: int) -> None:
