@@ -769,6 +769,12 @@ def _parse(source: Source, expanded: Source, loops) -> Document:
         gc.enable()
 
 
+LINES_BYTES = 32_000  # characters parsed in this process before syntax_lines is used:
+# its regexes and record makers cost ~30 ms to set up, and it saves ~1 ms per 1,000
+# characters (one small file alone is parsed faster by syntax_run)
+_READ = [0]
+
+
 def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
     """`_parse` itself: syntax_run where it can (no lark import once its tables are
     cached), else lark's parse and the transformer (which also report every error)."""
@@ -780,11 +786,12 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         _SPANS[0] = loops  # the nodes' spans point into the file, not the expanded text
         whole = text if text.endswith("\n") else text + "\n"
         nodes = None
+        _READ[0] += len(whole)
         try:
-            if loops is None:  # the common statement forms a line at a time, the rest
-                import sys
+            if loops is None and _READ[0] >= LINES_BYTES:  # the common statement forms a
+                import sys  # line at a time, the rest by syntax_run
 
-                from .syntax_lines import parse as by_lines  # by syntax_run
+                from .syntax_lines import parse as by_lines
 
                 nodes = by_lines(whole, fast.parse, sys.modules[__name__])
         except Exception:  # Fallback (a bracket open across lines, an error): parse whole

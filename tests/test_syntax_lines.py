@@ -58,10 +58,13 @@ def _lark(text: str, monkeypatch):
 
 
 def _outcome(text: str):
-    try:
-        return ("ok", syntax.parse(Source("f.mom", text)).statements)
-    except ProblemError as exc:
-        return ("error", [(d.code, d.message, d.span, d.notes) for d in exc.diagnostics])
+    """syntax.parse's outcome, syntax_lines used whatever the size (LINES_BYTES 0)."""
+    with pytest.MonkeyPatch.context() as m:
+        m.setattr(syntax, "LINES_BYTES", 0)
+        try:
+            return ("ok", syntax.parse(Source("f.mom", text)).statements)
+        except ProblemError as exc:
+            return ("error", [(d.code, d.message, d.span, d.notes) for d in exc.diagnostics])
 
 
 def _same_as_run(text: str, name: str, counts=None) -> bool:
@@ -215,6 +218,44 @@ def test_corner_cases(text, monkeypatch):
     assert _outcome(text) == _lark(text, monkeypatch)
 
 
+def test_used_once_enough_text_is_read(monkeypatch):
+    """A one-shot parse of a small file does not pay for syntax_lines' set-up (regexes,
+    makers): syntax_run parses it; a big file, or the files after enough text was read
+    in this process, are read by syntax_lines."""
+    text = (ROOT / "examples" / "seed_rod_drop_smooth.mom").read_text(encoding="utf-8")
+    used = []
+    real = syntax_lines.parse
+
+    def counting(*a):
+        used.append(1)
+        return real(*a)
+
+    monkeypatch.setattr(syntax_lines, "parse", counting)
+    monkeypatch.setattr(syntax, "_READ", [0])
+    want = syntax.parse(Source("f.mom", text)).statements
+    assert not used
+    for _ in range(syntax.LINES_BYTES // len(text) + 1):
+        assert syntax.parse(Source("f.mom", text)).statements == want
+    assert used
+
+
+def test_one_shot_small_solve_does_not_import_syntax_lines(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, MOMENTUM_CACHE_DIR=str(tmp_path))
+    env.pop("MOMENTUM_LARK_ONLY", None)
+    code = ("import sys\nfrom momentum_cli import syntax\nfrom momentum_cli.source import "
+            "Source\nsyntax.parse(Source('f', open(sys.argv[1]).read()))\n"
+            "print('momentum_cli.syntax_lines' in sys.modules)\n")
+    seed = str(ROOT / "examples" / "seed_rod_drop_smooth.mom")
+    for _ in range(2):  # (the first run builds the tables)
+        out = subprocess.run([sys.executable, "-c", code, seed], env=env, capture_output=True,
+                             text=True, timeout=120)
+    assert out.stdout.strip() == "False", out.stderr
+
+
 def test_lark_only_means_lark_only(monkeypatch):
     """MOMENTUM_LARK_ONLY=1: neither syntax_run nor syntax_lines parses."""
     monkeypatch.setenv("MOMENTUM_LARK_ONLY", "1")
@@ -224,6 +265,7 @@ def test_lark_only_means_lark_only(monkeypatch):
         raise AssertionError("syntax_lines was used")
 
     monkeypatch.setattr(syntax_lines, "parse", refuse)
+    monkeypatch.setattr(syntax, "LINES_BYTES", 0)
     try:
         text = (ROOT / "examples" / "seed_rod_drop_smooth.mom").read_text(encoding="utf-8")
         assert syntax.parse(Source("f.mom", text)).statements
