@@ -91,10 +91,11 @@ class Equation:
         return self._residual
 
     def text(self, numeric: bool = False) -> str:
-        """`lhs = rhs`, symbolically or with numbers (printed once, then remembered)."""
+        """`lhs = rhs`, symbolically or with numbers (printed once, then remembered in a
+        pair indexed by `numeric`: a dict per equation cost a big scene 230 bytes each)."""
         if self._texts is None:
-            self._texts = {}
-        t = self._texts.get(numeric)
+            self._texts = [None, None]
+        t = self._texts[numeric]
         if t is None:
             t = self._texts[numeric] = f"{to_text(self.lhs, numeric)} = " \
                                        f"{to_text(self.rhs, numeric)}"
@@ -213,6 +214,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
         self._T: dict[tuple, E] = {}  # _kinetic's answers, by state and bodies in order
+        self._Tb: dict[tuple, tuple] = {}  # each body's terms of T, by body and state
         self._vel: dict[tuple[str, str], V2] = {}  # vel's answers (made of sv's: as fixed)
         self._mass: dict[str, E] = {}  # each body's declared mass, one Known
         self._next: dict[str, list[str]] | None = None  # for holds_at
@@ -580,6 +582,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             hits[p.body].append((p, r, J, torque))
             applied.append((len(sources), Applied(p.body, p, J, torque, r)))
             lin[p.body].append(J)
+            if sc.bodies[p.body].is_particle:
+                return  # no angular row: its moment is never used
             m = r.cross(J)
             if torque is not None:
                 m = add(m, torque)
@@ -722,14 +726,24 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _kinetic_of(self, sid: str, names) -> E:
         terms = []
+        memo = self._Tb
         for b in names:
-            body = self.scene.bodies[b]
-            v = self.vel(b, sid)
-            terms.append(mul(Const(0.5), mul(self.mass(b, sid), v.dot(v))))
-            if not body.is_particle:
-                w = self.sv(b, "omega", sid)
-                terms.append(mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
+            hit = memo.get((b, sid))
+            if hit is None:
+                hit = memo[(b, sid)] = self._body_kinetic(b, sid)
+            terms.extend(hit)
         return add_all(terms)
+
+    def _body_kinetic(self, b: str, sid: str) -> tuple:
+        """A body's terms of T at a state (shared by every sum of T that names it: an
+        impact's energy before and after, `T@1`, `T_lost`)."""
+        body = self.scene.bodies[b]
+        v = self.vel(b, sid)
+        t = mul(HALF, mul(self.mass(b, sid), v.dot(v)))
+        if body.is_particle:
+            return (t,)
+        w = self.sv(b, "omega", sid)
+        return (t, mul(HALF, mul(Known(f"I_{b}", body.inertia), mul(w, w))))
 
     def _potential(self, sid: str, bodies=None) -> E:
         sc = self.scene
@@ -835,6 +849,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return f"angular momentum is conserved about {points.pop()} (all external impulses " \
                    "act there)"
         return "no point is free of external angular impulse"
+
+HALF = Const(0.5)  # the 1/2 of every kinetic energy term: one shared leaf
+
 
 def _plain_const(e: E) -> bool:
     """A float constant (not a sweep's traced number, whose zero products are kept)."""

@@ -120,6 +120,7 @@ class Fn(E):
 
 ZERO = Const(0.0)
 ONE = Const(1.0)
+MINUS_ONE = Const(-1.0)  # neg's factor: one leaf shared by every negation
 
 FUNCS = {
     "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin,
@@ -185,9 +186,12 @@ def add_all(terms) -> E:
 
 
 def neg(a: E) -> E:
-    if isinstance(a, Const):
+    t = type(a)
+    if t is Const:
         return Const(-a.value)
-    return mul(Const(-1.0), a)
+    if t is not Mul:  # what mul(Const(-1.0), a) gives, with one shared -1 leaf
+        return Mul((MINUS_ONE, a))
+    return mul(MINUS_ONE, a)
 
 
 def mul(a: E, b: E) -> E:
@@ -208,11 +212,11 @@ def mul(a: E, b: E) -> E:
     # two factors, neither a product: what the general fold below gives, directly
     if ta is not Mul and tb is not Mul:
         if ta is Const:
-            if type(a.value) is float:  # c = 1.0 * a, neither 0 nor 1 (see above)
-                return Mul((Const(a.value), b))
+            if type(a.value) is float:  # c = 1.0 * a, neither 0 nor 1 (see above):
+                return Mul((a, b))  # the same leaf (nodes are shared, never mutated)
         elif tb is Const:
             if type(b.value) is float:
-                return Mul((Const(b.value), a))
+                return Mul((b, a))
         else:
             return Mul((a, b))
     fs = (a.factors if ta is Mul else (a,)) + (b.factors if tb is Mul else (b,))
@@ -744,7 +748,19 @@ class V2:
         return V2(mul(k, self.x), mul(k, self.y))
 
     def dot(self, o: "V2") -> E:
-        return add(mul(self.x, o.x), mul(self.y, o.y))
+        ox, oy = o.x, o.y
+        if type(ox) is Const and type(oy) is Const and type(ox.value) is float and \
+                type(oy.value) is float:
+            # along a direction of plain numbers (a normal, an axis): the products as
+            # `mul` folds them (0 -> ZERO, 1 -> the term, else (c, term)) without the calls
+            sx, sy = self.x, self.y
+            tx, ty = type(sx), type(sy)
+            if tx is not Const and tx is not Mul and ty is not Const and ty is not Mul:
+                a, b = ox.value, oy.value
+                px = ZERO if a == 0.0 else sx if a == 1.0 else Mul((ox, sx))
+                py = ZERO if b == 0.0 else sy if b == 1.0 else Mul((oy, sy))
+                return add(px, py)
+        return add(mul(self.x, ox), mul(self.y, oy))
 
     def cross(self, o: "V2") -> E:
         return add(mul(self.x, o.y), neg(mul(self.y, o.x)))
