@@ -27,9 +27,12 @@ from .energy_groups import energy_groups, split_joints
 from .expr import (
     V2,
     ZERO,
+    Add,
     Const,
     E,
+    MINUS_ONE,
     Known,
+    Mul,
     Var,
     add,
     add_all,
@@ -213,6 +216,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._chains = None  # aliases.StateChains, when the states form simple chains
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
+        self._at_key: dict[tuple[str, str, str], E] = {}  # the node of each resolved key
         self._T: dict[tuple, E] = {}  # _kinetic's answers, by state and bodies in order
         self._Tb: dict[tuple, tuple] = {}  # each body's terms of T, by body and state
         self._vel: dict[tuple[str, str], V2] = {}  # vel's answers (made of sv's: as fixed)
@@ -318,6 +322,12 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if b.is_particle and qty in ("angle", "omega"):
             return ZERO
         key = self._find((body, qty, sid))
+        hit = self._at_key.get(key)  # states that share the variable share its node
+        if hit is None:
+            hit = self._at_key[key] = self._key_value(key, body, qty)
+        return hit
+
+    def _key_value(self, key: tuple, body: str, qty: str) -> E:
         name = state_key(*key)
         given = self._given(key)
         if given is not None:
@@ -378,10 +388,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return V2(Const(-sign * r * normal[0]), Const(-sign * r * normal[1]))
         if p.located_by is not None:
             return rotate_v2(self.symbolic(p.located_by), self.sv(p.body, "angle", sid))
-        if p.offset == (0.0, 0.0):
-            return V2(ZERO, ZERO)
-        if b.is_particle:
-            return V2(ZERO, ZERO)
+        if p.offset == (0.0, 0.0) or b.is_particle:
+            return ZERO_V2
         return rotate(p.offset, self.sv(p.body, "angle", sid))
 
     def symbolic(self, s: Symbolic) -> E | V2:
@@ -636,8 +644,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             for comp, a1, a2, jsum in (("x", v1.x, v2.x, [J.x for J in lin[b]]),
                                        ("y", v1.y, v2.y, [J.y for J in lin[b]])):
                 rhs = add_all(jsum)
-                self.eq(mul(m, add(a2, neg(a1))), rhs,
-                        f"linear impulse-momentum {comp}: {b}", group, t.span)
+                if type(a1) in _NAMED and type(a2) in _NAMED and type(m) in _NAMED:
+                    lhs = Mul((m, Add((a2, Mul((MINUS_ONE, a1))))))  # mul(m, a2 - a1)
+                else:
+                    lhs = mul(m, add(a2, neg(a1)))
+                self.eq(lhs, rhs, f"linear impulse-momentum {comp}: {b}", group, t.span)
             if not body.is_particle:
                 I = Known(f"I_{b}", body.inertia)
                 w1, w2 = self.sv(b, "omega", i), self.sv(b, "omega", j)
@@ -739,10 +750,18 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         impact's energy before and after, `T@1`, `T_lost`)."""
         body = self.scene.bodies[b]
         v = self.vel(b, sid)
-        t = mul(HALF, mul(self.mass(b, sid), v.dot(v)))
+        m = self.mass(b, sid)
+        vx, vy = v.x, v.y
+        if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
+            # what mul and add fold 1/2 m (vx vx + vy vy) to, written directly
+            t = Mul((HALF, m, Add((Mul((vx, vx)), Mul((vy, vy))))))
+        else:
+            t = mul(HALF, mul(m, v.dot(v)))
         if body.is_particle:
             return (t,)
         w = self.sv(b, "omega", sid)
+        if type(w) in _NAMED:
+            return (t, Mul((HALF, Known(f"I_{b}", body.inertia), w, w)))
         return (t, mul(HALF, mul(Known(f"I_{b}", body.inertia), mul(w, w))))
 
     def _potential(self, sid: str, bodies=None) -> E:
@@ -851,6 +870,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         return "no point is free of external angular impulse"
 
 HALF = Const(0.5)  # the 1/2 of every kinetic energy term: one shared leaf
+_NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
+ZERO_V2 = V2(ZERO, ZERO)  # the arm of a point at G (a V2 is frozen: one for all)
 
 
 def _plain_const(e: E) -> bool:
