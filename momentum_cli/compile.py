@@ -334,13 +334,16 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return Known(name, given[0])
         dim, unit = STATE_QTYS[qty]
         st = self.scene.states[key[2]]
-        hints = list(st.hints.get((body, qty), []))
-        v = self.unknown(name, dim, KeyKind.STATE, unit, state=key[2], body=body, qty=qty)
-        u = self.unknowns[name]
-        for h in hints:
-            if h not in u.hints:
-                u.hints.append(h)
-        return v
+        u = self.unknowns.get(name)
+        if u is None:
+            u = self.unknowns[name] = Unknown(name, dim, unit, KeyKind.STATE, [], key[2], body,
+                                              qty)
+        hints = st.hints.get((body, qty))
+        if hints:
+            for h in list(hints):
+                if h not in u.hints:
+                    u.hints.append(h)
+        return Var(name)
 
     def mass(self, body: str, sid: str) -> E:
         """A body's mass at a state: as declared, or what the last burn before it left."""

@@ -80,3 +80,32 @@ def test_integer_analyse_equals_the_string_keyed_one():
                 _structure_order(R.analyse(system, excluded, known)), name
             n += 1
     assert n > 200
+
+
+def test_literal_directions_and_numbers_keep_the_sign_of_their_zeros():
+    """scene evaluates a literal direction (and number) once per value: 0 and -0 are two
+    (a parser may fold `-0.0` into one literal)."""
+    import math
+
+    from momentum_cli import syntax as S
+    from momentum_cli.scene import _Builder
+    from momentum_cli.source import Source, Span
+    from momentum_cli.syntax import parse
+    from momentum_cli.units import NONE
+
+    builder = _Builder(parse(Source("t.mom", "body a: particle(mass = 1 kg)\n")))
+    sp = Span(1, 1, 1, 2)
+
+    def vec(x):
+        return S.VecLit(sp, S.Num(sp, x), S.Num(sp, 1.0))
+
+    def same(p, q):
+        return all(x == y and math.copysign(1.0, x) == math.copysign(1.0, y)
+                   for x, y in zip(p, q))
+
+    for order in ((0.0, -0.0, 2.5), (-0.0, 0.0, 2.5)):
+        builder = _Builder(parse(Source("t.mom", "body a: particle(mass = 1 kg)\n")))
+        for x in order:  # the remembered answer is the one evaluated afresh
+            assert same(builder.unit_vector(vec(x), "n"), builder._unit_vector(vec(x), "n"))
+            assert same([builder.value(S.Num(sp, x), NONE, "x")],
+                        [builder._value(S.Num(sp, x), NONE, "x")])
