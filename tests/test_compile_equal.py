@@ -93,7 +93,6 @@ def test_literal_directions_and_numbers_keep_the_sign_of_their_zeros():
     from momentum_cli.syntax import parse
     from momentum_cli.units import NONE
 
-    builder = _Builder(parse(Source("t.mom", "body a: particle(mass = 1 kg)\n")))
     sp = Span(1, 1, 1, 2)
 
     def vec(x):
