@@ -30,7 +30,6 @@ from .expr import (
     Add,
     Const,
     E,
-    MINUS_ONE,
     Known,
     Mul,
     Var,
@@ -648,7 +647,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                                        ("y", v1.y, v2.y, [J.y for J in lin[b]])):
                 rhs = add_all(jsum)
                 if type(a1) in _NAMED and type(a2) in _NAMED and type(m) in _NAMED:
-                    lhs = Mul((m, Add((a2, Mul((MINUS_ONE, a1))))))  # mul(m, a2 - a1)
+                    lhs = Mul((m, Add((a2, Mul((Const(-1.0), a1))))))  # mul(m, a2 - a1)
                 else:
                     lhs = mul(m, add(a2, neg(a1)))
                 self.eq(lhs, rhs, f"linear impulse-momentum {comp}: {b}", group, t.span)
@@ -757,15 +756,15 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         vx, vy = v.x, v.y
         if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
             # what mul and add fold 1/2 m (vx vx + vy vy) to, written directly
-            t = Mul((HALF, m, Add((Mul((vx, vx)), Mul((vy, vy))))))
+            t = Mul((Const(0.5), m, Add((Mul((vx, vx)), Mul((vy, vy))))))
         else:
-            t = mul(HALF, mul(m, v.dot(v)))
+            t = mul(Const(0.5), mul(m, v.dot(v)))
         if body.is_particle:
             return (t,)
         w = self.sv(b, "omega", sid)
         if type(w) in _NAMED:
-            return (t, Mul((HALF, Known(f"I_{b}", body.inertia), w, w)))
-        return (t, mul(HALF, mul(Known(f"I_{b}", body.inertia), mul(w, w))))
+            return (t, Mul((Const(0.5), Known(f"I_{b}", body.inertia), w, w)))
+        return (t, mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
 
     def _potential(self, sid: str, bodies=None) -> E:
         sc = self.scene
@@ -872,7 +871,6 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                    "act there)"
         return "no point is free of external angular impulse"
 
-HALF = Const(0.5)  # the 1/2 of every kinetic energy term: one shared leaf
 _NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
 ZERO_V2 = V2(ZERO, ZERO)  # the arm of a point at G (a V2 is frozen: one for all)
 

@@ -120,7 +120,6 @@ class Fn(E):
 
 ZERO = Const(0.0)
 ONE = Const(1.0)
-MINUS_ONE = Const(-1.0)  # neg's factor: one leaf shared by every negation
 
 FUNCS = {
     "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin,
@@ -189,9 +188,9 @@ def neg(a: E) -> E:
     t = type(a)
     if t is Const:
         return Const(-a.value)
-    if t is not Mul:  # what mul(Const(-1.0), a) gives, with one shared -1 leaf
-        return Mul((MINUS_ONE, a))
-    return mul(MINUS_ONE, a)
+    if t is not Mul:  # what mul(Const(-1.0), a) gives, without the call
+        return Mul((Const(-1.0), a))
+    return mul(Const(-1.0), a)
 
 
 def mul(a: E, b: E) -> E:
@@ -212,11 +211,13 @@ def mul(a: E, b: E) -> E:
     # two factors, neither a product: what the general fold below gives, directly
     if ta is not Mul and tb is not Mul:
         if ta is Const:
-            if type(a.value) is float:  # c = 1.0 * a, neither 0 nor 1 (see above):
-                return Mul((a, b))  # the same leaf (nodes are shared, never mutated)
+            if type(a.value) is float:  # c = 1.0 * a, neither 0 nor 1 (see above);
+                # a fresh leaf: the report gives each bare number of a line the dimension
+                # of its place by id (report/reader.py), so places never share a Const
+                return Mul((Const(a.value), b))
         elif tb is Const:
             if type(b.value) is float:
-                return Mul((b, a))
+                return Mul((Const(b.value), a))
         else:
             return Mul((a, b))
     fs = (a.factors if ta is Mul else (a,)) + (b.factors if tb is Mul else (b,))
@@ -757,8 +758,8 @@ class V2:
             tx, ty = type(sx), type(sy)
             if tx is not Const and tx is not Mul and ty is not Const and ty is not Mul:
                 a, b = ox.value, oy.value
-                px = ZERO if a == 0.0 else sx if a == 1.0 else Mul((ox, sx))
-                py = ZERO if b == 0.0 else sy if b == 1.0 else Mul((oy, sy))
+                px = ZERO if a == 0.0 else sx if a == 1.0 else Mul((Const(a), sx))
+                py = ZERO if b == 0.0 else sy if b == 1.0 else Mul((Const(b), sy))
                 return add(px, py)
         return add(mul(self.x, ox), mul(self.y, oy))
 
