@@ -69,158 +69,187 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
 
     Every choice (matching, blocks) follows the order in which the unknowns and
     equations were compiled (the file's statements), never their names: renaming the
-    bodies changes no block.
+    bodies changes no block. The graph is walked on integers (an unknown is its column,
+    its rank in compile order), the dicts and sets of the result are filled in the
+    order the string-keyed walk filled them (tests/reference_analyse.py).
     """
     eqs = system.equations
     known = known or {}
     full = [variables(e.residual) for e in eqs]
     incidence = [{v for v in inc if v not in known} for inc in full] if known else full
-    names = [n for n in system.unknowns if n not in known]
     rank = {n: i for i, n in enumerate(system.unknowns)}
+    col_name = list(rank)
+    cols: list[list[int]] = []  # each equation's unknowns as sorted columns
+    get = rank.get
     for inc in incidence:
+        row = []
         for v in inc:
-            rank.setdefault(v, len(rank))
-    constant = [k for k, inc in enumerate(incidence) if not inc]
+            r = get(v)
+            if r is None:
+                r = rank[v] = len(col_name)
+                col_name.append(v)
+            row.append(r)
+        row.sort()
+        cols.append(row)
+    n_cols = len(col_name)
+    n_eqs = len(eqs)
+    stated = [e.kind in ("stated", "user") for e in eqs]
+    constant = [k for k in range(n_eqs) if not cols[k]]
     # auto equations first: stated principles then become the checks when redundant
-    order = sorted((k for k, inc in enumerate(incidence) if inc),
-                   key=lambda k: (eqs[k].kind in ("stated", "user"), k))
+    order = [k for k in range(n_eqs) if cols[k] and not stated[k]] + \
+        [k for k in range(n_eqs) if cols[k] and stated[k]]
     # auto equations are matched first, on their own; the principles a user states
     # (and free equations) then only take unknowns the scene left undetermined, so a
     # redundant statement becomes a check instead of displacing a derived equation
-    auto = [k for k in order if eqs[k].kind not in ("stated", "user") and k not in excluded]
-    extra = [k for k in order if eqs[k].kind in ("stated", "user") and k not in excluded]
-    ordered = [sorted(inc, key=rank.__getitem__) for inc in incidence]
-    matchable = ordered
+    auto = [k for k in order if not stated[k] and k not in excluded]
+    extra = [k for k in order if stated[k] and k not in excluded]
+    matchable = cols
     if system.integrations:  # an integration sets its outputs from its inputs, not the reverse
         from .integration import matched_outputs
 
-        matchable = list(ordered)
+        matchable = list(cols)
         for k, out in matched_outputs(system).items():
             if out in incidence[k]:
-                matchable[k] = [out]
-    match_eq, match_var = _max_matching(auto, matchable)
-    _augment(extra, matchable, match_eq, match_var)
+                matchable[k] = [rank[out]]
+    meq = [-1] * n_eqs  # equation -> its matched column
+    mvar = [-1] * n_cols  # column -> its matched equation
+    eq_first: list[int] = []  # equations and columns in the order they were first matched
+    var_first: list[int] = []
+    for k in auto:  # cheap greedy pass first
+        for v in matchable[k]:
+            if mvar[v] < 0:
+                mvar[v] = k
+                meq[k] = v
+                eq_first.append(k)
+                var_first.append(v)
+                break
+    _augment(auto, matchable, meq, mvar, eq_first, var_first)
+    _augment(extra, matchable, meq, mvar, eq_first, var_first)
     # Dulmage-Mendelsohn: under-determined = reachable from unmatched unknowns by
     # alternating paths (unknown -> equation containing it -> that equation's unknown).
-    var_eqs: dict[str, list[int]] = {n: [] for n in names}
-    for k, inc in enumerate(ordered):
-        for v in inc:  # ordered everywhere: block order must not depend on hashing
-            var_eqs.setdefault(v, []).append(k)
+    var_eqs: list[list[int]] = [[] for _ in range(n_cols)]
+    for k, row in enumerate(cols):
+        for v in row:
+            var_eqs[v].append(k)
+    present = [True] * n_cols  # the unknowns the analysis is over (not known)
+    for n in known:
+        r = get(n)
+        if r is not None and not var_eqs[r]:
+            present[r] = False
+    in_under = [False] * n_cols
+    eq_under = [False] * n_eqs
     under: set[str] = set()
     under_eqs: set[int] = set()
-    stack = [n for n in var_eqs if n not in match_var]
+    stack = [v for v in range(n_cols) if present[v] and mvar[v] < 0]
     while stack:
         v = stack.pop()
-        if v in under:
+        if in_under[v]:
             continue
-        under.add(v)
-        for k in var_eqs.get(v, ()):
-            if k in match_eq and k not in under_eqs:
+        in_under[v] = True
+        under.add(col_name[v])
+        for k in var_eqs[v]:
+            if meq[k] >= 0 and not eq_under[k]:
+                eq_under[k] = True
                 under_eqs.add(k)
-                stack.append(match_eq[k])
-    redundant = [k for k in order if k not in match_eq]
+                stack.append(meq[k])
+    redundant = [k for k in order if meq[k] < 0]
     # BLT over the matched, determined equations (Tarjan's SCC, iterative)
-    det = [k for k in order if k in match_eq and k not in under_eqs]
-    succ: dict[int, list[int]] = {}
+    det = [k for k in order if meq[k] >= 0 and not eq_under[k]]
+    succ: list = [None] * n_eqs
     for k in det:
-        succ[k] = [match_var[v] for v in ordered[k]
-                   if v in match_var and match_var[v] != k and match_var[v] not in under_eqs]
-    comps = _tarjan(det, succ)
+        out = []
+        for v in cols[k]:
+            d = mvar[v]
+            if d >= 0 and d != k and not eq_under[d]:
+                out.append(d)
+        succ[k] = out
+    comps = _tarjan(det, succ, n_eqs)
     blocks: list[Block] = []
-    block_of_eq: dict[int, int] = {}
+    block_of_eq = [-1] * n_eqs
     for comp in comps:  # Tarjan emits dependencies first
         idx = len(blocks)
         for k in comp:
             block_of_eq[k] = idx
-        blocks.append(Block(idx, sorted(comp), [match_eq[k] for k in sorted(comp)], set()))
+        comp.sort()
+        blocks.append(Block(idx, comp, [col_name[meq[k]] for k in comp], set()))
     for b in blocks:
+        own = b.index
+        dep = b.depends
         for k in b.equations:
             for d in succ[k]:
-                if block_of_eq[d] != b.index:
-                    b.depends.add(block_of_eq[d])
-    block_of_var = {match_eq[k]: block_of_eq[k] for k in det}
+                bd = block_of_eq[d]
+                if bd != own:
+                    dep.add(bd)
+    match_eq = {k: col_name[meq[k]] for k in eq_first}
+    match_var = {col_name[v]: mvar[v] for v in var_first}
+    block_of_var = {col_name[meq[k]]: block_of_eq[k] for k in det}
     return Structure(full, match_eq, match_var, under, under_eqs, redundant, blocks,
                      block_of_var, constant)
 
 
-def _max_matching(order: list[int], incidence: list[list[str]]):
-    """Maximum bipartite matching by augmenting paths (equations in the given order,
-    each equation's unknowns in the order given)."""
-    match_eq: dict[int, str] = {}
-    match_var: dict[str, int] = {}
-    # cheap greedy pass first
+def _augment(order: list[int], incidence: list[list[int]], meq: list[int], mvar: list[int],
+             eq_first: list[int], var_first: list[int]) -> None:
+    """Extend a matching by augmenting paths from each unmatched equation of `order`
+    (iterative DFS, each equation's columns in order; a new equation and the free
+    column that ends its path are appended to eq_first and var_first)."""
+    seen = [-1] * len(mvar)  # the equation whose search last visited the column
+    parent = [0] * len(mvar)
     for k in order:
-        for v in incidence[k]:
-            if v not in match_var:
-                match_var[v] = k
-                match_eq[k] = v
-                break
-    _augment(order, incidence, match_eq, match_var)
-    return match_eq, match_var
-
-
-def _augment(order: list[int], incidence: list[list[str]], match_eq: dict, match_var: dict):
-    """Extend a matching by augmenting paths from each unmatched equation of `order`."""
-    adj: dict[int, list[str]] = {}
-
-    def nbrs(k):
-        if k not in adj:
-            adj[k] = incidence[k]
-        return adj[k]
-
-    for k in order:
-        if k in match_eq:
+        if meq[k] >= 0:
             continue
-        # iterative DFS for an augmenting path from equation k
-        visited: set[str] = set()
-        parent: dict[str, int] = {}
-        stack = [(k, iter(nbrs(k)))]
-        found = None
-        while stack and found is None:
+        stack = [(k, iter(incidence[k]))]
+        found = -1
+        while stack:
             e, it = stack[-1]
             # look ahead: an unmatched unknown of this equation ends the path at once
             # (keeps chains of contacts linear instead of quadratic)
-            free = next((v for v in nbrs(e) if v not in match_var and v not in visited), None)
-            if free is not None:
-                visited.add(free)
-                parent[free] = e
-                found = free
-                break
-            for v in it:
-                if v in visited:
-                    continue
-                visited.add(v)
-                parent[v] = e
-                if v not in match_var:
+            for v in incidence[e]:
+                if mvar[v] < 0 and seen[v] != k:
+                    seen[v] = k
+                    parent[v] = e
                     found = v
                     break
-                stack.append((match_var[v], iter(nbrs(match_var[v]))))
+            if found >= 0:
+                break
+            for v in it:
+                if seen[v] == k:
+                    continue
+                seen[v] = k
+                parent[v] = e
+                if mvar[v] < 0:
+                    found = v
+                    break
+                stack.append((mvar[v], iter(incidence[mvar[v]])))
                 break
             else:
                 stack.pop()
-        if found is None:
+            if found >= 0:
+                break
+        if found < 0:
             continue
+        eq_first.append(k)
+        var_first.append(found)
         v = found
         while True:
             e = parent[v]
-            prev = match_eq.get(e)
-            match_eq[e] = v
-            match_var[v] = e
+            prev = meq[e]
+            meq[e] = v
+            mvar[v] = e
             if e == k:
                 break
             v = prev
 
 
-def _tarjan(nodes: list[int], succ: dict[int, list[int]]) -> list[list[int]]:
+def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
     """Strongly connected components, dependencies before dependents (iterative)."""
-    index: dict[int, int] = {}
-    low: dict[int, int] = {}
-    on: set[int] = set()
+    index = [-1] * n
+    low = [0] * n
+    on = [False] * n
     stack: list[int] = []
     out: list[list[int]] = []
     counter = 0
     for root in nodes:
-        if root in index:
+        if index[root] >= 0:
             continue
         work = [(root, 0)]
         while work:
@@ -229,30 +258,31 @@ def _tarjan(nodes: list[int], succ: dict[int, list[int]]) -> list[list[int]]:
                 index[v] = low[v] = counter
                 counter += 1
                 stack.append(v)
-                on.add(v)
+                on[v] = True
             recurse = False
-            ws = succ.get(v, [])
+            ws = succ[v]
             for i in range(pi, len(ws)):
                 w = ws[i]
-                if w not in index:
+                if index[w] < 0:
                     work.append((v, i + 1))
                     work.append((w, 0))
                     recurse = True
                     break
-                if w in on:
-                    low[v] = min(low[v], index[w])
+                if on[w] and index[w] < low[v]:
+                    low[v] = index[w]
             if recurse:
                 continue
             if low[v] == index[v]:
                 comp = []
                 while True:
                     w = stack.pop()
-                    on.discard(w)
+                    on[w] = False
                     comp.append(w)
                     if w == v:
                         break
                 out.append(comp)
             if work:
                 parent = work[-1][0]
-                low[parent] = min(low[parent], low[v])
+                if low[v] < low[parent]:
+                    low[parent] = low[v]
     return out

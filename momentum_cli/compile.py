@@ -27,9 +27,11 @@ from .energy_groups import energy_groups, split_joints
 from .expr import (
     V2,
     ZERO,
+    Add,
     Const,
     E,
     Known,
+    Mul,
     Var,
     add,
     add_all,
@@ -91,10 +93,11 @@ class Equation:
         return self._residual
 
     def text(self, numeric: bool = False) -> str:
-        """`lhs = rhs`, symbolically or with numbers (printed once, then remembered)."""
+        """`lhs = rhs`, symbolically or with numbers (printed once, then remembered in a
+        pair indexed by `numeric`: a dict per equation cost a big scene 230 bytes each)."""
         if self._texts is None:
-            self._texts = {}
-        t = self._texts.get(numeric)
+            self._texts = [None, None]
+        t = self._texts[numeric]
         if t is None:
             t = self._texts[numeric] = f"{to_text(self.lhs, numeric)} = " \
                                        f"{to_text(self.rhs, numeric)}"
@@ -212,7 +215,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._chains = None  # aliases.StateChains, when the states form simple chains
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
+        self._at_key: dict[tuple[str, str, str], E] = {}  # the node of each resolved key
         self._T: dict[tuple, E] = {}  # _kinetic's answers, by state and bodies in order
+        self._Tb: dict[tuple, tuple] = {}  # each body's terms of T, by body and state
         self._vel: dict[tuple[str, str], V2] = {}  # vel's answers (made of sv's: as fixed)
         self._mass: dict[str, E] = {}  # each body's declared mass, one Known
         self._next: dict[str, list[str]] | None = None  # for holds_at
@@ -316,19 +321,28 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if b.is_particle and qty in ("angle", "omega"):
             return ZERO
         key = self._find((body, qty, sid))
+        hit = self._at_key.get(key)  # states that share the variable share its node
+        if hit is None:
+            hit = self._at_key[key] = self._key_value(key, body, qty)
+        return hit
+
+    def _key_value(self, key: tuple, body: str, qty: str) -> E:
         name = state_key(*key)
         given = self._given(key)
         if given is not None:
             return Known(name, given[0])
         dim, unit = STATE_QTYS[qty]
         st = self.scene.states[key[2]]
-        hints = list(st.hints.get((body, qty), []))
-        v = self.unknown(name, dim, KeyKind.STATE, unit, state=key[2], body=body, qty=qty)
-        u = self.unknowns[name]
-        for h in hints:
-            if h not in u.hints:
-                u.hints.append(h)
-        return v
+        u = self.unknowns.get(name)
+        if u is None:
+            u = self.unknowns[name] = Unknown(name, dim, unit, KeyKind.STATE, [], key[2], body,
+                                              qty)
+        hints = st.hints.get((body, qty))
+        if hints:
+            for h in list(hints):
+                if h not in u.hints:
+                    u.hints.append(h)
+        return Var(name)
 
     def mass(self, body: str, sid: str) -> E:
         """A body's mass at a state: as declared, or what the last burn before it left."""
@@ -376,10 +390,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return V2(Const(-sign * r * normal[0]), Const(-sign * r * normal[1]))
         if p.located_by is not None:
             return rotate_v2(self.symbolic(p.located_by), self.sv(p.body, "angle", sid))
-        if p.offset == (0.0, 0.0):
-            return V2(ZERO, ZERO)
-        if b.is_particle:
-            return V2(ZERO, ZERO)
+        if p.offset == (0.0, 0.0) or b.is_particle:
+            return ZERO_V2
         return rotate(p.offset, self.sv(p.body, "angle", sid))
 
     def symbolic(self, s: Symbolic) -> E | V2:
@@ -580,6 +592,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             hits[p.body].append((p, r, J, torque))
             applied.append((len(sources), Applied(p.body, p, J, torque, r)))
             lin[p.body].append(J)
+            if sc.bodies[p.body].is_particle:
+                return  # no angular row: its moment is never used
             m = r.cross(J)
             if torque is not None:
                 m = add(m, torque)
@@ -632,8 +646,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             for comp, a1, a2, jsum in (("x", v1.x, v2.x, [J.x for J in lin[b]]),
                                        ("y", v1.y, v2.y, [J.y for J in lin[b]])):
                 rhs = add_all(jsum)
-                self.eq(mul(m, add(a2, neg(a1))), rhs,
-                        f"linear impulse-momentum {comp}: {b}", group, t.span)
+                if type(a1) in _NAMED and type(a2) in _NAMED and type(m) in _NAMED:
+                    lhs = Mul((m, Add((a2, Mul((Const(-1.0), a1))))))  # mul(m, a2 - a1)
+                else:
+                    lhs = mul(m, add(a2, neg(a1)))
+                self.eq(lhs, rhs, f"linear impulse-momentum {comp}: {b}", group, t.span)
             if not body.is_particle:
                 I = Known(f"I_{b}", body.inertia)
                 w1, w2 = self.sv(b, "omega", i), self.sv(b, "omega", j)
@@ -722,14 +739,32 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _kinetic_of(self, sid: str, names) -> E:
         terms = []
+        memo = self._Tb
         for b in names:
-            body = self.scene.bodies[b]
-            v = self.vel(b, sid)
-            terms.append(mul(Const(0.5), mul(self.mass(b, sid), v.dot(v))))
-            if not body.is_particle:
-                w = self.sv(b, "omega", sid)
-                terms.append(mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
+            hit = memo.get((b, sid))
+            if hit is None:
+                hit = memo[(b, sid)] = self._body_kinetic(b, sid)
+            terms.extend(hit)
         return add_all(terms)
+
+    def _body_kinetic(self, b: str, sid: str) -> tuple:
+        """A body's terms of T at a state (shared by every sum of T that names it: an
+        impact's energy before and after, `T@1`, `T_lost`)."""
+        body = self.scene.bodies[b]
+        v = self.vel(b, sid)
+        m = self.mass(b, sid)
+        vx, vy = v.x, v.y
+        if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
+            # what mul and add fold 1/2 m (vx vx + vy vy) to, written directly
+            t = Mul((Const(0.5), m, Add((Mul((vx, vx)), Mul((vy, vy))))))
+        else:
+            t = mul(Const(0.5), mul(m, v.dot(v)))
+        if body.is_particle:
+            return (t,)
+        w = self.sv(b, "omega", sid)
+        if type(w) in _NAMED:
+            return (t, Mul((Const(0.5), Known(f"I_{b}", body.inertia), w, w)))
+        return (t, mul(Const(0.5), mul(Known(f"I_{b}", body.inertia), mul(w, w))))
 
     def _potential(self, sid: str, bodies=None) -> E:
         sc = self.scene
@@ -835,6 +870,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return f"angular momentum is conserved about {points.pop()} (all external impulses " \
                    "act there)"
         return "no point is free of external angular impulse"
+
+_NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
+ZERO_V2 = V2(ZERO, ZERO)  # the arm of a point at G (a V2 is frozen: one for all)
+
 
 def _plain_const(e: E) -> bool:
     """A float constant (not a sweep's traced number, whose zero products are kept)."""

@@ -185,8 +185,11 @@ def add_all(terms) -> E:
 
 
 def neg(a: E) -> E:
-    if isinstance(a, Const):
+    t = type(a)
+    if t is Const:
         return Const(-a.value)
+    if t is not Mul:  # what mul(Const(-1.0), a) gives, without the call
+        return Mul((Const(-1.0), a))
     return mul(Const(-1.0), a)
 
 
@@ -208,7 +211,9 @@ def mul(a: E, b: E) -> E:
     # two factors, neither a product: what the general fold below gives, directly
     if ta is not Mul and tb is not Mul:
         if ta is Const:
-            if type(a.value) is float:  # c = 1.0 * a, neither 0 nor 1 (see above)
+            if type(a.value) is float:  # c = 1.0 * a, neither 0 nor 1 (see above);
+                # a fresh leaf: the report gives each bare number of a line the dimension
+                # of its place by id (report/reader.py), so places never share a Const
                 return Mul((Const(a.value), b))
         elif tb is Const:
             if type(b.value) is float:
@@ -744,7 +749,19 @@ class V2:
         return V2(mul(k, self.x), mul(k, self.y))
 
     def dot(self, o: "V2") -> E:
-        return add(mul(self.x, o.x), mul(self.y, o.y))
+        ox, oy = o.x, o.y
+        if type(ox) is Const and type(oy) is Const and type(ox.value) is float and \
+                type(oy.value) is float:
+            # along a direction of plain numbers (a normal, an axis): the products as
+            # `mul` folds them (0 -> ZERO, 1 -> the term, else (c, term)) without the calls
+            sx, sy = self.x, self.y
+            tx, ty = type(sx), type(sy)
+            if tx is not Const and tx is not Mul and ty is not Const and ty is not Mul:
+                a, b = ox.value, oy.value
+                px = ZERO if a == 0.0 else sx if a == 1.0 else Mul((Const(a), sx))
+                py = ZERO if b == 0.0 else sy if b == 1.0 else Mul((Const(b), sy))
+                return add(px, py)
+        return add(mul(self.x, ox), mul(self.y, oy))
 
     def cross(self, o: "V2") -> E:
         return add(mul(self.x, o.y), neg(mul(self.y, o.x)))

@@ -298,6 +298,8 @@ class _Builder:
         self.points: dict[str, PointOn] = {}
         self.surfaces: dict[str, Surface] = {}
         self.user_unknowns: dict[str, tuple[Dim, str, Span]] = {}
+        self._literals: dict[tuple, float] = {}  # value()'s answers for literal numbers
+        self._directions: dict[tuple, tuple[float, float]] = {}  # unit_vector's, literal ones
 
     # ---- names in constant expressions
     def _resolve_constant(self, ref: S.Ref, expect) -> Q:
@@ -320,6 +322,18 @@ class _Builder:
                            ref.span, code="name")
 
     def value(self, node, dim: Dim, what: str) -> float:
+        if type(node) is S.Num and type(node.value) is float:
+            # a literal: its value depends on its number, unit and dimension only (a big
+            # file repeats a few: `restitution 0.5`, `mass = 2 kg`); errors are not kept
+            x = node.value
+            key = (x, math.copysign(1.0, x), node.unit, dim)
+            hit = self._literals.get(key)
+            if hit is None:
+                hit = self._literals[key] = self._value(node, dim, what)
+            return hit
+        return self._value(node, dim, what)
+
+    def _value(self, node, dim: Dim, what: str) -> float:
         q = self.ev(node, dim)
         if q.is_vector:
             raise ProblemError(f"{what} needs a scalar; got a vector", node.span, code="type")
@@ -344,6 +358,19 @@ class _Builder:
         return v
 
     def unit_vector(self, node, what: str) -> tuple[float, float]:
+        if type(node) is S.VecLit and type(node.x) is S.Num and type(node.y) is S.Num and \
+                type(node.x.value) is float and type(node.y.value) is float:
+            # a literal direction such as (1, 0): once per numbers and units
+            a, b = node.x, node.y
+            key = (a.value, math.copysign(1.0, a.value), a.unit, b.value,
+                   math.copysign(1.0, b.value), b.unit)
+            hit = self._directions.get(key)
+            if hit is None:
+                hit = self._directions[key] = self._unit_vector(node, what)
+            return hit
+        return self._unit_vector(node, what)
+
+    def _unit_vector(self, node, what: str) -> tuple[float, float]:
         x, y = self.vector(node, NONE, what, ranged=False)  # only the direction counts
         return unit_direction(x, y, node, what)
 
@@ -682,9 +709,11 @@ class _Builder:
             raise ProblemError(f"{shape.kind}() needs '{name}'", shape.span, code="name")
         return args[name][0]
 
-    def _simple(self, shape: S.Shape):
-        """(mass, inertia, formula, radius, length, weight_given) of one shape."""
-        args = self._shape_args(shape)
+    def _simple(self, shape: S.Shape, args=None):
+        """(mass, inertia, formula, radius, length, weight_given) of one shape (`args`: its
+        `_shape_args`, when the caller has them)."""
+        if args is None:
+            args = self._shape_args(shape)
         m, w = self._mass(shape, args)
         k = shape.kind
         r = args.get("radius", (None,))[0]
@@ -716,13 +745,14 @@ class _Builder:
                                code="name")
         if not s.composite:
             shape = s.shapes[0]
-            m, inertia, formula, r, L, w = self._simple(shape)
+            args = self._shape_args(shape)  # evaluated once, for the body and its drawing
+            m, inertia, formula, r, L, w = self._simple(shape, args)
             kind = shape.kind
             point_mass = kind == "particle" or (kind == "rigid" and inertia == 0)
             self.bodies[s.name] = Body(s.name, s.span, kind, m, inertia, formula,
                                        r if kind in ROUND or kind in ("particle", "rigid") else None,
                                        L, point_mass, (0.0, 0.0), w,
-                                       ((kind, (0.0, 0.0), self._dims(shape), 0.0),))
+                                       ((kind, (0.0, 0.0), self._dims(shape, args), 0.0),))
             return
         parts = []
         turns = []
@@ -743,9 +773,10 @@ class _Builder:
         self.bodies[s.name] = Body(s.name, s.span, "composite", M, inertia, formula, None, None,
                                    False, (-gx, -gy), any(p[4] for p in parts), outline)
 
-    def _dims(self, shape: S.Shape) -> tuple:
+    def _dims(self, shape: S.Shape, args=None) -> tuple:
         """A shape's sizes (radius, length, width, height) in m, for drawing it."""
-        args = self._shape_args(shape)
+        if args is None:
+            args = self._shape_args(shape)
         return tuple((k, args[k][0]) for k in ("radius", "length", "width", "height")
                      if k in args)
 

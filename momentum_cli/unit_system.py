@@ -95,12 +95,21 @@ def _units(root, limit: int = 200):
         depth += 1
         if plan is _SEQ:
             for x in reversed(node):
-                push((x, depth))
+                child = plans.get(type(x))
+                if child is None:
+                    child = _plan(type(x))
+                if child:
+                    push((x, depth))
             continue
         for f, is_unit in plan:
             v = getattr(node, f, None)
             if is_unit and isinstance(v, str):
                 push((v, -1))  # a unit string: yielded in order when popped
             elif v is not None:
-                push((v, depth))
+                # a child with nothing inside (a leaf, a Span) is not pushed at all
+                child = plans.get(type(v))
+                if child is None:
+                    child = _plan(type(v))
+                if child:
+                    push((v, depth))
     return out

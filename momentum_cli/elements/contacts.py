@@ -21,18 +21,31 @@ from .kinds import Component, KeyKind, PhaseKind, Regime, Restitution, Tangentia
 STICK_SLACK = 1e-12  # relative: |J_t| above mu J_n by more than this is a slide
 
 
-@record
 class ContactRows:
-    """What a contact's laws write rows over in one transition."""
+    """What a contact's laws write rows over in one transition: the impulses jn (on body
+    a, along n) and jt (along t = (-n_y, n_x); ZERO when smooth), the relative normal
+    velocity of a's point to b's before and after (vn1, vn2) and the tangential (slip)
+    one (vt1, vt2: formed when a law asks, a smooth contact never does)."""
 
-    contact: "ContactElement"
-    phase: Phase
-    jn: E  # the normal impulse on body a (along n)
-    jt: E  # the tangential impulse on a (along t = (-n_y, n_x)); ZERO when smooth
-    vn1: E  # relative normal velocity of a's point to b's, before and after
-    vn2: E
-    vt1: E  # relative tangential (slip) velocity, before and after
-    vt2: E
+    __slots__ = ("contact", "phase", "jn", "jt", "vn1", "vn2", "_r1", "_r2", "_tv", "_vt")
+
+    def __init__(self, contact, phase: Phase, jn: E, jt: E, r1: V2, r2: V2, nv: V2, tv: V2):
+        self.contact, self.phase, self.jn, self.jt = contact, phase, jn, jt
+        self.vn1, self.vn2 = r1.dot(nv), r2.dot(nv)
+        self._r1, self._r2, self._tv, self._vt = r1, r2, tv, None
+
+    def _slip(self) -> tuple[E, E]:
+        if self._vt is None:
+            self._vt = (self._r1.dot(self._tv), self._r2.dot(self._tv))
+        return self._vt
+
+    @property
+    def vt1(self) -> E:
+        return self._slip()[0]
+
+    @property
+    def vt2(self) -> E:
+        return self._slip()[1]
 
     @property
     def site(self) -> str:
@@ -476,7 +489,7 @@ class ContactElement(Element):
         Jt: E = ZERO
         if len(keys) > 1:
             Jt = compiler.unknown(keys[1], IMPULSE, KeyKind.IMPULSE)
-        J = nv.scale(Jn) + tv.scale(Jt)
+        J = V2(add(mul(Jn, nv.x), mul(Jt, tv.x)), add(mul(Jn, nv.y), mul(Jt, tv.y)))
         phase.apply(c.a, J, None, n, 1.0)
         if c.b is not None:
             phase.apply(c.b, -J, None, n, -1.0)
@@ -488,7 +501,7 @@ class ContactElement(Element):
                                            f"contact {c.label}"))
         r1, r2 = self.relative_velocity(phase.before, compiler), \
             self.relative_velocity(phase.after, compiler)
-        rows = ContactRows(self, phase, Jn, Jt, r1.dot(nv), r2.dot(nv), r1.dot(tv), r2.dot(tv))
+        rows = ContactRows(self, phase, Jn, Jt, r1, r2, nv, tv)
         if phase.kind is PhaseKind.IMPACT:
             compiler.losses.setdefault(phase.key, []).append(self.energy_loss(rows, compiler))
             self.restitution.stamp_impact(rows, compiler)
