@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from . import rowcode
 from .block_memo import abs_inverse
 from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, is_zero, keeps, variables
 
@@ -221,6 +222,9 @@ def propagate(system, reports, values, exact: bool = False):
                 x = abs(values.get(name, 0.0))
                 size[name], err[name] = x, 10 * rep.residual * x
             continue
+        if ONE_BY_ONE and len(names) == 1 and len(rep.equations) == 1:
+            _one(system, rep, values, exact, size, err)
+            continue
         col = {n: j for j, n in enumerate(names)}
         n = len(names)
         A: list[dict[int, float]] = [{} for _ in rep.equations]
@@ -229,7 +233,7 @@ def propagate(system, reports, values, exact: bool = False):
         newton = rep.method == "newton"
         for i, k in enumerate(rep.equations):
             f = system.equations[k].residual
-            dv, mag = derivatives_and_size(f, values)
+            dv, mag = rowcode.derivatives_and_size(f, values)
             up = {v: abs(s) for v, s in dv.items() if v not in col}
             for v, s in dv.items():
                 if v in col and s != 0:
@@ -269,6 +273,57 @@ def propagate(system, reports, values, exact: bool = False):
             solver = 0.0 if exact and not newton else comps[j] * abs(values.get(name, 0.0))
             err[name] = e + solver if math.isfinite(e) else math.inf
     return size, err
+
+
+def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
+    """`propagate`'s general step for a block of one unknown and one equation (most
+    blocks of a large scene), the same operations on scalars, in the same order
+    (tests/test_rowcode.py compares the two on every example)."""
+    name = rep.unknowns[0]
+    newton = rep.method == "newton"
+    f = system.equations[rep.equations[0]].residual
+    dv, mag = rowcode.derivatives_and_size(f, values)
+    a = None  # A[0][0]: the derivative by the block's unknown, where nonzero
+    up = {}
+    for v, s in dv.items():
+        if v == name:
+            if s != 0:
+                a = s
+        else:
+            up[v] = abs(s)
+    scale = mag + sum([s * size.get(v, 0.0) for v, s in up.items() if s])
+    d = error_of(up, err)
+    if not exact or newton:
+        d += ROUNDOFF * scale
+    if newton:
+        try:
+            d += abs(evaluate(f, values))
+        except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+            d = math.inf
+    x = abs(values.get(name, 0.0))
+    if a is None:
+        unit = 0.0
+        size[name] = max(x, x, 0.0)
+        inv = _abs_inverse([{}])
+    else:
+        aa = abs(a)
+        rmax = max([abs(a)])
+        unit = max([aa / rmax] if rmax > 0 else [], default=0.0)
+        big = max([x * unit], default=0.0)
+        size[name] = max(x, min([scale / aa], default=x), big / unit if unit > 0 else 0.0)
+        inv = _abs_inverse([{0: a}])
+    q = rep.quality
+    comp = q.components[0] if q is not None and q.components else 0.0
+    if inv is not None:
+        e = 0 + inv[0][0] * d
+    else:
+        cond = rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0
+        e = cond * max([d / aa] if a is not None else [], default=0.0)
+    solver = 0.0 if exact and not newton else comp * abs(values.get(name, 0.0))
+    err[name] = e + solver if math.isfinite(e) else math.inf
+
+
+ONE_BY_ONE = True  # tests turn it off to compare with the general step
 
 
 def _abs_inverse(A: list[dict[int, float]]) -> list[list[float]] | None:

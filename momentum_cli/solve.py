@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from collections import ChainMap
 
+from . import rowcode
 from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
@@ -263,6 +264,12 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
 
 def _solve(system: System, structure: Structure, solve_all: bool,
            precision: str = "float", defer: bool = False) -> Solution:
+    with rowcode.remembered():  # each equation's shape is read once
+        return _solve_rounds(system, structure, solve_all, precision, defer)
+
+
+def _solve_rounds(system: System, structure: Structure, solve_all: bool,
+                  precision: str, defer: bool) -> Solution:
     eqs = system.equations
     diags: list[Diagnostic] = list(system.notes.items)
     checks: list[CheckReport] = []
@@ -799,7 +806,7 @@ def _solve_block(system: System, structure: Structure, block, values,
     try:
         for e in eqs:
             # exact mode forms the rows in rationals too (no cancellation in the rhs)
-            coef, const = affine(e.residual, bset, values) if exact is None else \
+            coef, const = rowcode.affine(e.residual, bset, values) if exact is None else \
                 affine_exact(e.residual, bset, ChainMap(exact, values))
             rows.append({col[n]: v for n, v in coef.items() if v != 0.0})
             rhs.append(-const)
