@@ -90,6 +90,12 @@ def derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
         return derivatives(e, values), _mag(e, values)
 
 
+def fast_derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
+    """`derivatives_and_size` by rowcode's compiled walk where the tree has one."""
+    got = rowcode.derivatives_and_size(e, values)
+    return got if got is not None else derivatives_and_size(e, values)
+
+
 def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
     """`_grad(e, w)` into `out`, returning `term_size(e)`."""
     t = type(e)
@@ -130,7 +136,10 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
 
 def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, float], float]:
     """(`slopes(e)`, `size_of(e, values, size)`) with the tree walked once, not twice."""
-    dv, mag = derivatives_and_size(e, values)
+    got = rowcode.derivatives_and_size(e, values)
+    if got is None:
+        got = rowcode.grad_size_big(e, values)
+    dv, mag = got if got is not None else derivatives_and_size(e, values)
     slope = {v: abs(d) for v, d in dv.items()}
     return slope, mag + sum(s * size.get(v, 0.0) for v, s in slope.items() if s)
 
@@ -233,7 +242,7 @@ def propagate(system, reports, values, exact: bool = False):
         newton = rep.method == "newton"
         for i, k in enumerate(rep.equations):
             f = system.equations[k].residual
-            dv, mag = rowcode.derivatives_and_size(f, values)
+            dv, mag = fast_derivatives_and_size(f, values)
             up = {v: abs(s) for v, s in dv.items() if v not in col}
             for v, s in dv.items():
                 if v in col and s != 0:
@@ -282,7 +291,7 @@ def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
     name = rep.unknowns[0]
     newton = rep.method == "newton"
     f = system.equations[rep.equations[0]].residual
-    dv, mag = rowcode.derivatives_and_size(f, values)
+    dv, mag = fast_derivatives_and_size(f, values)
     a = None  # A[0][0]: the derivative by the block's unknown, where nonzero
     up = {}
     for v, s in dv.items():

@@ -73,6 +73,8 @@ def shape_of(e):
 
 def _walk(e, toks, nums, names, first):
     t = type(e)
+    if len(toks) > MAX_TOKENS:
+        raise _No
     if t is Add:
         terms = e.terms
         toks.append(2)
@@ -189,7 +191,7 @@ class _Src:
 
 # ---- bounds.derivatives_and_size -------------------------------------------------------
 def _gs_function(key):
-    """f(c, n, values, out) -> size: `bounds._grad_size(e, 1.0, values, out)`."""
+    """f(c, n, values, out, w) -> size: `bounds._grad_size(e, w, values, out)`."""
     root, nvars = _parse(key)
     s = _Src()
     for j in range(nvars):  # every unknown outside a zero product is read by the walk
@@ -231,30 +233,78 @@ def _gs_function(key):
             sizes.append(gs(k, wk))
         return s.tmp("1.0" + "".join(" * " + z for z in sizes))
 
-    s.lines.append(f"    return {gs(root, '1.0')}")
-    return s.function("gs(c, n, values, out)", {"fsum": math.fsum})
+    s.lines.append(f"    return {gs(root, 'w')}")
+    return s.function("gs(c, n, values, out, w)", {"fsum": math.fsum})
 
 
 def derivatives_and_size(e, values, shaped=None):
-    """`bounds.derivatives_and_size(e, values)`, by the shape's compiled walk where it
-    has one (`shaped`: `shape(e)` if already taken)."""
-    from .bounds import derivatives_and_size as walk
-
+    """`bounds.derivatives_and_size(e, values)` by the shape's compiled walk, or None
+    where it has none or the walk fails (the caller walks the tree then: its failures
+    are handled as it handles them). `shaped`: `shape(e)` if already taken."""
     sh = (shape_of(e) if shaped is None else shaped) if ENABLED else None
     if sh is None:
-        return walk(e, values)
+        return None
     key, nums, names = sh
+    f = _gs_of(key)
+    out: dict = {}
+    try:
+        return out, f(nums, names, values, out, 1.0)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return None
+
+
+def _gs_of(key):
     f = _GS.get(key)
     if f is None:
         f = _gs_function(key)
         if len(_GS) >= LIMIT:
             _GS.clear()
         _GS[key] = f
+    return f
+
+
+def grad_size_big(e, values):
+    """`bounds.derivatives_and_size` of a large tree (a scene's total energy): its sums
+    and products walked as `bounds._grad_size` walks them, each small subtree by its
+    shape's compiled walk. None where any part fails (the caller walks it all then)."""
+    if not ENABLED:
+        return None
+    from .expr import evaluate
+
     out: dict = {}
+
+    def gs(e, w):
+        sh = shape(e)
+        if sh is not None:
+            return _gs_of(sh[0])(sh[1], sh[2], values, out, w)
+        t = type(e)
+        if t is Add:
+            return sum([gs(x, w) for x in e.terms])
+        if t is Mul:
+            fs = e.factors
+            for f in fs:
+                if (type(f) is Const or type(f) is Known) and type(f.value) is not float:
+                    raise _No
+            if any((type(f) is Const or type(f) is Known) and f.value == 0.0 for f in fs):
+                return 0.0
+            vals = [evaluate(f, values) for f in fs]
+            r = 1.0
+            for i, f in enumerate(fs):
+                if type(f) is Const or type(f) is Known:
+                    r *= abs(f.value)
+                    continue
+                k = w
+                for j, v in enumerate(vals):
+                    if j != i:
+                        k *= v
+                r *= gs(f, k)
+            return r
+        raise _No  # powers and functions of large trees: the plain walk
+
     try:
-        return out, f(nums, names, values, out)
-    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
-        return walk(e, values)
+        return out, gs(e, 1.0)
+    except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
+        return None
 
 
 # ---- expr._affine_float ----------------------------------------------------------------

@@ -54,13 +54,29 @@ def test_compiled_walks_equal_the_walks_on_random_trees():
     for _ in range(4000):
         e = _tree(rng, 4)
         shaped += rowcode.shape(e) is not None
-        assert outcome(rowcode.derivatives_and_size, e, values) == \
+        assert outcome(bounds.fast_derivatives_and_size, e, values) == \
             outcome(bounds.derivatives_and_size, e, values), e
         for block in (set(), {"x"}, {"x", "y"}, {"x", "y", "z", "w", "v", "missing"},
                       {"missing"}):
             assert outcome(rowcode.affine, e, block, values) == \
                 outcome(affine, e, block, values), (block, e)
     assert shaped > 1000  # most trees took the compiled walks
+
+
+def test_large_trees_walked_by_parts_equal_the_walk(monkeypatch):
+    """grad_size_big on trees made 'large' by a tiny token limit: the sums and products
+    above the compiled parts are walked as bounds walks them."""
+    monkeypatch.setattr(rowcode, "MAX_TOKENS", 6)
+    rng = random.Random(8)
+    values = {"x": 2.0, "y": -0.5, "z": 0.0, "w": 1e200, "v": -0.0}
+    done = 0
+    for _ in range(4000):
+        e = _tree(rng, 5)
+        got = rowcode.grad_size_big(e, values)
+        if got is not None:
+            done += 1
+            assert _reprs(got) == outcome(bounds.derivatives_and_size, e, values), e
+    assert done > 1000
 
 
 def snapshot(sol) -> list:
