@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from struct import pack
 
+from .linalg import Quality, solve as linalg_solve
+
 LIMIT = 4096  # entries per table; the blocks of a scene repeat in a few kinds
 SMALL = 12  # larger blocks are rarely identical and cost more to key than to look up
 
@@ -31,8 +33,6 @@ def block_key(rows, rhs=()) -> tuple | None:
 def solve(rows, rhs, n: int, precision: str = "float"):
     """`linalg.solve`, remembered for float and refine solves of small blocks. Each
     caller gets its own lists (a Quality's components are never shared)."""
-    from .linalg import Quality, solve as linalg_solve
-
     key = block_key(rows, rhs) if 1 < n <= SMALL and precision != "exact" else None
     if key is None:
         return linalg_solve(rows, rhs, n, precision)
