@@ -230,9 +230,15 @@ def _update_regimes(sol: Solution, regimes: dict[str, str]) -> bool:
 
 def _needed(system: System, structure: Structure, solve_all: bool,
             find_vars: set | None = None) -> list[str]:
-    """The unknowns this solve needs. `find_vars`: the finds' unknowns, if known."""
+    """The unknowns this solve needs, sorted. `find_vars`: the finds' unknowns, if known."""
     if solve_all or not system.finds:
         return [n for n in system.unknowns if n not in structure.under]
+    return sorted(_needed_set(system, structure, find_vars))
+
+
+def _needed_set(system: System, structure: Structure, find_vars: set | None) -> list[str]:
+    """`_needed`'s unknowns in no particular order (what `needed_blocks` takes: sorting
+    10^5 keys costs more than finding their blocks)."""
     names: set[str] = set(find_vars) if find_vars is not None else set()
     if find_vars is None:
         for f in system.finds:
@@ -263,7 +269,7 @@ def _needed(system: System, structure: Structure, solve_all: bool,
         if t.kind == "impact" and t.energy is not None:
             for T in t.energy:
                 variables(T, names)
-    return sorted(n for n in names if n not in structure.under)
+    return [n for n in names if n not in structure.under]
 
 
 def _solve(system: System, structure: Structure, solve_all: bool,
@@ -392,7 +398,9 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
     part determined some unknowns numerically."""
     from .numeric_rank import dependent_rows, inconsistent_rows
 
-    needed = _needed(system, structure, solve_all, state.find_vars)
+    needed = _needed(system, structure, solve_all, state.find_vars) \
+        if solve_all or not system.finds or not rowcode.ENABLED else \
+        _needed_set(system, structure, state.find_vars)
     names = [n for n in needed if n not in structure.under]
     # the under-determined part matters when an answer needs it (or everything is asked)
     split = bool(structure.under) and (not wanted or bool(structure.undetermined_for(wanted)))

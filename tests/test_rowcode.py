@@ -92,14 +92,14 @@ def snapshot(sol) -> list:
 
 
 def solved(text: str, name: str, fast: bool, precision: str = "float"):
-    saved = rowcode.ENABLED, bounds.ONE_BY_ONE
-    rowcode.ENABLED = bounds.ONE_BY_ONE = fast
+    saved = rowcode.ENABLED, bounds.FAST
+    rowcode.ENABLED = bounds.FAST = fast
     try:
         return snapshot(solve_scene(build(parse(Source(name, text))), precision=precision))
     except ProblemError as exc:
         return [[d.code, d.message, d.notes] for d in exc.diagnostics]
     finally:
-        rowcode.ENABLED, bounds.ONE_BY_ONE = saved
+        rowcode.ENABLED, bounds.FAST = saved
 
 
 def scenes():
