@@ -237,6 +237,78 @@ def _gs_function(key):
     return s.function("gs(c, n, values, out, w)", {"fsum": math.fsum})
 
 
+def _val_function(key):
+    """f(c, n, values) -> `expr.evaluate(e, values)`."""
+    root, nvars = _parse(key)
+    s = _Src()
+    for j in range(nvars):
+        s.lines.append(f"    x{j} = values[n[{j}]]")
+
+    def val(nd) -> str:
+        if nd.kind == "c":
+            return f"c[{nd.i}]"
+        if nd.kind == "v":
+            return f"x{nd.i}"
+        if nd.kind == "zero":
+            return "0.0"
+        parts = [val(k) for k in nd.kids]
+        return s.tmp("fsum([" + ", ".join(parts) + "])" if nd.kind == "add" else
+                     "1.0" + "".join(" * " + p for p in parts))
+
+    s.lines.append(f"    return {val(root)}")
+    return s.function("val(c, n, values)", {"fsum": math.fsum})
+
+
+_VAL: dict = {}
+
+
+def _val_of(key):
+    f = _VAL.get(key)
+    if f is None:
+        f = _val_function(key)
+        if len(_VAL) >= LIMIT:
+            _VAL.clear()
+        _VAL[key] = f
+    return f
+
+
+def _evaluate_parts(e, values):
+    """`expr.evaluate` with each small subtree by its shape's compiled function (raises
+    _No where the tree holds anything else: powers, functions, traced numbers)."""
+    sh = shape_of(e)
+    if sh is not None:
+        return _val_of(sh[0])(sh[1], sh[2], values)
+    t = type(e)
+    if t is Add:
+        return math.fsum([_evaluate_parts(x, values) for x in e.terms])
+    if t is Mul:
+        fs = e.factors
+        for f in fs:
+            if (type(f) is Const or type(f) is Known) and type(f.value) is not float:
+                raise _No
+        for f in fs:
+            if (type(f) is Known or type(f) is Const) and f.value == 0.0:
+                return 0.0
+        r = 1.0
+        for f in fs:
+            r *= _evaluate_parts(f, values)
+        return r
+    raise _No
+
+
+def evaluate(e, values):
+    """`expr.evaluate(e, values)`, a large tree by its compiled parts (any failure, and
+    anything else, by `expr.evaluate` itself: the same value or the same exception)."""
+    from .expr import evaluate as walk
+
+    if ENABLED:
+        try:
+            return _evaluate_parts(e, values)
+        except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
+            pass
+    return walk(e, values)
+
+
 def derivatives_and_size(e, values, shaped=None):
     """`bounds.derivatives_and_size(e, values)` by the shape's compiled walk, or None
     where it has none or the walk fails (the caller walks the tree then: its failures
@@ -269,12 +341,10 @@ def grad_size_big(e, values):
     shape's compiled walk. None where any part fails (the caller walks it all then)."""
     if not ENABLED:
         return None
-    from .expr import evaluate
-
     out: dict = {}
 
     def gs(e, w):
-        sh = shape(e)
+        sh = shape_of(e)
         if sh is not None:
             return _gs_of(sh[0])(sh[1], sh[2], values, out, w)
         t = type(e)
@@ -287,7 +357,7 @@ def grad_size_big(e, values):
                     raise _No
             if any((type(f) is Const or type(f) is Known) and f.value == 0.0 for f in fs):
                 return 0.0
-            vals = [evaluate(f, values) for f in fs]
+            vals = [_evaluate_parts(f, values) for f in fs]
             r = 1.0
             for i, f in enumerate(fs):
                 if type(f) is Const or type(f) is Known:

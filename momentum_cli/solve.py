@@ -1238,7 +1238,7 @@ def _value(expr: E, values, sol: Solution | None) -> tuple[float, float, float]:
     size = sol.size if sol is not None and sol.size is not None else {}
     err = sol.errors if sol is not None and sol.errors is not None else {}
     si = float(evaluate_exact(expr, ChainMap(exact, values))) if exact is not None else \
-        evaluate(expr, values)
+        rowcode.evaluate(expr, values)
     slope, scale = slopes_and_size(expr, values, size)
     small = ROUNDOFF * scale
     # rounding: of the final value in exact mode, of every term in float

@@ -79,6 +79,18 @@ def test_large_trees_walked_by_parts_equal_the_walk(monkeypatch):
     assert done > 1000
 
 
+def test_evaluate_by_parts_equals_the_walk(monkeypatch):
+    from momentum_cli.expr import evaluate
+
+    rng = random.Random(9)
+    values = {"x": 2.0, "y": -0.5, "z": 0.0, "w": 1e200, "v": -0.0}
+    for limit in (400, 6):
+        monkeypatch.setattr(rowcode, "MAX_TOKENS", limit)
+        for _ in range(3000):
+            e = _tree(rng, 5)
+            assert outcome(rowcode.evaluate, e, values) == outcome(evaluate, e, values), e
+
+
 def snapshot(sol) -> list:
     """Everything a solution holds that the report or JSON reads, comparable exactly."""
     return _reprs([
