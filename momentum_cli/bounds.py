@@ -138,7 +138,7 @@ def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, flo
     """(`slopes(e)`, `size_of(e, values, size)`) with the tree walked once, not twice."""
     got = rowcode.derivatives_and_size(e, values)
     if got is None:
-        got = rowcode.grad_size_big(e, values)
+        got = rowcode.grad_size_big(e, values, _grad_size)
     dv, mag = got if got is not None else derivatives_and_size(e, values)
     slope = {v: abs(d) for v, d in dv.items()}
     return slope, mag + sum(s * size.get(v, 0.0) for v, s in slope.items() if s)

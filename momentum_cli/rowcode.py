@@ -12,13 +12,18 @@ from __future__ import annotations
 import math
 
 from .expr import Add, Const, Known, Mul, NonLinear, Var
+from .expr import evaluate as walk_value
 
 ENABLED = True  # tests turn it off: every caller then takes the walks
 MAX_TOKENS = 400  # larger trees (a scene's total energy) keep the walks
 LIMIT = 512  # compiled shapes kept
 
-_GS: dict = {}
+_GS: dict = {}  # compiled walks by shape: derivatives and size, affine rows, values
 _AFF: dict = {}
+_VAL: dict = {}
+_KEYS: dict = {}  # each shape's key, once
+_SEEN: dict = {}  # (cache, key) -> times met before it was compiled
+COMPILE_AFTER = 1  # a shape is compiled the second time it is met
 _SHAPES: dict = {}  # id(tree) -> (tree, shape) within one solve (`remembered`)
 _ON = [0]  # how many `remembered` are open
 
@@ -41,7 +46,11 @@ def shape(e):
         return None
     if len(toks) > MAX_TOKENS:
         return None
-    return tuple(toks), nums, names
+    key = tuple(toks)
+    key = _KEYS.setdefault(key, key)  # one tuple per shape: a remembered row is small
+    if len(_KEYS) > 4 * LIMIT:
+        _KEYS.clear()
+    return key, nums, names
 
 
 class remembered:
@@ -259,17 +268,28 @@ def _val_function(key):
     return s.function("val(c, n, values)", {"fsum": math.fsum})
 
 
-_VAL: dict = {}
+
+
+def _compiled(cache: dict, key, make):
+    """The compiled function for `key`, made on the shape's second sight (a shape met
+    once, as in most small files, is cheaper to walk than to compile); None before."""
+    f = cache.get(key)
+    if f is None:
+        seen = _SEEN.get((id(cache), key), 0)
+        if seen < COMPILE_AFTER:
+            if len(_SEEN) >= 8 * LIMIT:
+                _SEEN.clear()
+            _SEEN[(id(cache), key)] = seen + 1
+            return None
+        f = make(key)
+        if len(cache) >= LIMIT:
+            cache.clear()
+        cache[key] = f
+    return f
 
 
 def _val_of(key):
-    f = _VAL.get(key)
-    if f is None:
-        f = _val_function(key)
-        if len(_VAL) >= LIMIT:
-            _VAL.clear()
-        _VAL[key] = f
-    return f
+    return _compiled(_VAL, key, _val_function)
 
 
 def _evaluate_parts(e, values):
@@ -277,7 +297,8 @@ def _evaluate_parts(e, values):
     _No where the tree holds anything else: powers, functions, traced numbers)."""
     sh = shape_of(e)
     if sh is not None:
-        return _val_of(sh[0])(sh[1], sh[2], values)
+        f = _val_of(sh[0])
+        return f(sh[1], sh[2], values) if f is not None else walk_value(e, values)
     t = type(e)
     if t is Add:
         return math.fsum([_evaluate_parts(x, values) for x in e.terms])
@@ -318,6 +339,8 @@ def derivatives_and_size(e, values, shaped=None):
         return None
     key, nums, names = sh
     f = _gs_of(key)
+    if f is None:
+        return None
     out: dict = {}
     try:
         return out, f(nums, names, values, out, 1.0)
@@ -326,16 +349,10 @@ def derivatives_and_size(e, values, shaped=None):
 
 
 def _gs_of(key):
-    f = _GS.get(key)
-    if f is None:
-        f = _gs_function(key)
-        if len(_GS) >= LIMIT:
-            _GS.clear()
-        _GS[key] = f
-    return f
+    return _compiled(_GS, key, _gs_function)
 
 
-def grad_size_big(e, values):
+def grad_size_big(e, values, walk):
     """`bounds.derivatives_and_size` of a large tree (a scene's total energy): its sums
     and products walked as `bounds._grad_size` walks them, each small subtree by its
     shape's compiled walk. None where any part fails (the caller walks it all then)."""
@@ -346,7 +363,9 @@ def grad_size_big(e, values):
     def gs(e, w):
         sh = shape_of(e)
         if sh is not None:
-            return _gs_of(sh[0])(sh[1], sh[2], values, out, w)
+            f = _gs_of(sh[0])
+            return f(sh[1], sh[2], values, out, w) if f is not None else \
+                walk(e, w, values, out)
         t = type(e)
         if t is Add:
             return sum([gs(x, w) for x in e.terms])
@@ -445,10 +464,5 @@ def affine(e, block, values, shaped=None):
         return walk(e, block, values)
     key, nums, names = sh
     inside = tuple(nm in block for nm in names)
-    f = _AFF.get((key, inside))
-    if f is None:
-        f = _affine_function(key, inside)
-        if len(_AFF) >= LIMIT:
-            _AFF.clear()
-        _AFF[(key, inside)] = f
-    return f(nums, names, values)
+    f = _compiled(_AFF, (key, inside), lambda k: _affine_function(*k))
+    return f(nums, names, values) if f is not None else walk(e, block, values)

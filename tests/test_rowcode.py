@@ -47,6 +47,13 @@ def outcome(f, *args):
         return type(exc).__name__
 
 
+@pytest.fixture(autouse=True)
+def compile_at_once(monkeypatch):
+    """Every shape compiled at first sight (the solve waits for the second): the compiled
+    walks are what these tests are about."""
+    monkeypatch.setattr(rowcode, "COMPILE_AFTER", 0)
+
+
 def test_compiled_walks_equal_the_walks_on_random_trees():
     rng = random.Random(3)
     values = {"x": 2.0, "y": -0.5, "z": 0.0, "w": 1e200, "v": -0.0}
@@ -72,7 +79,7 @@ def test_large_trees_walked_by_parts_equal_the_walk(monkeypatch):
     done = 0
     for _ in range(4000):
         e = _tree(rng, 5)
-        got = rowcode.grad_size_big(e, values)
+        got = rowcode.grad_size_big(e, values, bounds._grad_size)
         if got is not None:
             done += 1
             assert _reprs(got) == outcome(bounds.derivatives_and_size, e, values), e
@@ -127,6 +134,13 @@ def scenes():
 @pytest.mark.parametrize("name,text", [pytest.param(n, t, id=n) for n, t in scenes()])
 def test_fast_solve_equals_plain_solve(name, text):
     assert solved(text, name, True) == solved(text, name, False)
+
+
+def test_fast_solve_equals_plain_solve_compiling_on_second_sight(monkeypatch):
+    monkeypatch.setattr(rowcode, "COMPILE_AFTER", 1)
+    for name, text in [("chain 25", chain_text(25)), ("cradle 12", cradle_text(12, "sequence"))]:
+        rowcode._GS.clear(), rowcode._AFF.clear(), rowcode._VAL.clear(), rowcode._SEEN.clear()
+        assert solved(text, name, True) == solved(text, name, False)
 
 
 @pytest.mark.parametrize("precision", ["refine", "exact"])
