@@ -2,10 +2,11 @@
 
 In: a residual tree of sums, products and leaves (the rows of large scenes). Out: its
 shape (the tree's layout, which leaves are zero, which unknowns repeat) with its numbers
-and names, and Python functions, compiled once per shape, that perform the very float
-operations of `expr._affine_float` and `bounds.derivatives_and_size` in the same order
-(bit-identical results, the same dict orders, the same exceptions; anything else, and
-every failure, goes back to those walks). A 10^4-ball chain has a handful of shapes.
+and names, and Python functions, compiled once per shape (on its second sight), that
+perform the very float operations of `expr._affine_float`, `bounds.derivatives_and_size`
+and `expr.evaluate` in the same order (bit-identical results, the same dict orders, the
+same exceptions; anything else, and every failure, goes back to those walks). A 10^4-ball
+chain has a handful of shapes; a scene's energy is walked at the top, its terms compiled.
 """
 from __future__ import annotations
 
