@@ -4,11 +4,14 @@ In: a block's sparse rows and right-hand side (float64 only). Out: what `linalg.
 (or `bounds._abs_inverse`) returned for the same data, bit for bit: the key holds every
 coefficient's bits and the rows' column order, so -0.0 and 0.0 differ and a sum in
 another order is another key. A sequence of N identical impacts solves its few kinds of
-blocks once each instead of N times. Bounded: the table is emptied when full.
+blocks once each instead of N times (a 1x1 block costs less to solve than to key).
+Bounded: the table is emptied when full.
 """
 from __future__ import annotations
 
 from struct import pack
+
+from .linalg import Quality, solve as linalg_solve
 
 LIMIT = 4096  # entries per table; the blocks of a scene repeat in a few kinds
 SMALL = 12  # larger blocks are rarely identical and cost more to key than to look up
@@ -30,9 +33,7 @@ def block_key(rows, rhs=()) -> tuple | None:
 def solve(rows, rhs, n: int, precision: str = "float"):
     """`linalg.solve`, remembered for float and refine solves of small blocks. Each
     caller gets its own lists (a Quality's components are never shared)."""
-    from .linalg import Quality, solve as linalg_solve
-
-    key = block_key(rows, rhs) if n <= SMALL and precision != "exact" else None
+    key = block_key(rows, rhs) if 1 < n <= SMALL and precision != "exact" else None
     if key is None:
         return linalg_solve(rows, rhs, n, precision)
     key = (n, precision) + key
@@ -50,7 +51,7 @@ def solve(rows, rhs, n: int, precision: str = "float"):
 
 def abs_inverse(A, compute):
     """`compute(A)` (|A^-1| or None), remembered by A's exact data; a fresh copy each."""
-    key = block_key(A) if len(A) <= SMALL else None
+    key = block_key(A) if 1 < len(A) <= SMALL else None
     if key is None:
         return compute(A)
     if key in _inverses:

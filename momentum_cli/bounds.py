@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from . import rowcode
 from .block_memo import abs_inverse
 from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, is_zero, keeps, variables
 
@@ -89,6 +90,12 @@ def derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
         return derivatives(e, values), _mag(e, values)
 
 
+def fast_derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
+    """`derivatives_and_size` by rowcode's compiled walk where the tree has one."""
+    got = rowcode.derivatives_and_size(e, values)
+    return got if got is not None else derivatives_and_size(e, values)
+
+
 def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
     """`_grad(e, w)` into `out`, returning `term_size(e)`."""
     t = type(e)
@@ -129,7 +136,10 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
 
 def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, float], float]:
     """(`slopes(e)`, `size_of(e, values, size)`) with the tree walked once, not twice."""
-    dv, mag = derivatives_and_size(e, values)
+    got = rowcode.derivatives_and_size(e, values)
+    if got is None:
+        got = rowcode.grad_size_big(e, values, _grad_size)
+    dv, mag = got if got is not None else derivatives_and_size(e, values)
     slope = {v: abs(d) for v, d in dv.items()}
     return slope, mag + sum(s * size.get(v, 0.0) for v, s in slope.items() if s)
 
@@ -221,22 +231,22 @@ def propagate(system, reports, values, exact: bool = False):
                 x = abs(values.get(name, 0.0))
                 size[name], err[name] = x, 10 * rep.residual * x
             continue
+        if FAST and len(names) == 1 and len(rep.equations) == 1:
+            _one(system, rep, values, exact, size, err)
+            continue
         col = {n: j for j, n in enumerate(names)}
         n = len(names)
         A: list[dict[int, float]] = [{} for _ in rep.equations]
         cols: list[list[tuple[int, float]]] = [[] for _ in names]
         scale, delta = [], []
         newton = rep.method == "newton"
+        eqs, sget, eget = system.equations, size.get, err.get
         for i, k in enumerate(rep.equations):
-            f = system.equations[k].residual
-            dv, mag = derivatives_and_size(f, values)
-            up = {v: abs(s) for v, s in dv.items() if v not in col}
-            for v, s in dv.items():
-                if v in col and s != 0:
-                    A[i][col[v]] = s
-                    cols[col[v]].append((i, abs(s)))
-            scale.append(mag + sum(s * size.get(v, 0.0) for v, s in up.items() if s))
-            d = error_of(up, err)
+            f = eqs[k].residual
+            if not FAST:
+                d = _row_plain(f, values, col, A, cols, i, size, err, scale)
+            else:
+                d = _row(f, values, col, A[i], cols, i, sget, eget, scale)
             if not exact or newton:
                 d += ROUNDOFF * scale[-1]
             if newton:
@@ -269,6 +279,89 @@ def propagate(system, reports, values, exact: bool = False):
             solver = 0.0 if exact and not newton else comps[j] * abs(values.get(name, 0.0))
             err[name] = e + solver if math.isfinite(e) else math.inf
     return size, err
+
+
+def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
+    """`propagate`'s general step for a block of one unknown and one equation (most
+    blocks of a large scene), the same operations on scalars, in the same order
+    (tests/test_rowcode.py compares the two on every example)."""
+    name = rep.unknowns[0]
+    newton = rep.method == "newton"
+    f = system.equations[rep.equations[0]].residual
+    dv, mag = fast_derivatives_and_size(f, values)
+    a = None  # A[0][0]: the derivative by the block's unknown, where nonzero
+    up = {}
+    for v, s in dv.items():
+        if v == name:
+            if s != 0:
+                a = s
+        else:
+            up[v] = abs(s)
+    scale = mag + sum([s * size.get(v, 0.0) for v, s in up.items() if s])
+    d = error_of(up, err)
+    if not exact or newton:
+        d += ROUNDOFF * scale
+    if newton:
+        try:
+            d += abs(evaluate(f, values))
+        except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+            d = math.inf
+    x = abs(values.get(name, 0.0))
+    if a is None:
+        unit = 0.0
+        size[name] = max(x, x, 0.0)
+        inv = _abs_inverse([{}])
+    else:
+        aa = abs(a)
+        rmax = max([abs(a)])
+        unit = max([aa / rmax] if rmax > 0 else [], default=0.0)
+        big = max([x * unit], default=0.0)
+        size[name] = max(x, min([scale / aa], default=x), big / unit if unit > 0 else 0.0)
+        inv = _abs_inverse([{0: a}])
+    q = rep.quality
+    comp = q.components[0] if q is not None and q.components else 0.0
+    if inv is not None:
+        e = 0 + inv[0][0] * d
+    else:
+        cond = rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0
+        e = cond * max([d / aa] if a is not None else [], default=0.0)
+    solver = 0.0 if exact and not newton else comp * abs(values.get(name, 0.0))
+    err[name] = e + solver if math.isfinite(e) else math.inf
+
+
+FAST = True  # tests turn it off to compare the scalar steps with the general ones
+
+
+def _row(f, values, col, Ai, cols, i, sget, eget, scale):
+    """One row of `propagate`: its entries in the block (into Ai, cols), its scale (into
+    scale), its data's error bound (returned). The unknowns from earlier blocks: sizes
+    and bounds summed in the derivatives' order from int 0, as `_row_plain` sums them."""
+    dv, mag = fast_derivatives_and_size(f, values)
+    sc = d = 0
+    for v, s in dv.items():
+        j = col.get(v)
+        if j is None:
+            a = abs(s)
+            if a:
+                sc += a * sget(v, 0.0)
+                d += a * eget(v, 0.0)
+        elif s != 0:
+            Ai[j] = s
+            cols[j].append((i, abs(s)))
+    scale.append(mag + sc)
+    return d
+
+
+def _row_plain(f, values, col, A, cols, i, size, err, scale):
+    """`_row` as it was first written (the reference the tests compare with)."""
+    dv, mag = derivatives_and_size(f, values)
+    up = {v: abs(s) for v, s in dv.items() if v not in col}
+    for v, s in dv.items():
+        if v in col and s != 0:
+            A[i][col[v]] = s
+            cols[col[v]].append((i, abs(s)))
+    scale.append(mag + sum(s * size.get(v, 0.0) for v, s in up.items() if s))
+    return error_of(up, err)
 
 
 def _abs_inverse(A: list[dict[int, float]]) -> list[list[float]] | None:

@@ -12,15 +12,18 @@ from __future__ import annotations
 import math
 from collections import ChainMap
 
+from . import rowcode
 from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
 from .elements.kinds import Component, KeyKind
-from .bounds import ROUNDOFF, error_of, propagate, size_of, slopes
+from .block_memo import solve  # linalg.solve, once per distinct block
+from .bounds import ROUNDOFF, error_of, propagate, size_of, slopes, slopes_and_size
 from .expr import (
     E,
     NonLinear,
     affine,
+    variables,
     affine_exact,
     diff,
     evaluate,
@@ -28,6 +31,7 @@ from .expr import (
     magnitude,
     to_text,
 )
+from .linalg import SingularError, exact_rank_test, solve_one
 from .numbers import fmt_num, fmt_tiny
 from .records import record
 from .scene import Scene
@@ -224,14 +228,21 @@ def _update_regimes(sol: Solution, regimes: dict[str, str]) -> bool:
     return changed
 
 
-def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
-    from .expr import variables
-
+def _needed(system: System, structure: Structure, solve_all: bool,
+            find_vars: set | None = None) -> list[str]:
+    """The unknowns this solve needs, sorted. `find_vars`: the finds' unknowns, if known."""
     if solve_all or not system.finds:
         return [n for n in system.unknowns if n not in structure.under]
-    names: set[str] = set()
-    for f in system.finds:
-        variables(f.expr, names)
+    return sorted(_needed_set(system, structure, find_vars))
+
+
+def _needed_set(system: System, structure: Structure, find_vars: set | None) -> list[str]:
+    """`_needed`'s unknowns in no particular order (what `needed_blocks` takes: sorting
+    10^5 keys costs more than finding their blocks)."""
+    names: set[str] = set(find_vars) if find_vars is not None else set()
+    if find_vars is None:
+        for f in system.finds:
+            variables(f.expr, names)
     # friction regimes and energy checks need their impulses and velocities
     for site in system.friction:
         names.add(site.jn)
@@ -258,18 +269,22 @@ def _needed(system: System, structure: Structure, solve_all: bool) -> list[str]:
         if t.kind == "impact" and t.energy is not None:
             for T in t.energy:
                 variables(T, names)
-    return sorted(n for n in names if n not in structure.under)
+    return [n for n in names if n not in structure.under]
 
 
 def _solve(system: System, structure: Structure, solve_all: bool,
            precision: str = "float", defer: bool = False) -> Solution:
+    with rowcode.remembered():  # each equation's shape is read once
+        return _solve_rounds(system, structure, solve_all, precision, defer)
+
+
+def _solve_rounds(system: System, structure: Structure, solve_all: bool,
+                  precision: str, defer: bool) -> Solution:
     eqs = system.equations
     diags: list[Diagnostic] = list(system.notes.items)
     checks: list[CheckReport] = []
     values: dict[str, float] = {}
     find_vars: set[str] = set()
-    from .expr import variables
-
     for f in system.finds:
         variables(f.expr, find_vars)
     wanted = sorted(find_vars) if system.finds and not solve_all else []
@@ -278,6 +293,7 @@ def _solve(system: System, structure: Structure, solve_all: bool,
     exact: dict | None = {} if precision == "exact" else None  # rationals of exact mode
     state = _Rounds()
     state.reports, state.exact = reports, exact
+    state.find_vars = find_vars
     # rounds: solve the structure's blocks; where a block is numerically singular, or
     # the structurally under-determined part determines some unknowns numerically,
     # re-analyse with what is known and the dependent rows left out, and go on
@@ -371,6 +387,7 @@ class _Rounds:
         self.free: set[str] = set()  # unknowns a numeric rank test left undetermined
         self.reports: list = []  # the blocks solved so far (their sizes judge the checks)
         self.exact: dict | None = None
+        self.find_vars: set | None = None  # the finds' unknowns (walked once per solve)
 
 
 def _solve_round(system: System, structure: Structure, solve_all: bool, precision: str,
@@ -381,7 +398,9 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
     part determined some unknowns numerically."""
     from .numeric_rank import dependent_rows, inconsistent_rows
 
-    needed = _needed(system, structure, solve_all)
+    needed = _needed(system, structure, solve_all, state.find_vars) \
+        if solve_all or not system.finds or not rowcode.ENABLED else \
+        _needed_set(system, structure, state.find_vars)
     names = [n for n in needed if n not in structure.under]
     # the under-determined part matters when an answer needs it (or everything is asked)
     split = bool(structure.under) and (not wanted or bool(structure.undetermined_for(wanted)))
@@ -791,15 +810,20 @@ def _solve_block(system: System, structure: Structure, block, values,
         if integ is not None:  # its residual: the integrator's tolerance
             return BlockReport(block.index, block.unknowns, block.equations, "integrated",
                                residual=integ.rtol)
-    eqs = [system.equations[k] for k in block.equations]
     names = block.unknowns
+    if rowcode.ENABLED and len(names) == 1 and len(block.equations) == 1 and \
+            exact is None and precision == "float":
+        rep = _solve_one(system, block, values)
+        if rep is not None:
+            return rep
+    eqs = [system.equations[k] for k in block.equations]
     bset = set(names)
     col = {n: j for j, n in enumerate(names)}
     rows, rhs = [], []
     try:
         for e in eqs:
             # exact mode forms the rows in rationals too (no cancellation in the rhs)
-            coef, const = affine(e.residual, bset, values) if exact is None else \
+            coef, const = rowcode.affine(e.residual, bset, values) if exact is None else \
                 affine_exact(e.residual, bset, ChainMap(exact, values))
             rows.append({col[n]: v for n, v in coef.items() if v != 0.0})
             rhs.append(-const)
@@ -820,11 +844,32 @@ def _solve_block(system: System, structure: Structure, block, values,
                        quality)
 
 
+def _solve_one(system: System, block, values) -> BlockReport | None:
+    """`_solve_block` of one unknown in one linear equation, in float (most blocks of a
+    large scene): the same row, solve and report without the general path's lists;
+    None where that path has more to say (not linear, not finite, singular, a value
+    missing), which then runs as it always does."""
+    name = block.unknowns[0]
+    try:
+        coef, const = rowcode.affine(system.equations[block.equations[0]].residual,
+                                     {name: 0}, values)
+    except (NonLinear, KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return None
+    a = coef.get(name, 0.0)
+    b = -const
+    if a == 0.0 or not (math.isfinite(a) and math.isfinite(b)):
+        return None
+    try:
+        x, quality = solve_one(a, b)  # what solve_linear gives a 1x1 float block
+    except SingularError:
+        return None
+    values[name] = x[0]
+    return BlockReport(block.index, block.unknowns, block.equations, "linear", quality.cond,
+                       0, 0.0, [[float(a)]], [float(b)], quality)
+
+
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
     """Solve one linear block; a singular one is named by an exact rank test."""
-    from .block_memo import solve  # linalg.solve, once per distinct block
-    from .linalg import SingularError, exact_rank_test
-
     if not all(math.isfinite(x) for row in rows for x in row.values()) or \
             not all(math.isfinite(x) for x in rhs):
         raise ProblemError("the equations contain a number that is not finite", eqs[0].span,
@@ -854,8 +899,6 @@ def _blame_downstream(system: System, structure: Structure, b: int, values, exc)
     block together with the linear blocks downstream of it says which. Raises the
     better error, or returns to let the block's own error stand.
     """
-    from .linalg import exact_rank_test
-
     down = {b}
     for blk in structure.blocks:  # blocks come in dependency order
         if blk.depends & down:
@@ -1195,9 +1238,7 @@ def _value(expr: E, values, sol: Solution | None) -> tuple[float, float, float]:
     size = sol.size if sol is not None and sol.size is not None else {}
     err = sol.errors if sol is not None and sol.errors is not None else {}
     si = float(evaluate_exact(expr, ChainMap(exact, values))) if exact is not None else \
-        evaluate(expr, values)
-    from .bounds import slopes_and_size  # one walk for both
-
+        rowcode.evaluate(expr, values)
     slope, scale = slopes_and_size(expr, values, size)
     small = ROUNDOFF * scale
     # rounding: of the final value in exact mode, of every term in float

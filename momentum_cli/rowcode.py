@@ -1,0 +1,469 @@
+"""Solve stage: an equation's walks compiled once per shape of tree, not walked per node.
+
+In: a residual tree of sums, products and leaves (the rows of large scenes). Out: its
+shape (the tree's layout, which leaves are zero, which unknowns repeat) with its numbers
+and names, and Python functions, compiled once per shape (on its second sight), that
+perform the very float operations of `expr._affine_float`, `bounds.derivatives_and_size`
+and `expr.evaluate` in the same order (bit-identical results, the same dict orders, the
+same exceptions; anything else, and every failure, goes back to those walks). A 10^4-ball
+chain has a handful of shapes; a scene's energy is walked at the top, its terms compiled.
+"""
+from __future__ import annotations
+
+import math
+
+from .expr import Add, Const, Known, Mul, NonLinear, Var
+from .expr import evaluate as walk_value
+
+ENABLED = True  # tests turn it off: every caller then takes the walks
+MAX_TOKENS = 400  # larger trees (a scene's total energy) keep the walks
+LIMIT = 512  # compiled shapes kept
+
+_GS: dict = {}  # compiled walks by shape: derivatives and size, affine rows, values
+_AFF: dict = {}
+_VAL: dict = {}
+_KEYS: dict = {}  # each shape's key, once
+_SEEN: dict = {}  # (cache, key) -> times met before it was compiled
+COMPILE_AFTER = 1  # a shape is compiled the second time it is met
+_SHAPES: dict = {}  # id(tree) -> (tree, shape) within one solve (`remembered`)
+_ON = [0]  # how many `remembered` are open
+
+
+class _No(Exception):
+    pass
+
+
+def shape(e):
+    """(key, numbers, names) of a tree of Const, Known, Var, Add and Mul with float numbers,
+    in pre-order; a product with a zero number factor is one token (every walk stops
+    there); None for anything else or a tree too large."""
+    toks: list = []
+    nums: list = []
+    names: list = []
+    first: dict = {}
+    try:
+        _walk(e, toks, nums, names, first)
+    except (_No, RecursionError):
+        return None
+    if len(toks) > MAX_TOKENS:
+        return None
+    key = tuple(toks)
+    key = _KEYS.setdefault(key, key)  # one tuple per shape: a remembered row is small
+    if len(_KEYS) > 4 * LIMIT:
+        _KEYS.clear()
+    return key, nums, names
+
+
+class remembered:
+    """Within it, `shape_of` keeps each tree's shape: the solve takes an equation's rows
+    and its bounds in two passes, the shape is read once."""
+
+    def __enter__(self):
+        if not _ON[0]:
+            _SHAPES.clear()
+        _ON[0] += 1
+        return self
+
+    def __exit__(self, *exc):
+        _ON[0] -= 1
+        if not _ON[0]:
+            _SHAPES.clear()
+
+
+def shape_of(e):
+    """`shape(e)`, remembered for the tree itself (held, so its id is not reused)."""
+    hit = _SHAPES.get(id(e))
+    if hit is not None and hit[0] is e:
+        return hit[1]
+    sh = shape(e)
+    if _ON[0]:
+        _SHAPES[id(e)] = (e, sh)
+    return sh
+
+
+def _walk(e, toks, nums, names, first):
+    t = type(e)
+    if len(toks) > MAX_TOKENS:
+        raise _No
+    if t is Add:
+        terms = e.terms
+        toks.append(2)
+        toks.append(len(terms))
+        for x in terms:
+            tx = type(x)
+            if tx is Var:
+                nm = x.name
+                toks.append(1)
+                toks.append(first.setdefault(nm, len(names)))
+                names.append(nm)
+            elif tx is Const or tx is Known:
+                v = x.value
+                if type(v) is not float:
+                    raise _No
+                toks.append(0)
+                nums.append(v)
+            else:
+                _walk(x, toks, nums, names, first)
+    elif t is Mul:
+        fs = e.factors
+        zero = False
+        for f in fs:
+            tf = type(f)
+            if tf is Const or tf is Known:
+                v = f.value
+                if type(v) is not float:
+                    raise _No
+                if v == 0.0:
+                    zero = True
+        if zero:
+            toks.append(4)
+            return
+        toks.append(3)
+        toks.append(len(fs))
+        for f in fs:
+            tf = type(f)
+            if tf is Var:
+                nm = f.name
+                toks.append(1)
+                toks.append(first.setdefault(nm, len(names)))
+                names.append(nm)
+            elif tf is Const or tf is Known:
+                toks.append(0)
+                nums.append(f.value)
+            else:
+                _walk(f, toks, nums, names, first)
+    elif t is Var:
+        nm = e.name
+        toks.append(1)
+        toks.append(first.setdefault(nm, len(names)))
+        names.append(nm)
+    elif t is Const or t is Known:
+        v = e.value
+        if type(v) is not float:
+            raise _No
+        toks.append(0)
+        nums.append(v)
+    else:
+        raise _No
+
+
+class _Node:
+    """One position of a shape: kind c (number), v (unknown), add, mul or zero."""
+
+    __slots__ = ("kind", "i", "same", "kids")
+
+    def __init__(self, kind, i=0, same=0, kids=()):
+        self.kind, self.i, self.same, self.kids = kind, i, same, kids
+
+
+def _parse(key):
+    """The position tree of a shape key (each position its own node)."""
+    pos = [0]
+    count = [0, 0]  # numbers, names so far
+
+    def node():
+        k = key[pos[0]]
+        pos[0] += 1
+        if k == 0:
+            count[0] += 1
+            return _Node("c", count[0] - 1)
+        if k == 1:
+            same = key[pos[0]]
+            pos[0] += 1
+            count[1] += 1
+            return _Node("v", count[1] - 1, same)
+        if k == 4:
+            return _Node("zero")
+        n = key[pos[0]]
+        pos[0] += 1
+        return _Node("add" if k == 2 else "mul", kids=[node() for _ in range(n)])
+
+    root = node()
+    return root, count[1]
+
+
+class _Src:
+    def __init__(self):
+        self.lines: list[str] = []
+        self.k = 0
+
+    def tmp(self, expr: str) -> str:
+        self.k += 1
+        name = f"t{self.k}"
+        self.lines.append(f"    {name} = {expr}")
+        return name
+
+    def function(self, head: str, ns: dict):
+        code = f"def {head}:\n" + "\n".join(self.lines or ["    pass"]) + "\n"
+        exec(compile(code, "<rowcode>", "exec"), ns)
+        return ns[head.split("(")[0]]
+
+
+# ---- bounds.derivatives_and_size -------------------------------------------------------
+def _gs_function(key):
+    """f(c, n, values, out, w) -> size: `bounds._grad_size(e, w, values, out)`."""
+    root, nvars = _parse(key)
+    s = _Src()
+    for j in range(nvars):  # every unknown outside a zero product is read by the walk
+        s.lines.append(f"    x{j} = values[n[{j}]]")
+    vals: dict = {}
+
+    def val(nd) -> str:  # expr.evaluate of a position (once: it is pure)
+        if nd.kind == "c":
+            return f"c[{nd.i}]"
+        if nd.kind == "v":
+            return f"x{nd.i}"
+        if nd.kind == "zero":
+            return "0.0"
+        got = vals.get(id(nd))
+        if got is None:
+            parts = [val(k) for k in nd.kids]
+            got = s.tmp("fsum([" + ", ".join(parts) + "])" if nd.kind == "add" else
+                        "1.0" + "".join(" * " + p for p in parts))
+            vals[id(nd)] = got
+        return got
+
+    def gs(nd, w: str) -> str:
+        if nd.kind == "c":
+            return f"abs(c[{nd.i}])"
+        if nd.kind == "v":
+            s.lines.append(f"    out[n[{nd.i}]] = out.get(n[{nd.i}], 0.0) + {w}")
+            return f"abs(x{nd.i})"
+        if nd.kind == "zero":
+            return "0.0"
+        if nd.kind == "add":
+            return s.tmp("sum([" + ", ".join(gs(k, w) for k in nd.kids) + "])")
+        vs = [val(k) for k in nd.kids]
+        sizes = []
+        for i, k in enumerate(nd.kids):
+            if k.kind == "c":
+                sizes.append(f"abs(c[{k.i}])")
+                continue
+            wk = s.tmp(w + "".join(" * " + v for j, v in enumerate(vs) if j != i))
+            sizes.append(gs(k, wk))
+        return s.tmp("1.0" + "".join(" * " + z for z in sizes))
+
+    s.lines.append(f"    return {gs(root, 'w')}")
+    return s.function("gs(c, n, values, out, w)", {"fsum": math.fsum})
+
+
+def _val_function(key):
+    """f(c, n, values) -> `expr.evaluate(e, values)`."""
+    root, nvars = _parse(key)
+    s = _Src()
+    for j in range(nvars):
+        s.lines.append(f"    x{j} = values[n[{j}]]")
+
+    def val(nd) -> str:
+        if nd.kind == "c":
+            return f"c[{nd.i}]"
+        if nd.kind == "v":
+            return f"x{nd.i}"
+        if nd.kind == "zero":
+            return "0.0"
+        parts = [val(k) for k in nd.kids]
+        return s.tmp("fsum([" + ", ".join(parts) + "])" if nd.kind == "add" else
+                     "1.0" + "".join(" * " + p for p in parts))
+
+    s.lines.append(f"    return {val(root)}")
+    return s.function("val(c, n, values)", {"fsum": math.fsum})
+
+
+
+
+def _compiled(cache: dict, key, make):
+    """The compiled function for `key`, made on the shape's second sight (a shape met
+    once, as in most small files, is cheaper to walk than to compile); None before."""
+    f = cache.get(key)
+    if f is None:
+        seen = _SEEN.get((id(cache), key), 0)
+        if seen < COMPILE_AFTER:
+            if len(_SEEN) >= 8 * LIMIT:
+                _SEEN.clear()
+            _SEEN[(id(cache), key)] = seen + 1
+            return None
+        f = make(key)
+        if len(cache) >= LIMIT:
+            cache.clear()
+        cache[key] = f
+    return f
+
+
+def _val_of(key):
+    return _compiled(_VAL, key, _val_function)
+
+
+def _evaluate_parts(e, values):
+    """`expr.evaluate` with each small subtree by its shape's compiled function (raises
+    _No where the tree holds anything else: powers, functions, traced numbers)."""
+    sh = shape_of(e)
+    if sh is not None:
+        f = _val_of(sh[0])
+        return f(sh[1], sh[2], values) if f is not None else walk_value(e, values)
+    t = type(e)
+    if t is Add:
+        return math.fsum([_evaluate_parts(x, values) for x in e.terms])
+    if t is Mul:
+        fs = e.factors
+        for f in fs:
+            if (type(f) is Const or type(f) is Known) and type(f.value) is not float:
+                raise _No
+        for f in fs:
+            if (type(f) is Known or type(f) is Const) and f.value == 0.0:
+                return 0.0
+        r = 1.0
+        for f in fs:
+            r *= _evaluate_parts(f, values)
+        return r
+    raise _No
+
+
+def evaluate(e, values):
+    """`expr.evaluate(e, values)`, a large tree by its compiled parts (any failure, and
+    anything else, by `expr.evaluate` itself: the same value or the same exception)."""
+    from .expr import evaluate as walk
+
+    if ENABLED:
+        try:
+            return _evaluate_parts(e, values)
+        except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
+            pass
+    return walk(e, values)
+
+
+def derivatives_and_size(e, values, shaped=None):
+    """`bounds.derivatives_and_size(e, values)` by the shape's compiled walk, or None
+    where it has none or the walk fails (the caller walks the tree then: its failures
+    are handled as it handles them). `shaped`: `shape(e)` if already taken."""
+    sh = (shape_of(e) if shaped is None else shaped) if ENABLED else None
+    if sh is None:
+        return None
+    key, nums, names = sh
+    f = _gs_of(key)
+    if f is None:
+        return None
+    out: dict = {}
+    try:
+        return out, f(nums, names, values, out, 1.0)
+    except (KeyError, ValueError, ZeroDivisionError, OverflowError):
+        return None
+
+
+def _gs_of(key):
+    return _compiled(_GS, key, _gs_function)
+
+
+def grad_size_big(e, values, walk):
+    """`bounds.derivatives_and_size` of a large tree (a scene's total energy): its sums
+    and products walked as `bounds._grad_size` walks them, each small subtree by its
+    shape's compiled walk. None where any part fails (the caller walks it all then)."""
+    if not ENABLED:
+        return None
+    out: dict = {}
+
+    def gs(e, w):
+        sh = shape_of(e)
+        if sh is not None:
+            f = _gs_of(sh[0])
+            return f(sh[1], sh[2], values, out, w) if f is not None else \
+                walk(e, w, values, out)
+        t = type(e)
+        if t is Add:
+            return sum([gs(x, w) for x in e.terms])
+        if t is Mul:
+            fs = e.factors
+            for f in fs:
+                if (type(f) is Const or type(f) is Known) and type(f.value) is not float:
+                    raise _No
+            if any((type(f) is Const or type(f) is Known) and f.value == 0.0 for f in fs):
+                return 0.0
+            vals = [_evaluate_parts(f, values) for f in fs]
+            r = 1.0
+            for i, f in enumerate(fs):
+                if type(f) is Const or type(f) is Known:
+                    r *= abs(f.value)
+                    continue
+                k = w
+                for j, v in enumerate(vals):
+                    if j != i:
+                        k *= v
+                r *= gs(f, k)
+            return r
+        raise _No  # powers and functions of large trees: the plain walk
+
+    try:
+        return out, gs(e, 1.0)
+    except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
+        return None
+
+
+# ---- expr._affine_float ----------------------------------------------------------------
+def _affine_function(key, inside):
+    """f(c, n, values) -> (coef, const): `expr._affine_float(e, block, values)` where
+    `inside[j]` says whether unknown j is in the block. Coefficient dicts are followed
+    at compile time (which unknowns repeat is part of the key); the numbers run as the
+    walk runs them, lookups and NonLinear included, in its order."""
+    root, _ = _parse(key)
+    s = _Src()
+
+    def aff(nd):
+        """(coef: list of [same, expr] in insertion order, const expr); code emitted."""
+        if nd.kind == "c":
+            return [], f"c[{nd.i}]"
+        if nd.kind == "zero":
+            return [], "0.0"
+        if nd.kind == "v":
+            if inside[nd.i]:
+                return [[nd.same, "1.0", nd.i]], "0.0"
+            return [], s.tmp(f"values[n[{nd.i}]]")
+        if nd.kind == "add":
+            coef: list = []
+            const = "0.0"
+            for x in nd.kids:
+                c, k = aff(x)
+                const = s.tmp(f"{const} + {k}")
+                for same, v, i in c:
+                    hit = next((e for e in coef if e[0] == same), None)
+                    if hit is None:
+                        coef.append([same, s.tmp(f"0.0 + {v}"), i])
+                    else:
+                        hit[1] = s.tmp(f"{hit[1]} + {v}")
+            return coef, const
+        coef, const = [], "1.0"
+        for f in nd.kids:
+            c, k = aff(f)
+            if c and coef:
+                s.lines.append("    raise NonLinear()")
+                raise _Stop
+            if c:
+                coef = [[same, s.tmp(f"{v} * {const}"), i] for same, v, i in c]
+                const = s.tmp(f"{k} * {const}")
+            else:
+                coef = [[same, s.tmp(f"{v} * {k}"), i] for same, v, i in coef]
+                const = s.tmp(f"{const} * {k}")
+        return coef, const
+
+    try:
+        coef, const = aff(root)
+        items = ", ".join(f"n[{i}]: {v}" for _same, v, i in coef)
+        s.lines.append(f"    return {{{items}}}, {const}")
+    except _Stop:
+        pass
+    return s.function("aff(c, n, values)", {"NonLinear": NonLinear})
+
+
+class _Stop(Exception):
+    pass
+
+
+def affine(e, block, values, shaped=None):
+    """`expr.affine(e, block, values)` by the shape's compiled walk where it has one."""
+    from .expr import affine as walk
+
+    sh = (shape_of(e) if shaped is None else shaped) if ENABLED else None
+    if sh is None:
+        return walk(e, block, values)
+    key, nums, names = sh
+    inside = tuple(nm in block for nm in names)
+    f = _compiled(_AFF, (key, inside), lambda k: _affine_function(*k))
+    return f(nums, names, values) if f is not None else walk(e, block, values)
