@@ -104,16 +104,37 @@ class ImpulseDiagram:
         by_body: dict = {}  # one pass, not one scan of every impulse per body
         for i in self.impulses:
             by_body.setdefault(i.body, []).append(i)
+        # the reader's factors and labels once (as `show` gives them), numbers through
+        # one cache: the same few values recur along a chain
+        r = self.reader
+        shown = {m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
+                 ((False, IMPULSE), (True, ANGULAR_IMPULSE))}
+        f = r.factor(LENGTH)
+        cache: dict = {}
+
+        def num(x):
+            s = cache.get(x)
+            if s is None:
+                s = cache[x] = fmt_num(_clean(x), SIG)
+            return s
+
+        add = out.append
         for b in self.bodies:
-            mine = by_body.get(b.name, [])
-            out.append(f"  {b.name}:" + ("" if mine else " no impulse"))
+            mine = by_body.get(b.name)
+            if not mine:
+                add(f"  {b.name}: no impulse")
+                continue
+            add(f"  {b.name}:")
             for i in mine:
-                x, unit = self.show(i.value, ANGULAR_IMPULSE if i.moment else IMPULSE, i.unit)
-                v = "?" if x is None else fmt_num(_clean(x), SIG)
-                f = self.reader.factor(LENGTH)
-                at = None if i.at is None else (i.at[0] / f, i.at[1] / f)
-                where = f" at {i.point} {_xy(at)}" if not i.moment else f" on {b.name}"
-                out.append(f"    {i.name} = {v} {unit}{where}, {i.words}")
+                k, unit = shown[i.moment]
+                v = "?" if i.value is None else num(i.value / k)
+                if i.moment:
+                    where = f" on {b.name}"
+                elif i.at is None:
+                    where = f" at {i.point} {_xy(None)}"
+                else:
+                    where = f" at {i.point} ({num(i.at[0] / f)}, {num(i.at[1] / f)})"
+                add(f"    {i.name} = {v} {unit}{where}, {i.words}")
         for d in self.dropped:
             on = f" ({d.body})" if d.body and d.body not in d.what else ""
             out.append(f"  dropped: {d.what}{on}: {d.why}")
