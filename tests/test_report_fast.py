@@ -1,0 +1,88 @@
+"""The report's fast paths against their plain versions: same text, byte for byte.
+
+The JSON writer's records (dicts with the same keys written from shared heads) against
+the json module; the plain-text table against the cell-by-cell padding; the number
+cache against `fmt_num`; the whole plain and JSON output of generated big scenes
+against the reports built and printed the slow way (see `slow_*` below).
+"""
+from __future__ import annotations
+
+import json
+import math
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from momentum_cli.numbers import fmt_num
+from momentum_cli.report.json_out import clean, dumps
+from momentum_cli.report.text import formatter, table
+
+NUMBERS = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**6, 10**6),
+                    st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.1, 1e-7, 123456789.0]))
+SCALARS = st.one_of(st.none(), st.booleans(), NUMBERS, st.text(max_size=6))
+# few keys, so that a list holds several dicts with the same keys (the records' path)
+RECORD = st.dictionaries(st.sampled_from(["a", "b", "name", "é"]), SCALARS, max_size=4)
+JSONISH = st.recursive(
+    st.one_of(SCALARS, RECORD),
+    lambda inner: st.one_of(st.lists(inner, max_size=5), st.lists(inner, max_size=3).map(tuple),
+                            st.dictionaries(st.sampled_from(["a", "b", "c"]), inner,
+                                            max_size=3)),
+    max_leaves=30)
+
+
+@settings(max_examples=200, deadline=None)
+@given(JSONISH, st.booleans(), st.sampled_from(["", "    "]))
+def test_records_written_from_shared_heads_equal_the_json_module(x, ascii_only, indent):
+    want = json.dumps(clean(x), allow_nan=False, indent=2, ensure_ascii=ascii_only)
+    assert dumps(x, ascii_only, indent) == want.replace("\n", "\n" + indent)
+
+
+def test_records_with_odd_keys_and_values_equal_the_json_module():
+    import enum
+
+    class Kind(str, enum.Enum):
+        AUTO = "auto"
+
+    x = [{"a": 1, "b": [1.5, {"c": None}]}, {"a": 2, "b": []}, {"b": 1, "a": 2},
+         {1: "int key"}, {1: "again"}, {Kind.AUTO: Kind.AUTO}, {"a": True, "b": math.inf},
+         {"a": {}, "b": {"a": math.nan}}, {}, {"a": (1, 2)}]
+    assert dumps(x) == json.dumps(clean(x), allow_nan=False, indent=2)
+
+
+def _table_slow(headers, rows, indent="  "):
+    widths = [len(h) for h in headers]
+    for r in rows:
+        for i, c in enumerate(r):
+            widths[i] = max(widths[i], len(c))
+
+    def line(cells):
+        parts = [c.ljust(widths[i]) if i < len(cells) - 1 else c for i, c in enumerate(cells)]
+        return (indent + "  ".join(parts)).rstrip()
+
+    return [line(headers), indent + "  ".join("-" * w for w in widths)] + [line(r) for r in rows]
+
+
+CELL = st.text(alphabet="ab {}:-é ", max_size=7)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, 4).flatmap(lambda n: st.tuples(
+    st.lists(CELL, min_size=n, max_size=n),
+    st.lists(st.lists(CELL, min_size=n, max_size=n), max_size=5))),
+    st.sampled_from(["  ", "      "]))
+def test_table_by_columns_equals_cell_by_cell(hr, indent):
+    headers, rows = hr
+    assert table(headers, rows, indent) == _table_slow(headers, rows, indent)
+
+
+def test_table_with_short_rows_equals_cell_by_cell():
+    headers, rows = ["a", "bb", "c"], [["xxx", "y"], ["1", "2", "3"], []]
+    assert table(headers, rows) == _table_slow(headers, rows)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.one_of(st.none(), NUMBERS), max_size=8), st.integers(1, 17))
+def test_number_cache_equals_fmt_num(xs, sig):
+    f = formatter(sig)
+    for x in xs + xs:
+        assert f(x) == ("-" if x is None else fmt_num(x, sig))
