@@ -86,3 +86,23 @@ def test_number_cache_equals_fmt_num(xs, sig):
     f = formatter(sig)
     for x in xs + xs:
         assert f(x) == ("-" if x is None else fmt_num(x, sig))
+
+
+# ---- the numeric line in SI: one walk against the leaf-by-leaf substitution ----------------
+from test_report_printer import NAMES, TREES, _outcome  # noqa: E402
+
+from momentum_cli.expr import to_text  # noqa: E402
+from momentum_cli.report.reader import Reader, _si_text, _Sub  # noqa: E402
+
+
+def _slow_numeric(e, values, keep, sig):
+    leaf = _Sub(values, keep, None, Reader("si", False), {}, {}, False).leaf
+    return to_text(e, True, sig, leaf)
+
+
+@settings(max_examples=400, deadline=None)
+@given(TREES, st.dictionaries(NAMES, st.one_of(st.none(), NUMBERS)),
+       st.sets(NAMES), st.sampled_from([6, 3, 1]))
+def test_si_numeric_text_equals_substituting_leaf_by_leaf(e, values, keep, sig):
+    assert _outcome(lambda: _si_text(e, values, keep, sig)[0]) == \
+        _outcome(lambda: _slow_numeric(e, values, keep, sig))
