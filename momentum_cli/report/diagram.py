@@ -173,8 +173,21 @@ def _xy(p) -> str:
     return f"({fmt_num(_clean(p[0]), SIG)}, {fmt_num(_clean(p[1]), SIG)})"
 
 
+_WORDS: dict = {}  # (d, symbol) -> words: a long sequence repeats a few directions
+
+
 def direction_words(d: tuple, symbol: str | None = None) -> str:
     """`up`, `to the left`, or `along n = (0.866, 0.5)` for a unit vector."""
+    key = (d, symbol)
+    w = _WORDS.get(key)
+    if w is None:
+        if len(_WORDS) > 4096:
+            _WORDS.clear()
+        w = _WORDS[key] = _direction_words(d, symbol)
+    return w
+
+
+def _direction_words(d: tuple, symbol: str | None = None) -> str:
     x, y = (_clean(round(c, 12)) for c in d)
     axis = {(0.0, 1.0): "up", (0.0, -1.0): "down", (1.0, 0.0): "to the right",
             (-1.0, 0.0): "to the left"}.get((x, y))
