@@ -297,21 +297,45 @@ class _Builder:
                               self._dropped(), self._surfaces(bodies), self._pins(),
                               self._links(where), self.notes)
 
+    def _known_at(self, sid: str):
+        """`known(body, q, sid)` for one state, its givens and its root looked up once
+        (a transition of 10^4 bodies asks for seven quantities of each)."""
+        values, sh = self.values, self.shared
+        st = self.sc.states.get(sid)
+        givens = st.givens if st is not None else {}
+        placed = sh.placed
+        root: list = []
+
+        def known(body: str, q: str):
+            v = values.get(f"{body}.{q}@{sid}")
+            if v is None:
+                g = givens.get((body, q))
+                v = g[0] if g is not None else None
+            if v is not None or q not in POSITION:
+                return v
+            if not root:
+                root.append(sh.root(sid))
+            return placed.get((body, q, root[0]))
+        return known
+
     def _bodies(self) -> list[DiagramBody]:
         i, j = self.t.before, self.t.after
+        ki, kj = self._known_at(i), self._known_at(j)
         out = []
         for name in self.t.bodies:
             b = self.sc.bodies[name]
-            x, y, ang = (self.known(name, q, i) for q in ("x", "y", "angle"))
-            vel = lambda s: (None if None in (v := (self.known(name, "vx", s),  # noqa: E731
-                                                   self.known(name, "vy", s))) else v)
+            x, y, ang = ki(name, "x"), ki(name, "y"), ki(name, "angle")
+            vi = (ki(name, "vx"), ki(name, "vy"))
+            vj = (kj(name, "vx"), kj(name, "vy"))
             parts = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
+            particle = b.is_particle
             out.append(DiagramBody(
                 name, b.kind, x if x is not None else math.nan, y if y is not None else math.nan,
-                ang or 0.0, x is not None and y is not None, parts, vel(i), vel(j),
-                None if b.is_particle else self.known(name, "omega", i),
-                None if b.is_particle else self.known(name, "omega", j), b.is_particle))
-            if ang is None and not b.is_particle and _turns(b):
+                ang or 0.0, x is not None and y is not None, parts,
+                None if None in vi else vi, None if None in vj else vj,
+                None if particle else ki(name, "omega"),
+                None if particle else kj(name, "omega"), particle))
+            if ang is None and not particle and _turns(b):
                 self.notes.append(f"{name}'s angle is not known at state {i}: drawn at 0")
         return out
 
