@@ -106,3 +106,61 @@ def _slow_numeric(e, values, keep, sig):
 def test_si_numeric_text_equals_substituting_leaf_by_leaf(e, values, keep, sig):
     assert _outcome(lambda: _si_text(e, values, keep, sig)[0]) == \
         _outcome(lambda: _slow_numeric(e, values, keep, sig))
+
+
+# ---- every equation of the examples and of generated big scenes: fast line == slow line ----
+def _scenes():
+    from conftest import EXAMPLES
+    from test_hard import cradle_text
+
+    from momentum_cli.bench import chain_text
+
+    for p in sorted(EXAMPLES.glob("*.mom")):
+        yield p.name, p.read_text(encoding="utf-8")
+    yield "chain.mom", chain_text(40)
+    yield "cradle.mom", cradle_text(30, "sequence")
+
+
+def _slow_line(eq, values, keep, system, reader, sig):
+    """`reader.numeric_line` as it was before its SI walk: every leaf through `_Sub`."""
+    from momentum_cli.report.reader import _dim_down, _dim_up
+
+    memo, slots = {}, {}
+    scale = reader.system == "us"
+    if scale:
+        dl, dr = _dim_up(eq.lhs, system, memo), _dim_up(eq.rhs, system, memo)
+        d = dl if dl is not None else dr
+        _dim_down(eq.lhs, d, system, memo, slots)
+        _dim_down(eq.rhs, d, system, memo, slots)
+        if any(v is None for v in slots.values()):
+            scale = False
+    r = reader if scale else Reader("si", reader.degrees)
+    leaf = _Sub(values, keep, system, r, memo, slots, scale, False).leaf
+    text = f"{to_text(eq.lhs, True, sig, leaf)} = {to_text(eq.rhs, True, sig, leaf)}"
+    if reader.system == "us" and not scale:
+        text += "   (SI)"
+    return text
+
+
+def test_numeric_lines_of_examples_and_big_scenes_equal_the_leaf_by_leaf_lines():
+    from helpers import solve_text
+
+    from momentum_cli.diagnostics import ProblemError
+    from momentum_cli.report.reader import numeric_line, reader_for
+
+    checked = 0
+    for name, text in _scenes():
+        try:
+            sol = solve_text(text, name)
+        except ProblemError:
+            continue
+        system, values = sol.system, sol.values
+        keeps = {k: set(b.unknowns) for b in sol.blocks for k in b.equations}
+        for units in ("file", "si", "us"):
+            reader = reader_for(units, system.scene.file_units)
+            for k, e in enumerate(system.equations):
+                keep = keeps.get(k, set())
+                slow = _slow_line(e, values, keep, system, reader, 6)
+                assert numeric_line(e, values, keep, system, reader, 6) == slow, (name, k)
+                checked += 1
+    assert checked > 1000
