@@ -30,7 +30,7 @@ JSONISH = st.recursive(
     max_leaves=30)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(JSONISH, st.booleans(), st.sampled_from(["", "    "]))
 def test_records_written_from_shared_heads_equal_the_json_module(x, ascii_only, indent):
     want = json.dumps(clean(x), allow_nan=False, indent=2, ensure_ascii=ascii_only)
@@ -65,7 +65,7 @@ def _table_slow(headers, rows, indent="  "):
 CELL = st.text(alphabet="ab {}:-é ", max_size=7)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=80, deadline=None)
 @given(st.integers(1, 4).flatmap(lambda n: st.tuples(
     st.lists(CELL, min_size=n, max_size=n),
     st.lists(st.lists(CELL, min_size=n, max_size=n), max_size=5))),
@@ -80,7 +80,7 @@ def test_table_with_short_rows_equals_cell_by_cell():
     assert table(headers, rows) == _table_slow(headers, rows)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(st.lists(st.one_of(st.none(), NUMBERS), max_size=8), st.integers(1, 17))
 def test_number_cache_equals_fmt_num(xs, sig):
     f = formatter(sig)
@@ -100,7 +100,7 @@ def _slow_numeric(e, values, keep, sig):
     return to_text(e, True, sig, leaf)
 
 
-@settings(max_examples=400, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(TREES, st.dictionaries(NAMES, st.one_of(st.none(), NUMBERS)),
        st.sets(NAMES), st.sampled_from([6, 3, 1]))
 def test_si_numeric_text_equals_substituting_leaf_by_leaf(e, values, keep, sig):
