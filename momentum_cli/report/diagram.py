@@ -104,16 +104,37 @@ class ImpulseDiagram:
         by_body: dict = {}  # one pass, not one scan of every impulse per body
         for i in self.impulses:
             by_body.setdefault(i.body, []).append(i)
+        # the reader's factors and labels once (as `show` gives them), numbers through
+        # one cache: the same few values recur along a chain
+        r = self.reader
+        shown = {m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
+                 ((False, IMPULSE), (True, ANGULAR_IMPULSE))}
+        f = r.factor(LENGTH)
+        cache: dict = {}
+
+        def num(x):
+            s = cache.get(x)
+            if s is None:
+                s = cache[x] = fmt_num(_clean(x), SIG)
+            return s
+
+        add = out.append
         for b in self.bodies:
-            mine = by_body.get(b.name, [])
-            out.append(f"  {b.name}:" + ("" if mine else " no impulse"))
+            mine = by_body.get(b.name)
+            if not mine:
+                add(f"  {b.name}: no impulse")
+                continue
+            add(f"  {b.name}:")
             for i in mine:
-                x, unit = self.show(i.value, ANGULAR_IMPULSE if i.moment else IMPULSE, i.unit)
-                v = "?" if x is None else fmt_num(_clean(x), SIG)
-                f = self.reader.factor(LENGTH)
-                at = None if i.at is None else (i.at[0] / f, i.at[1] / f)
-                where = f" at {i.point} {_xy(at)}" if not i.moment else f" on {b.name}"
-                out.append(f"    {i.name} = {v} {unit}{where}, {i.words}")
+                k, unit = shown[i.moment]
+                v = "?" if i.value is None else num(i.value / k)
+                if i.moment:
+                    where = f" on {b.name}"
+                elif i.at is None:
+                    where = f" at {i.point} {_xy(None)}"
+                else:
+                    where = f" at {i.point} ({num(i.at[0] / f)}, {num(i.at[1] / f)})"
+                add(f"    {i.name} = {v} {unit}{where}, {i.words}")
         for d in self.dropped:
             on = f" ({d.body})" if d.body and d.body not in d.what else ""
             out.append(f"  dropped: {d.what}{on}: {d.why}")
@@ -152,8 +173,21 @@ def _xy(p) -> str:
     return f"({fmt_num(_clean(p[0]), SIG)}, {fmt_num(_clean(p[1]), SIG)})"
 
 
+_WORDS: dict = {}  # (d, symbol) -> words: a long sequence repeats a few directions
+
+
 def direction_words(d: tuple, symbol: str | None = None) -> str:
     """`up`, `to the left`, or `along n = (0.866, 0.5)` for a unit vector."""
+    key = (d, symbol)
+    w = _WORDS.get(key)
+    if w is None:
+        if len(_WORDS) > 4096:
+            _WORDS.clear()
+        w = _WORDS[key] = _direction_words(d, symbol)
+    return w
+
+
+def _direction_words(d: tuple, symbol: str | None = None) -> str:
     x, y = (_clean(round(c, 12)) for c in d)
     axis = {(0.0, 1.0): "up", (0.0, -1.0): "down", (1.0, 0.0): "to the right",
             (-1.0, 0.0): "to the left"}.get((x, y))
@@ -263,21 +297,45 @@ class _Builder:
                               self._dropped(), self._surfaces(bodies), self._pins(),
                               self._links(where), self.notes)
 
+    def _known_at(self, sid: str):
+        """`known(body, q, sid)` for one state, its givens and its root looked up once
+        (a transition of 10^4 bodies asks for seven quantities of each)."""
+        values, sh = self.values, self.shared
+        st = self.sc.states.get(sid)
+        givens = st.givens if st is not None else {}
+        placed = sh.placed
+        root: list = []
+
+        def known(body: str, q: str):
+            v = values.get(f"{body}.{q}@{sid}")
+            if v is None:
+                g = givens.get((body, q))
+                v = g[0] if g is not None else None
+            if v is not None or q not in POSITION:
+                return v
+            if not root:
+                root.append(sh.root(sid))
+            return placed.get((body, q, root[0]))
+        return known
+
     def _bodies(self) -> list[DiagramBody]:
         i, j = self.t.before, self.t.after
+        ki, kj = self._known_at(i), self._known_at(j)
         out = []
         for name in self.t.bodies:
             b = self.sc.bodies[name]
-            x, y, ang = (self.known(name, q, i) for q in ("x", "y", "angle"))
-            vel = lambda s: (None if None in (v := (self.known(name, "vx", s),  # noqa: E731
-                                                   self.known(name, "vy", s))) else v)
+            x, y, ang = ki(name, "x"), ki(name, "y"), ki(name, "angle")
+            vi = (ki(name, "vx"), ki(name, "vy"))
+            vj = (kj(name, "vx"), kj(name, "vy"))
             parts = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
+            particle = b.is_particle
             out.append(DiagramBody(
                 name, b.kind, x if x is not None else math.nan, y if y is not None else math.nan,
-                ang or 0.0, x is not None and y is not None, parts, vel(i), vel(j),
-                None if b.is_particle else self.known(name, "omega", i),
-                None if b.is_particle else self.known(name, "omega", j), b.is_particle))
-            if ang is None and not b.is_particle and _turns(b):
+                ang or 0.0, x is not None and y is not None, parts,
+                None if None in vi else vi, None if None in vj else vj,
+                None if particle else ki(name, "omega"),
+                None if particle else kj(name, "omega"), particle))
+            if ang is None and not particle and _turns(b):
                 self.notes.append(f"{name}'s angle is not known at state {i}: drawn at 0")
         return out
 

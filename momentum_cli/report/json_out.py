@@ -100,8 +100,24 @@ def _encode(x, out: list, nl: str, esc) -> None:
             return
         inner = nl + "  "
         sep = "[" + inner
+        keys = heads = None  # the last dict's keys, and their written heads
         for v in x:
             t = type(v)
+            if t is dict and v:
+                # a list of records (equations, unknowns, impulses): each key's head,
+                # `,\n  "key": `, written once for every dict with the same keys
+                ks = tuple(v)
+                if ks != keys:
+                    heads = _heads(ks, inner + "  ", esc)
+                    keys = ks
+                if heads is None:
+                    out.append(sep)
+                    _encode(v, out, inner, esc)
+                else:
+                    out.append(sep)
+                    _fields(v, heads, out, inner, esc)
+                sep = "," + inner
+                continue
             if t is str:
                 out.append(sep + esc(v))
             elif t is float and v == v and v != _INF and v != -_INF:
@@ -117,6 +133,40 @@ def _encode(x, out: list, nl: str, esc) -> None:
         out.append(nl + "]")
     else:
         out.append(_scalar(x, esc))
+
+
+def _heads(keys: tuple, inner: str, esc) -> list | None:
+    """`{` or `,` then the newline, indentation and key of each field of a dict with
+    these keys (None if a key is not a str: json's own conversion then)."""
+    if not all(type(k) is str for k in keys):
+        return None
+    return [("{" if i == 0 else ",") + inner + esc(k) + ": " for i, k in enumerate(keys)]
+
+
+def _fields(x: dict, heads: list, out: list, nl: str, esc) -> None:
+    """A non-empty dict whose keys' heads are `heads`, as `_encode` writes it."""
+    inner = nl + "  "
+    for head, v in zip(heads, x.values()):
+        t = type(v)
+        if t is str:
+            out.append(head + esc(v))
+        elif t is float:
+            out.append(head + (_FLOAT_REPR(v) if v == v and v != _INF and v != -_INF
+                               else "null"))
+        elif v is None:
+            out.append(head + "null")
+        elif t is int:
+            out.append(head + _INT_REPR(v))
+        elif t is Encoded:
+            out.append(head + v)
+        else:
+            s = _scalar(v, esc) if t is not dict and t is not list else None
+            if s is None:
+                out.append(head)
+                _encode(v, out, inner, esc)
+            else:
+                out.append(head + s)
+    out.append(nl + "}")
 
 
 def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=None) -> dict:

@@ -11,6 +11,7 @@ import math
 import re
 
 from ..expr import Add, Const, E, Fn, Known, Mul, Pow, Var, map_children, to_text
+from ..expr import _ADD, _ATOM, _MUL, _join, _pow_txt  # the printer's own rules
 from ..numbers import fmt_num
 from ..records import record
 from ..units import (
@@ -254,6 +255,10 @@ def numeric_line(eq, values: dict, keep: set, system, reader: Reader, sig: int =
     r = reader if scale else Reader("si", reader.degrees)
     if symbolic and not scale:
         return eq.text()
+    if not scale and not reader.degrees:  # SI, radians: the leaves' numbers as they are
+        text = f"{_si_text(eq.lhs, values, keep, sig)[0]} = " \
+               f"{_si_text(eq.rhs, values, keep, sig)[0]}"
+        return text + "   (SI)" if reader.system == "us" else text
     leaf = _Sub(values, keep, system, r, memo, slots, scale, symbolic).leaf
     num = not symbolic
     # printed with the leaves substituted as they are reached (no copy of the tree)
@@ -261,6 +266,106 @@ def numeric_line(eq, values: dict, keep: set, system, reader: Reader, sig: int =
     if reader.system == "us" and not scale:
         text += "   (SI)"
     return text
+
+
+# ---- the numeric line in SI and radians: one walk that prints and substitutes ---------------
+_NAME = object()  # a leaf printed by its name (or a known whose value cannot be shown)
+
+
+def _si_leaf(f: E, values, keep, sig: int):
+    """(text, precedence, value) of a leaf as `_Sub.leaf` (SI, radians) substitutes it
+    and `to_text` prints it: `value` the number it shows, or _NAME."""
+    t = type(f)
+    if t is Const:
+        v = f.value
+    elif t is Var:
+        n = f.name
+        if n in keep or n not in values:
+            return n, _ATOM, _NAME
+        v = values[n]
+        if v is None or (isinstance(v, float) and v != v):
+            return n, _ATOM, _NAME
+    else:  # a Known: its value (one that cannot be shown stays a Known: no sign moved)
+        v = f.value
+        if v is None or (isinstance(v, float) and v != v):
+            s = fmt_num(v, sig)
+            return s, (_ADD if s[:1] == "-" else _ATOM), _NAME
+    s = fmt_num(v, sig)
+    return s, (_ADD if s[:1] == "-" else _ATOM), v
+
+
+def _si_text(e: E, values, keep, sig: int) -> tuple[str, int]:
+    """`expr._txt(e, True, sig, _Sub(values, keep, ...).leaf)` for SI in radians, in one
+    walk without a leaf object per number (the report prints 10^5 such lines)."""
+    t = type(e)
+    if t is Const or t is Var or t is Known:
+        s, p, _ = _si_leaf(e, values, keep, sig)
+        return s, p
+    if t is Add:
+        parts = []
+        for x in e.terms:
+            s = _si_text(x, values, keep, sig)[0]
+            if not parts:
+                parts.append(s)
+            elif s[:1] == "-":
+                parts.append(" - " + s[1:])
+            else:
+                parts.append(" + " + s)
+        return "".join(parts), _ADD
+    if t is Mul:
+        num: list = []
+        den: list = []
+        sign = ""
+        first = True
+        for f in e.factors:
+            tf = type(f)
+            if tf is Const or tf is Known or tf is Var:
+                s, p, v = _si_leaf(f, values, keep, sig)
+                if first and v is not _NAME and v < 0:
+                    sign = "-"
+                    first = False
+                    if v == -1.0:
+                        continue
+                    s = fmt_num(-v, sig)
+                    p = _ADD if s[:1] == "-" else _ATOM
+                num.append((s, p))
+            elif tf is Pow and f.exp < 0:
+                num_den = _si_den(f, values, keep, sig)
+                den.append(num_den)
+            else:
+                num.append(_si_text(f, values, keep, sig))
+            first = False
+        s = _join(num)
+        if den:
+            d = _join(den)
+            s += "/" + (f"({d})" if len(den) > 1 else d)
+        return sign + s, _MUL if not sign else _ADD
+    if t is Pow:
+        b, p = _si_text(e.base, values, keep, sig)
+        return _pow_txt(b, p, e.exp, sig)
+    a = _si_text(e.arg, values, keep, sig)[0]
+    return f"{e.name}({a})", _ATOM
+
+
+def _si_den(f: Pow, values, keep, sig: int) -> tuple[str, int]:
+    """A factor x^-p of a product in its denominator, as `expr._den_txt` prints it."""
+    p = -f.exp
+    b = f.base
+    tb = type(b)
+    if tb is Const or tb is Known or tb is Var:
+        s, bp, v = _si_leaf(b, values, keep, sig)
+        if p == 1.0:
+            return s, bp
+        if v is not _NAME:  # a number folds, as `power` folds a Const
+            try:
+                r = v ** p
+            except (ZeroDivisionError, OverflowError):
+                return _pow_txt(s, bp, p, sig)
+            rs = fmt_num(r, sig)
+            return rs, (_ADD if rs[:1] == "-" else _ATOM)
+        return _pow_txt(s, bp, p, sig)
+    bs, bp = _si_text(b, values, keep, sig)
+    return (bs, bp) if p == 1.0 else _pow_txt(bs, bp, p, sig)
 
 
 class _Sub:

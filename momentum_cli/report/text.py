@@ -12,6 +12,16 @@ from .model import Report, diagram_for
 
 def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list[str]:
     """Columns padded to their widest cell; the last column is not padded."""
+    n = len(headers)
+    if n > 1 and all(len(r) == n for r in rows):
+        # the usual case: every row as wide as the header: each column measured once
+        # (max over it) and every line made by one format call
+        cols = list(zip(*rows)) if rows else [()] * n
+        widths = [max(len(h), max(map(len, c), default=0)) for h, c in zip(headers, cols)]
+        fmt = indent + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}"
+        out = [fmt.format(*headers).rstrip(), indent + "  ".join("-" * w for w in widths)]
+        out += [s.rstrip() for s in map(fmt.format, *cols)] if rows else []
+        return out
     widths = [len(h) for h in headers]
     for r in rows:
         for i, c in enumerate(r):
@@ -26,12 +36,28 @@ def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list
     return out
 
 
+def formatter(sig: int):
+    """`fmt_num(x, sig)` ("-" for None), each value formatted once: a big report repeats
+    the same numbers (0, 1, a mass, a matrix's entries) thousands of times. Equal numbers
+    print the same (0.0 and -0.0 both as 0, an int as the float it equals)."""
+    cache: dict = {}
+
+    def f(x) -> str:
+        if x is None:
+            return "-"
+        s = cache.get(x)
+        if s is None:
+            s = cache[x] = fmt_num(x, sig)
+        return s
+    return f
+
+
 def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") -> str:
     """`detail` full: every section; brief: the principles with their equations and
     numbers, the answers and the key checks (see `render_brief`)."""
     if steps and detail == "brief":
         return render_brief(rep, sig)
-    f = lambda x: fmt_num(x, sig) if x is not None else "-"  # noqa: E731
+    f = formatter(sig)
     out: list[str] = []
     title = rep.title or "(untitled problem)"
     out.append(f"== {rep.file}: {title}")
@@ -75,13 +101,11 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
             for w in t["why"]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))
-            for r in t["equations"]:
-                out.extend(_equation(r))
+            _equations(t["equations"], out)
         for group, rows in rep.other_equations.items():
             out.append("")
             out.append(group[0].upper() + group[1:])
-            for r in rows:
-                out.extend(_equation(r))
+            _equations(rows, out)
         out.append("")
         out.append("Solving, block by block")
         for b in rep.blocks:
@@ -211,6 +235,20 @@ def _system(t: dict) -> list[str]:
     if out:
         out.append("  body by body:")
     return out
+
+
+def _equations(rows, out: list) -> None:
+    """`_equation` of each row, appended to `out` (one loop, no list per row)."""
+    add = out.append
+    for r in rows:
+        line = f"line {r.line}" if r.line else "scene"
+        role = r.role
+        add(f"  ({r.index + 1}) {r.principle} ({line})" if role == "solved" else
+            f"  ({r.index + 1}) {r.principle} ({line}) [{role}]")
+        sym, num = r.symbolic, r.numeric
+        add("      " + sym)
+        if num != sym:
+            add("      " + num)
 
 
 def _equation(r) -> list[str]:
