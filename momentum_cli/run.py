@@ -295,13 +295,28 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
     """Solve sources in order, in parallel worker processes when there are many.
 
     Yields FileResults in the input order. Each file is independent, so with many
-    files a fork-based pool on every core cuts the per-file cost; the parser is
-    built first, so each worker inherits it. `render` (report -> str, picklable):
-    each report comes back as `Rendered` text, made by the worker.
+    files a fork-based pool on every core cuts the per-file cost; the parser's
+    tables are loaded first, so each worker inherits them. Files of a batch are often
+    variants of one problem: each distinct statement is parsed once (statement_memo).
+    `render` (report -> str, picklable): each report comes back as `Rendered` text,
+    made by the worker.
     """
+    sources = list(sources)
+    if len(sources) < 2:
+        yield from _solve_all(sources, solve_all, sig, precision, overrides, units,
+                              sensitivity, render)
+        return
+    from .statement_memo import enabled
+
+    with enabled():  # set before the workers fork: they parse through it too
+        yield from _solve_all(sources, solve_all, sig, precision, overrides, units,
+                              sensitivity, render)
+
+
+def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity, render):
+    """`solve_many` itself."""
     import os
 
-    sources = list(sources)
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else \
         (os.cpu_count() or 1)
     if len(sources) < PARALLEL_MIN or cores < 2:
@@ -313,9 +328,9 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
     from concurrent.futures import ProcessPoolExecutor
     from concurrent.futures.process import BrokenProcessPool
 
-    from .syntax import parser
+    from .syntax import _fast_parser
 
-    parser()  # build (or load) once; forked workers share it
+    _fast_parser()  # syntax_run's tables, loaded once for the workers (lark only if needed)
     try:
         ctx = mp.get_context("fork")
     except ValueError:

@@ -768,6 +768,11 @@ def _parse(source: Source, expanded: Source, loops) -> Document:
         gc.enable()
 
 
+# a hook: while run.solve_many solves a batch, statement_memo.parse(fast, text) (the nodes
+# of a loop-free text, parsed statement by statement through a table, or None)
+STATEMENTS: list = [None]
+
+
 def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
     """`_parse` itself: syntax_run where it can (no lark import once its tables are
     cached), else lark's parse and the transformer (which also report every error)."""
@@ -777,8 +782,11 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         from .syntax_run import Fallback
 
         _SPANS[0] = loops  # the nodes' spans point into the file, not the expanded text
+        hook = STATEMENTS[0] if loops is None else None
         try:
-            nodes = fast.parse(text if text.endswith("\n") else text + "\n")
+            nodes = hook(fast, text) if hook is not None else None
+            if nodes is None:
+                nodes = fast.parse(text if text.endswith("\n") else text + "\n")
         except Fallback:
             nodes = None
         finally:

@@ -1,0 +1,76 @@
+"""Parse stage, for a batch of files: each statement parsed once per text and line.
+
+In: a loop-free problem text and syntax_run's parser. Out: the statement nodes the
+whole text's parse gives, from a table keyed by (first line, the statement's lines);
+None where the text is not cut into statements here (the caller parses it whole).
+Variants of a problem share most of their lines at the same line numbers, so a batch
+parses only the lines that differ. Used by run.solve_many while it runs.
+"""
+from __future__ import annotations
+
+LIMIT = 8192  # statements kept; a batch of variants repeats a few hundred
+_table: dict = {}
+
+
+def parse(fast, text: str):
+    """The statement nodes of `text` (the file, loop-free), or None: parse it whole.
+
+    A statement starts with a letter at column 1; every other line (indented, blank, a
+    comment) belongs to the statement before it, as syntax_lines cuts a file. Each
+    statement is parsed alone, with its line numbers (the newlines before it), and kept
+    with its text and first line as the key: the nodes are frozen records, shared by
+    every file that has the same statement at the same line. Any text this cut might
+    not match (something before the first statement, a `\\` continuation, a statement
+    that does not parse alone) is left to the whole parse, which also reports errors.
+    """
+    from .syntax_run import Fallback
+
+    lines = text.split("\n")
+    if lines[-1] == "":
+        lines.pop()  # the "" after the final newline
+    heads = [i for i, x in enumerate(lines) if x[:1].isalpha() and x[0].isascii()]
+    if not heads:
+        return None
+    for i in range(heads[0]):
+        s = lines[i].lstrip(" \t\f")
+        if s and s[0] != "#":
+            return None
+    if "\\" in text or "\r" in text or "\f" in text:
+        return None  # line continuations and other line ends: the whole parse decides
+    heads.append(len(lines))
+    table = _table
+    out: list = []
+    for k in range(len(heads) - 1):
+        a, b = heads[k], heads[k + 1]
+        chunk = "\n".join(lines[a:b]) + "\n"
+        key = (a, chunk)
+        nodes = table.get(key)
+        if nodes is None:
+            try:
+                nodes = tuple(fast.parse("\n" * a + chunk))
+            except Fallback:
+                return None
+            if len(table) >= LIMIT:
+                table.clear()
+            table[key] = nodes
+        out.extend(nodes)
+    return out
+
+
+class enabled:
+    """While a batch runs: syntax's parse goes statement by statement through the
+    table (the table is emptied at the end)."""
+
+    def __enter__(self):
+        from . import syntax
+
+        self.before = syntax.STATEMENTS[0]
+        syntax.STATEMENTS[0] = parse
+        return self
+
+    def __exit__(self, *exc):
+        from . import syntax
+
+        syntax.STATEMENTS[0] = self.before
+        _table.clear()
+        return False
