@@ -1,6 +1,6 @@
 """Parse stage, for a batch of files: each statement parsed once per text and line.
 
-In: a loop-free problem text and syntax_run's parser. Out: the statement nodes the
+In: a loop-free problem text and the parse of a whole text. Out: the statement nodes the
 whole text's parse gives, from a table keyed by (first line, the statement's lines);
 None where the text is not cut into statements here (the caller parses it whole).
 Variants of a problem share most of their lines at the same line numbers, so a batch
@@ -12,8 +12,9 @@ LIMIT = 8192  # statements kept; a batch of variants repeats a few hundred
 _table: dict = {}
 
 
-def parse(fast, text: str):
+def parse(text: str, parse_text):
     """The statement nodes of `text` (the file, loop-free), or None: parse it whole.
+    `parse_text(text)`: the statement nodes of a text (it raises where it cannot).
 
     A statement starts with a letter at column 1; every other line (indented, blank, a
     comment) belongs to the statement before it, as syntax_lines cuts a file. Each
@@ -23,8 +24,6 @@ def parse(fast, text: str):
     not match (something before the first statement, a `\\` continuation, a statement
     that does not parse alone) is left to the whole parse, which also reports errors.
     """
-    from .syntax_run import Fallback
-
     lines = text.split("\n")
     if lines[-1] == "":
         lines.pop()  # the "" after the final newline
@@ -47,8 +46,8 @@ def parse(fast, text: str):
         nodes = table.get(key)
         if nodes is None:
             try:
-                nodes = tuple(fast.parse("\n" * a + chunk))
-            except Fallback:
+                nodes = tuple(parse_text("\n" * a + chunk))
+            except Exception:  # an error, or a cut that does not fit: the whole parse's
                 return None
             if len(table) >= LIMIT:
                 table.clear()

@@ -768,7 +768,7 @@ def _parse(source: Source, expanded: Source, loops) -> Document:
         gc.enable()
 
 
-# a hook: while run.solve_many solves a batch, statement_memo.parse(fast, text) (the nodes
+# a hook: while run.solve_many solves a batch, statement_memo.parse(text, parse) (the nodes
 # of a loop-free text, parsed statement by statement through a table, or None)
 STATEMENTS: list = [None]
 
@@ -784,7 +784,7 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         _SPANS[0] = loops  # the nodes' spans point into the file, not the expanded text
         hook = STATEMENTS[0] if loops is None else None
         try:
-            nodes = hook(fast, text) if hook is not None else None
+            nodes = hook(text, fast.parse) if hook is not None else None
             if nodes is None:
                 nodes = fast.parse(text if text.endswith("\n") else text + "\n")
         except Fallback:
