@@ -56,20 +56,43 @@ def parse(text: str, parse_text):
     return out
 
 
+_units: dict = {}  # id(statement) -> (statement, its unit strings), for the table's
+
+
+def units(doc, walk) -> list:
+    """`walk(doc)` (unit_system's list of every unit string in the document, in order),
+    each statement of the table walked once: a statement's list is the walk of it alone,
+    two levels down (the document, its statements' tuple), and the document's list is
+    theirs one after another, as its walk visits them."""
+    out: list = []
+    memo = _units
+    for stmt in doc.statements:
+        hit = memo.get(id(stmt))  # the entry holds the statement: its id is not reused
+        if hit is None or hit[0] is not stmt:
+            if len(memo) >= LIMIT:
+                memo.clear()
+            hit = memo[id(stmt)] = (stmt, walk(stmt, 200 - 2))
+        out.extend(hit[1])
+    return out
+
+
 class enabled:
     """While a batch runs: syntax's parse goes statement by statement through the
-    table (the table is emptied at the end)."""
+    table, and unit_system's walk of a document through each statement's (the tables
+    are emptied at the end)."""
 
     def __enter__(self):
-        from . import syntax
+        from . import syntax, unit_system
 
-        self.before = syntax.STATEMENTS[0]
+        self.before = syntax.STATEMENTS[0], unit_system.UNITS[0]
         syntax.STATEMENTS[0] = parse
+        unit_system.UNITS[0] = units
         return self
 
     def __exit__(self, *exc):
-        from . import syntax
+        from . import syntax, unit_system
 
-        syntax.STATEMENTS[0] = self.before
+        syntax.STATEMENTS[0], unit_system.UNITS[0] = self.before
         _table.clear()
+        _units.clear()
         return False

@@ -1,7 +1,8 @@
 """A batch parses each distinct statement once (statement_memo): the same documents,
 errors and printed reports as parsing every file whole, on every example, on numeric
 variants of them (the statements that differ parsed, the others shared) and on a
-hostile corpus (lines cut, swapped, duplicated; odd values; CRLF; other encodings)."""
+hostile corpus (lines cut, swapped, duplicated; odd values; CRLF; other encodings); and
+the same unit strings from unit_system's walk, which takes each shared statement's."""
 from __future__ import annotations
 
 import random
@@ -11,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from momentum_cli import statement_memo, syntax
+from momentum_cli import statement_memo, syntax, unit_system
 from momentum_cli.diagnostics import ProblemError
 from momentum_cli.report.text import render
 from momentum_cli.run import Rendered, SourceTextError, decode_source, solve_many, solve_source
@@ -31,9 +32,14 @@ def variant(text: str, rng: random.Random) -> str:
 
 
 def parsed(source: Source):
-    """The document's statements as text (repr: -0.0 and 0.0 differ), or the error."""
+    """The document's statements as text (repr: -0.0 and 0.0 differ) and its unit
+    system (unit_system.detect, which walks each shared statement once), or the error."""
+    from momentum_cli.unit_system import _units, detect
+
     try:
-        return "ok", repr(syntax.parse(source).statements)
+        doc = syntax.parse(source)
+        return "ok", repr(doc.statements), detect(doc), _units(doc) if \
+            unit_system.UNITS[0] is None else unit_system.UNITS[0](doc, _units)
     except ProblemError as exc:
         return "error", [(d.code, d.message, d.span) for d in exc.diagnostics]
     except RecursionError:
@@ -45,7 +51,7 @@ def both(sources):
     whole = [parsed(s) for s in sources]
     with statement_memo.enabled():
         batch = [parsed(s) for s in sources]
-    assert syntax.STATEMENTS[0] is None  # the hook is off again
+    assert syntax.STATEMENTS[0] is None and unit_system.UNITS[0] is None  # hooks off again
     return whole, batch
 
 
@@ -70,9 +76,14 @@ def test_statements_are_shared_between_variants():
     nodes (shared frozen records), its changed ones are new."""
     text = (ROOT / "seed_rod_drop_smooth.mom").read_text(encoding="utf-8")
     other = text.replace("mass = 10 kg", "mass = 12.5 kg")
+    from momentum_cli.unit_system import detect
+
     with statement_memo.enabled():
         a = syntax.parse(Source("a.mom", text)).statements
         b = syntax.parse(Source("b.mom", other)).statements
+        for doc in (a, b):
+            detect(syntax.Document(Source("a.mom", text), doc))
+        assert len(statement_memo._units) == len(a) + 1  # the changed statement: one more
     shared = sum(x is y for x, y in zip(a, b))
     assert len(a) == len(b) and shared == len(a) - 1
     (body_a,) = [x for x in a if type(x).__name__ == "BodyDecl"]
