@@ -303,25 +303,37 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
     """
     sources = list(sources)
     if len(sources) < 2:
-        yield from _solve_all(sources, solve_all, sig, precision, overrides, units,
-                              sensitivity, render)
+        for s in sources:
+            yield _solve_job((s, solve_all, sig, precision, overrides, units, sensitivity,
+                              render))
         return
-    from .statement_memo import enabled
+    from . import statement_memo
 
-    with enabled():  # set before the workers fork: they parse through it too
+    try:
         yield from _solve_all(sources, solve_all, sig, precision, overrides, units,
                               sensitivity, render)
+    finally:
+        statement_memo.clear()
+
+
+def _batch_job(job):
+    """`_solve_job` for a file of a batch: its statements through statement_memo's
+    table, which stays (in this process, or in the worker) for the next file."""
+    from .statement_memo import hooked
+
+    with hooked():
+        return _solve_job(job)
 
 
 def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity, render):
-    """`solve_many` itself."""
+    """`solve_many` for two or more files."""
     import os
 
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else \
         (os.cpu_count() or 1)
     if len(sources) < PARALLEL_MIN or cores < 2:
         for s in sources:
-            yield _solve_job((s, solve_all, sig, precision, overrides, units, sensitivity,
+            yield _batch_job((s, solve_all, sig, precision, overrides, units, sensitivity,
                               render))
         return
     import multiprocessing as mp
@@ -344,7 +356,7 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
         try:
             pool = ProcessPoolExecutor(cores, mp_context=ctx, initializer=_worker_init,
                                        initargs=(os.getpid(),))
-            for res in pool.map(_solve_job, jobs, chunksize=8):
+            for res in pool.map(_batch_job, jobs, chunksize=8):
                 done += 1
                 yield res
         except (BrokenProcessPool, OSError, RuntimeError):
@@ -361,7 +373,7 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
 
             gc.unfreeze()
     for job in jobs[done:]:
-        yield _solve_job(job)
+        yield _batch_job(job)
 
 
 def _before_fork() -> None:

@@ -4,7 +4,7 @@ In: a loop-free problem text and the parse of a whole text. Out: the statement n
 whole text's parse gives, from a table keyed by (first line, the statement's lines);
 None where the text is not cut into statements here (the caller parses it whole).
 Variants of a problem share most of their lines at the same line numbers, so a batch
-parses only the lines that differ. Used by run.solve_many while it runs.
+parses only the lines that differ. Used by run.solve_many for each file of a batch.
 """
 from __future__ import annotations
 
@@ -76,10 +76,10 @@ def units(doc, walk) -> list:
     return out
 
 
-class enabled:
-    """While a batch runs: syntax's parse goes statement by statement through the
-    table, and unit_system's walk of a document through each statement's (the tables
-    are emptied at the end)."""
+class hooked:
+    """While one file of a batch is solved: syntax's parse goes statement by statement
+    through the table, and unit_system's walk of a document through each statement's
+    list. The tables stay for the next file (`clear` empties them)."""
 
     def __enter__(self):
         from . import syntax, unit_system
@@ -93,6 +93,18 @@ class enabled:
         from . import syntax, unit_system
 
         syntax.STATEMENTS[0], unit_system.UNITS[0] = self.before
-        _table.clear()
-        _units.clear()
+        return False
+
+
+def clear() -> None:
+    _table.clear()
+    _units.clear()
+
+
+class enabled(hooked):
+    """`hooked`, and the tables emptied at the end."""
+
+    def __exit__(self, *exc):
+        super().__exit__(*exc)
+        clear()
         return False

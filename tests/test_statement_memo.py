@@ -140,3 +140,15 @@ def test_a_batch_prints_what_each_file_alone_prints():
         if a.report is not None:
             assert isinstance(b.report, Rendered) and b.report.text == fn(a.report), s.name
     assert sum(a.status == "solved" for a in alone) >= len(picked)
+
+
+def test_the_hooks_are_on_only_while_a_file_of_a_batch_is_solved():
+    """A batch left half-read (its generator not finished) leaves the parse as it was;
+    the tables are emptied when the batch ends."""
+    text = (ROOT / "seed_rod_drop_smooth.mom").read_text(encoding="utf-8")
+    batch = solve_many([Source(f"{k}.mom", text) for k in range(3)], False, 6, "float")
+    assert next(batch).status == "solved"
+    assert syntax.STATEMENTS[0] is None and unit_system.UNITS[0] is None
+    assert statement_memo._table  # kept for the next file
+    batch.close()
+    assert not statement_memo._table and not statement_memo._units
