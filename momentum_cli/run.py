@@ -295,27 +295,54 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
     """Solve sources in order, in parallel worker processes when there are many.
 
     Yields FileResults in the input order. Each file is independent, so with many
-    files a fork-based pool on every core cuts the per-file cost; the parser is
-    built first, so each worker inherits it. `render` (report -> str, picklable):
-    each report comes back as `Rendered` text, made by the worker.
+    files a fork-based pool on every core cuts the per-file cost; the parser's
+    tables are loaded first, so each worker inherits them. Files of a batch are often
+    variants of one problem: each distinct statement is parsed once (statement_memo).
+    `render` (report -> str, picklable): each report comes back as `Rendered` text,
+    made by the worker.
     """
+    sources = list(sources)
+    if len(sources) < 2:
+        for s in sources:
+            yield _solve_job((s, solve_all, sig, precision, overrides, units, sensitivity,
+                              render))
+        return
+    from . import statement_memo
+
+    try:
+        yield from _solve_all(sources, solve_all, sig, precision, overrides, units,
+                              sensitivity, render)
+    finally:
+        statement_memo.clear()
+
+
+def _batch_job(job):
+    """`_solve_job` for a file of a batch: its statements through statement_memo's
+    table, which stays (in this process, or in the worker) for the next file."""
+    from .statement_memo import hooked
+
+    with hooked():
+        return _solve_job(job)
+
+
+def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity, render):
+    """`solve_many` for two or more files."""
     import os
 
-    sources = list(sources)
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else \
         (os.cpu_count() or 1)
     if len(sources) < PARALLEL_MIN or cores < 2:
         for s in sources:
-            yield _solve_job((s, solve_all, sig, precision, overrides, units, sensitivity,
+            yield _batch_job((s, solve_all, sig, precision, overrides, units, sensitivity,
                               render))
         return
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
     from concurrent.futures.process import BrokenProcessPool
 
-    from .syntax import parser
+    from .syntax import _fast_parser
 
-    parser()  # build (or load) once; forked workers share it
+    _fast_parser()  # syntax_run's tables, loaded once for the workers (lark only if needed)
     try:
         ctx = mp.get_context("fork")
     except ValueError:
@@ -329,7 +356,7 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
         try:
             pool = ProcessPoolExecutor(cores, mp_context=ctx, initializer=_worker_init,
                                        initargs=(os.getpid(),))
-            for res in pool.map(_solve_job, jobs, chunksize=8):
+            for res in pool.map(_batch_job, jobs, chunksize=8):
                 done += 1
                 yield res
         except (BrokenProcessPool, OSError, RuntimeError):
@@ -346,7 +373,7 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
 
             gc.unfreeze()
     for job in jobs[done:]:
-        yield _solve_job(job)
+        yield _batch_job(job)
 
 
 def _before_fork() -> None:

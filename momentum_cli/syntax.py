@@ -773,6 +773,9 @@ LINES_BYTES = 32_000  # characters parsed in this process before syntax_lines is
 # its regexes and record makers cost ~30 ms to set up, and it saves ~1 ms per 1,000
 # characters (one small file alone is parsed faster by syntax_run)
 _READ = [0]
+# a hook: while run.solve_many solves a batch, statement_memo.parse(text, parse) (the nodes
+# of a loop-free text, parsed statement by statement through a table, or None)
+STATEMENTS: list = [None]
 
 
 def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
@@ -787,9 +790,12 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         whole = text if text.endswith("\n") else text + "\n"
         nodes = None
         _READ[0] += len(whole)
+        hook = STATEMENTS[0] if loops is None else None
         try:
-            if loops is None and _READ[0] >= LINES_BYTES:  # the common statement forms a
-                import sys  # line at a time, the rest by syntax_run
+            if hook is not None:  # a batch: each distinct statement parsed once
+                nodes = hook(text, fast.parse)
+            elif loops is None and _READ[0] >= LINES_BYTES:  # the common statement forms
+                import sys  # a line at a time, the rest by syntax_run
 
                 from .syntax_lines import parse as by_lines
 

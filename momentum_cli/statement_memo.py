@@ -1,0 +1,110 @@
+"""Parse stage, for a batch of files: each statement parsed once per text and line.
+
+In: a loop-free problem text and the parse of a whole text. Out: the statement nodes the
+whole text's parse gives, from a table keyed by (first line, the statement's lines);
+None where the text is not cut into statements here (the caller parses it whole).
+Variants of a problem share most of their lines at the same line numbers, so a batch
+parses only the lines that differ. Used by run.solve_many for each file of a batch.
+"""
+from __future__ import annotations
+
+LIMIT = 8192  # statements kept; a batch of variants repeats a few hundred
+_table: dict = {}
+
+
+def parse(text: str, parse_text):
+    """The statement nodes of `text` (the file, loop-free), or None: parse it whole.
+    `parse_text(text)`: the statement nodes of a text (it raises where it cannot).
+
+    A statement starts with a letter at column 1; every other line (indented, blank, a
+    comment) belongs to the statement before it, as syntax_lines cuts a file. Each
+    statement is parsed alone, with its line numbers (the newlines before it), and kept
+    with its text and first line as the key: the nodes are frozen records, shared by
+    every file that has the same statement at the same line. Any text this cut might
+    not match (something before the first statement, a `\\` continuation, a statement
+    that does not parse alone) is left to the whole parse, which also reports errors.
+    """
+    lines = text.split("\n")
+    if lines[-1] == "":
+        lines.pop()  # the "" after the final newline
+    heads = [i for i, x in enumerate(lines) if x[:1].isalpha() and x[0].isascii()]
+    if not heads:
+        return None
+    for i in range(heads[0]):
+        s = lines[i].lstrip(" \t\f")
+        if s and s[0] != "#":
+            return None
+    if "\\" in text or "\r" in text or "\f" in text:
+        return None  # line continuations and other line ends: the whole parse decides
+    heads.append(len(lines))
+    table = _table
+    out: list = []
+    for k in range(len(heads) - 1):
+        a, b = heads[k], heads[k + 1]
+        chunk = "\n".join(lines[a:b]) + "\n"
+        key = (a, chunk)
+        nodes = table.get(key)
+        if nodes is None:
+            try:
+                nodes = tuple(parse_text("\n" * a + chunk))
+            except Exception:  # an error, or a cut that does not fit: the whole parse's
+                return None
+            if len(table) >= LIMIT:
+                table.clear()
+            table[key] = nodes
+        out.extend(nodes)
+    return out
+
+
+_units: dict = {}  # id(statement) -> (statement, its unit strings), for the table's
+
+
+def units(doc, walk) -> list:
+    """`walk(doc)` (unit_system's list of every unit string in the document, in order),
+    each statement of the table walked once: a statement's list is the walk of it alone,
+    two levels down (the document, its statements' tuple), and the document's list is
+    theirs one after another, as its walk visits them."""
+    out: list = []
+    memo = _units
+    for stmt in doc.statements:
+        hit = memo.get(id(stmt))  # the entry holds the statement: its id is not reused
+        if hit is None or hit[0] is not stmt:
+            if len(memo) >= LIMIT:
+                memo.clear()
+            hit = memo[id(stmt)] = (stmt, walk(stmt, 200 - 2))
+        out.extend(hit[1])
+    return out
+
+
+class hooked:
+    """While one file of a batch is solved: syntax's parse goes statement by statement
+    through the table, and unit_system's walk of a document through each statement's
+    list. The tables stay for the next file (`clear` empties them)."""
+
+    def __enter__(self):
+        from . import syntax, unit_system
+
+        self.before = syntax.STATEMENTS[0], unit_system.UNITS[0]
+        syntax.STATEMENTS[0] = parse
+        unit_system.UNITS[0] = units
+        return self
+
+    def __exit__(self, *exc):
+        from . import syntax, unit_system
+
+        syntax.STATEMENTS[0], unit_system.UNITS[0] = self.before
+        return False
+
+
+def clear() -> None:
+    _table.clear()
+    _units.clear()
+
+
+class enabled(hooked):
+    """`hooked`, and the tables emptied at the end."""
+
+    def __exit__(self, *exc):
+        super().__exit__(*exc)
+        clear()
+        return False
