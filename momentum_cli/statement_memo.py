@@ -8,8 +8,11 @@ parses only the lines that differ. Used by run.solve_many for each file of a bat
 """
 from __future__ import annotations
 
+import re
+
 LIMIT = 8192  # statements kept; a batch of variants repeats a few hundred
 _table: dict = {}
+_JOINS = re.compile(r".*\\[\t \f]*$").match  # a line the grammar joins to the next
 
 
 def parse(text: str, parse_text):
@@ -21,8 +24,8 @@ def parse(text: str, parse_text):
     statement is parsed alone, with its line numbers (the newlines before it), and kept
     with its text and first line as the key: the nodes are frozen records, shared by
     every file that has the same statement at the same line. Any text this cut might
-    not match (something before the first statement, a `\\` continuation, a statement
-    that does not parse alone) is left to the whole parse, which also reports errors.
+    not match (something before the first statement, a `\\` continuation at the end
+    of a statement, a statement that does not parse alone) is left to the whole parse, which also reports errors.
     """
     lines = text.split("\n")
     if lines[-1] == "":
@@ -34,9 +37,13 @@ def parse(text: str, parse_text):
         s = lines[i].lstrip(" \t\f")
         if s and s[0] != "#":
             return None
-    if "\\" in text or "\r" in text or "\f" in text:
-        return None  # line continuations and other line ends: the whole parse decides
+    if "\r" in text or "\f" in text:
+        return None  # other line ends: the whole parse decides
     heads.append(len(lines))
+    if "\\" in text:  # a `\` continuation inside a statement stays in its chunk; one
+        for h in heads:  # that ends a statement's last line joins the next: parse whole
+            if h and _JOINS(lines[h - 1]):
+                return None
     table = _table
     out: list = []
     for k in range(len(heads) - 1):

@@ -96,6 +96,9 @@ def test_statements_are_shared_between_variants():
     '3 problem "x"\nbody a: particle(mass = 1 kg)\n',  # text before the first statement
     'problem "x"\nbody a: particle(mass = \\\n1 kg)\nfind a.vx@1\n',  # a continuation
     'problem "x"\nbody a: particle(mass =\n1 kg)\n',  # a bracket over two lines
+    'problem "x"\nbody a: particle(mass = 1 kg) \\\nfind a.vx@1\n',  # joins the next statement
+    'problem "x"\nbody a: particle(mass = 1 kg) \\ \t\n',  # ... at the end of the text
+    'problem "x"\n# a comment \\\nbody a: particle(mass = 1 kg)\n',
     'problem "x"\nbody a: particle(\nmass = 1 kg)\n',  # ... whose next line starts a word
     'problem "x"\r\nbody a: particle(mass = 1 kg)\r\n',
     'problem "x"\nbody a: particle(mass = 1 kg)',  # no final newline
@@ -105,6 +108,20 @@ def test_statements_are_shared_between_variants():
 def test_texts_the_cut_does_not_fit_parse_the_same(text):
     whole, batch = both([Source("t.mom", text), Source("u.mom", text)])
     assert whole == batch
+
+
+def test_continuations_inside_a_statement_are_cut_by_statement():
+    """A `\\` that joins two lines of one statement keeps the cut (the examples write
+    long `state` and `find` lines so): the table is used, the nodes are the whole parse's."""
+    text = ('problem "x"\ngravity 9.81 m/s^2 down\nbody a: particle(mass = 1 kg)\n'
+            'state 1: a.v = (1 m/s, 0), \\\n    a.pos = (0, 0)\nstate 2\n'
+            'impact 1 -> 2:\n    contact a with ground: restitution 0.5\n'
+            'find a.v@2, \\  \n    J_n[a]@1->2\n')
+    fast = syntax._fast_parser()
+    assert statement_memo.parse(text, fast.parse) is not None
+    statement_memo.clear()
+    whole, batch = both([Source("t.mom", text), Source("u.mom", text)])
+    assert whole == batch and whole[0][0] == "ok"
 
 
 def test_hostile_corpus_parses_the_same():
