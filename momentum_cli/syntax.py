@@ -416,6 +416,11 @@ class Expect:
 class Document:
     source: Source
     statements: tuple
+    # True when the text parsed names no US customary or degree unit (unit_system's
+    # may_name: a superset test on the text), so the file's units are SI without degrees
+    # whatever its statements hold; False (walk the statements) for a document made
+    # otherwise (`--set`, sweeps: their values' units are not in the text)
+    si_text: bool = False
 
 
 # ---- the parser ---------------------------------------------------------------------------
@@ -810,7 +815,8 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         finally:
             _SPANS[0] = None
         if nodes is not None:
-            return Document(source, tuple(_plus_minus(s, source.text) for s in nodes))
+            return Document(source, tuple(_plus_minus(s, source.text) for s in nodes),
+                            _si_text(text))
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
     try:
@@ -844,7 +850,15 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
     finally:
         _SPANS[0] = None
     # `expect V +- T` is read from the text the spans point into: the file's
-    return Document(source, tuple(_plus_minus(s, source.text) for s in statements))
+    return Document(source, tuple(_plus_minus(s, source.text) for s in statements),
+                    _si_text(text))
+
+
+def _si_text(text: str) -> bool:
+    """Document.si_text of a document parsed from `text` (the file, loops written out)."""
+    from .unit_system import may_name
+
+    return not may_name(text)
 
 
 class _TooDeep(Exception):

@@ -29,8 +29,39 @@ class FileUnits:
 UNITS: list = [None]
 
 
+_SI = FileUnits()
+# where a name of US_NAMES or DEGREE_NAMES can start: each one begins with one of these
+_ROOTS = ("slug", "lb", "ft", "in", "yd", "mi", "mph", "kip", "fps", "oz", "hp", "deg")
+_WORD = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
+
+
+def may_name(text: str) -> bool:
+    """False only if no unit the grammar can read from `text` names a US customary or a
+    degree unit. A unit (the grammar's UNIT, or `in`) starts after a number, a space or
+    the keyword `in`, and each name in it after `*`, `/` or a digit: so every such name
+    starts in the text where no letter or `_` comes before it. True at the first place
+    one of _ROOTS starts so outside a comment, or at a `°`. A `#` with no `"` before it on
+    its line starts a comment (one inside a string has a `"` before it: not skipped)."""
+    if "°" in text:
+        return True
+    word = _WORD
+    for root in _ROOTS:
+        i = text.find(root)
+        while i >= 0:
+            if i == 0 or text[i - 1] not in word:
+                line = text[text.rfind("\n", 0, i) + 1:i]
+                hash_ = line.find("#")
+                if hash_ < 0 or '"' in line[:hash_]:
+                    return True
+            i = text.find(root, i + 1)
+    return False
+
+
 def detect(doc) -> FileUnits:
-    """Count the unit names the file uses (each occurrence once)."""
+    """Count the unit names the file uses (each occurrence once). A document whose text
+    names no US or degree unit (`si_text`, decided by the parse) is SI without a walk."""
+    if getattr(doc, "si_text", False):
+        return _SI
     us = si = 0
     degrees = False
     seen: dict[str, tuple[int, int, bool]] = {}  # a unit string's counts, found once
