@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import re
 
+from . import statement_template
+
 LIMIT = 8192  # statements kept; a batch of variants repeats a few hundred
 _table: dict = {}
 _JOINS = re.compile(r".*\\[\t \f]*$").match  # a line the grammar joins to the next
@@ -52,6 +54,11 @@ def parse(text: str, parse_text):
         key = (a, chunk)
         nodes = table.get(key)
         if nodes is None:
+            shape, literals = statement_template.shape(a, chunk)
+            nodes = statement_template.made(shape, literals)  # new numbers, same nodes
+            if nodes is not None:
+                out.extend(nodes)
+                continue
             try:
                 nodes = tuple(parse_text("\n" * a + chunk))
             except Exception:  # an error, or a cut that does not fit: the whole parse's
@@ -59,6 +66,7 @@ def parse(text: str, parse_text):
             if len(table) >= LIMIT:
                 table.clear()
             table[key] = nodes
+            statement_template.remember(shape, literals, nodes)
         out.extend(nodes)
     return out
 
@@ -105,6 +113,7 @@ class hooked:
 
 def clear() -> None:
     _table.clear()
+    statement_template.clear()
     _units.clear()
 
 

@@ -1,0 +1,166 @@
+"""Parse stage, for a batch of files: a statement that differs from one parsed before only
+in its numbers (and a `problem` title) is made from that one's nodes, not parsed.
+
+In: a statement's text (one chunk of statement_memo's cut, at its first line) and the
+nodes of a chunk parsed before. Out: the nodes the parse of the new text gives, or None.
+Variants of a problem change a mass or a speed: the statement's nodes are the same but
+for the numbers' values and the columns after each changed number on its line.
+"""
+from __future__ import annotations
+
+import re
+
+# a number as the grammar's NUMBER reads it (not inside a name: `b12`), or a string
+_LITERAL = re.compile(r'"[^"\n]*"|(?<![A-Za-z_0-9.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?')
+LIMIT = 4096
+_shapes: dict = {}  # (first line, the chunk with its literals blanked) -> Template
+
+
+class Template:
+    """A parsed chunk: its nodes, its literals' (line, start column, text), and which of
+    them the nodes hold as a number (a `Num` starts there) or as the `problem` title."""
+
+    __slots__ = ("nodes", "literals", "kinds")
+
+    def __init__(self, nodes, literals, kinds):
+        self.nodes, self.literals, self.kinds = nodes, literals, kinds
+
+
+def shape(a: int, chunk: str):
+    """(key, literals): the chunk with every literal blanked (numbers `\\0`, strings
+    `\\1`), and each literal as (line, 1-based column, text)."""
+    lits = []
+    parts = []
+    pos = 0
+    line, line_start = a + 1, 0
+    for m in _LITERAL.finditer(chunk):
+        s = m.start()
+        nl = chunk.count("\n", pos, s)
+        if nl:
+            line += nl
+            line_start = chunk.rfind("\n", 0, s) + 1
+        text = m.group()
+        lits.append((line, s - line_start + 1, text))
+        parts.append(chunk[pos:s])
+        parts.append("\1" if text[0] == '"' else "\0")
+        pos = m.end()
+    parts.append(chunk[pos:])
+    return (a, "".join(parts)), lits
+
+
+def remember(key, literals, nodes) -> None:
+    """Keep a freshly parsed chunk as the template of its shape."""
+    from .syntax import Num, Problem
+
+    starts = set()
+    titles = set()
+    _scan(nodes, Num, Problem, starts, titles)
+    kinds = []
+    for line, col, text in literals:
+        if text[0] == '"':
+            kinds.append("title" if (line, text[1:-1]) in titles and
+                         _first_string(literals, line) == col else "fixed")
+        else:
+            kinds.append("num" if (line, col) in starts else "fixed")
+    if len(_shapes) >= LIMIT:
+        _shapes.clear()
+    _shapes[key] = Template(nodes, literals, tuple(kinds))
+
+
+def _first_string(literals, line):
+    return next(c for ln, c, t in literals if ln == line and t[0] == '"')
+
+
+def _scan(node, Num, Problem, starts, titles) -> None:
+    t = type(node)
+    if t is tuple or t is list:
+        for x in node:
+            _scan(x, Num, Problem, starts, titles)
+        return
+    fields = getattr(t, "_fields", None)
+    if not fields:
+        return
+    if t is Num:
+        starts.add((node.span.line, node.span.column))
+    elif t is Problem:
+        titles.add((node.span.line, node.title))
+    for f in fields:
+        _scan(getattr(node, f), Num, Problem, starts, titles)
+
+
+def clear() -> None:
+    _shapes.clear()
+
+
+def made(key, literals):
+    """The nodes of a chunk of shape `key` with these literals, from the template of its
+    shape, or None (no template; a literal the nodes do not hold as a number or title
+    differs; a node starts or ends inside a changed literal)."""
+    tpl = _shapes.get(key)
+    if tpl is None:
+        return None
+    shifts: dict = {}  # line -> [(old end column, exclusive; old start; delta)]
+    values: dict = {}  # (line, old start column) -> new float
+    title = None
+    for (line, col, old), (_, _, new), kind in zip(tpl.literals, literals, tpl.kinds):
+        if old == new:
+            continue
+        if kind == "fixed":
+            return None
+        if kind == "num":
+            values[(line, col)] = float(new)
+        else:
+            title = (line, new[1:-1])
+        if len(new) != len(old):
+            shifts.setdefault(line, []).append((col + len(old), col, len(new) - len(old)))
+    if not values and title is None:
+        return None  # the same text (never: the exact table has it)
+    from .source import Span
+    from .syntax import Num, Problem
+
+    def col(line, c):
+        d = 0
+        for end, start, delta in shifts.get(line, ()):
+            if end <= c:
+                d += delta
+            elif start < c:
+                raise _Inside
+        return c + d
+
+    def conv(node):
+        t = type(node)
+        if t is Span:
+            if node.line not in shifts and node.end_line not in shifts:
+                return node
+            end = node.end_column
+            if end is not None and node.end_line is not None:
+                end = col(node.end_line, end)
+            return Span(node.line, col(node.line, node.column), node.end_line, end,
+                        node.where)
+        if t is tuple or t is list:
+            items = [conv(x) for x in node]
+            if all(x is y for x, y in zip(items, node)):
+                return node
+            return t(items)
+        fields = getattr(t, "_fields", None)
+        if not fields:
+            return node
+        vals = [conv(getattr(node, f)) for f in fields]
+        if t is Num:
+            v = values.get((node.span.line, node.span.column))
+            if v is not None:
+                vals[fields.index("value")] = v
+        elif t is Problem and title is not None and node.span.line == title[0]:
+            vals[fields.index("title")] = title[1]
+        if all(x is getattr(node, f) for x, f in zip(vals, fields)):
+            return node
+        return t(*vals)
+
+    try:
+        return tuple(conv(n) for n in tpl.nodes)
+    except _Inside:
+        return None
+
+
+class _Inside(Exception):
+    """A node's column falls inside a literal whose length changed."""

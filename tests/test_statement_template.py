@@ -1,0 +1,110 @@
+"""A batch makes a statement that differs from an earlier one only in its numbers (or its
+`problem` title) from that one's nodes (statement_template): the same documents and
+errors as parsing every file whole, on every example with all its numbers changed (in
+length too: the columns after them move), and on texts written here where a changed
+literal is not a number the nodes hold (a state, a unit's power, a comment)."""
+from __future__ import annotations
+
+import random
+import re
+from pathlib import Path
+
+import pytest
+
+from momentum_cli import statement_memo, statement_template, syntax
+from momentum_cli.source import Source
+
+from test_statement_memo import both
+
+ROOT = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = sorted(p for p in list(ROOT.glob("*.mom")) + list(ROOT.glob("simulate/*.mom")) +
+                  list(ROOT.glob("hard/*.mom")) if "cradle_1000" not in p.name)
+ANY_NUMBER = re.compile(r"(?<![A-Za-z_0-9.])(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+TEXTS = ["0", "7", "12.5", "3e2", "0.000125", "1e-07", "450000", ".5", "2.", "1E3"]
+
+
+def renumbered(text: str, rng: random.Random, p: float) -> str:
+    """Each number-like literal (state numbers, powers and comments too) replaced with
+    probability p by one of TEXTS (other lengths: the columns after it move)."""
+    return ANY_NUMBER.sub(lambda m: rng.choice(TEXTS) if rng.random() < p else m.group(),
+                          text)
+
+
+def retitled(text: str, k: int) -> str:
+    return re.sub(r'^problem "([^"]*)"', lambda m: f'problem "{m.group(1)} #{k * 37}"', text,
+                  count=1, flags=re.M)
+
+
+def test_examples_with_new_numbers_parse_the_same():
+    rng = random.Random(31)
+    sources = []
+    for p in EXAMPLES:
+        text = p.read_text(encoding="utf-8")
+        sources.append(Source(p.name, text))
+        for k in range(3):  # masses, speeds, ...: the numbers the nodes hold
+            sources.append(Source(f"{p.name}~{k}", retitled(renumbered(text, rng, 0.25), k)))
+    whole, batch = both(sources)
+    for s, w, b in zip(sources, whole, batch):
+        assert w == b, s.name
+    assert sum(w[0] == "ok" for w in whole) > len(EXAMPLES)
+
+
+BASE = ('problem "a rod struck"\n'
+        'gravity 9.81 m/s^2 into plane\n'
+        'let L = 1.2 m  # 1.2 m long\n'
+        'body rod: rod(mass = 4 kg, length = L)\n'
+        'body puck: particle(mass = 0.5 kg, radius = 25 mm)\n'
+        'point P = rod at (0.4 m, 0)\n'
+        'state 1 "before": rod.angle = 0, rod at rest, puck.v = (0, 10 m/s), \\\n'
+        '    puck.pos = (0.4 m, -1.25e-2 m)\n'
+        'state 2 "after"\n'
+        'impact 1 -> 2:\n'
+        '    contact hit: P with puck normal (0, 1): restitution 0.5, smooth\n'
+        'find rod.vy@2, rod.omega@2 in rad/s, x = 3*puck.vy@2 + 10 m/s\n')
+
+
+@pytest.mark.parametrize("old, new", [
+    ("0.5 kg", "15 kg"),
+    ("0.5 kg, radius = 25 mm", "0.015 kg, radius = 2.5e1 mm"),
+    ("(0.4 m, -1.25e-2 m)", "(12345 m, -1 m)"),  # on a continuation line
+    ("(0, 10 m/s)", "(0.25, 1 m/s)"),
+    ("(0.4 m, 0)", "(0.41234 m, 10)"),
+    ("restitution 0.5", "restitution 1"),
+    ("3*puck.vy@2 + 10 m/s", "300*puck.vy@2 + 1 m/s"),
+    ('problem "a rod struck"', 'problem "another rod, 2"'),
+    ('state 1 "before"', 'state 1 "before 2"'),  # a string that is not a title
+    ("m/s^2 into", "m/s^3 into"),  # a unit's power: not a number the nodes hold
+    ("# 1.2 m long", "# 12 m long"),  # a comment
+    ("rod.vy@2,", "rod.vy@1,"),  # a state
+    ('state 2 "after"', 'state 3 "after"'),
+    ("impact 1 -> 2", "impact 1 -> 3"),
+    ("normal (0, 1)", "normal (0, 12)"),
+])
+def test_one_change(old, new):
+    assert old in BASE
+    changed = BASE.replace(old, new)
+    whole, batch = both([Source("a.mom", BASE), Source("b.mom", changed)])
+    assert whole == batch and whole[0][0] == "ok"
+
+
+def test_templates_are_used():
+    """The second file's changed statements are made, not parsed: the parser is not
+    called for them; a changed state number is parsed."""
+    calls = []
+    fast = syntax._fast_parser()
+
+    def counted(text):
+        calls.append(text)
+        return fast.parse(text)
+
+    changed = BASE.replace("0.5 kg", "15.25 kg").replace('"a rod struck"', '"b"')
+    with statement_memo.enabled():
+        first = statement_memo.parse(BASE, counted)
+        n = len(calls)
+        second = statement_memo.parse(changed, counted)
+        assert len(calls) == n  # nothing parsed
+        third = statement_memo.parse(changed.replace("state 2 ", "state 3 "), counted)
+        assert len(calls) == n + 1
+    assert first is not None and second is not None and third is not None
+    assert second == list(syntax.parse(Source("b.mom", changed)).statements)
+    assert not statement_template._shapes  # emptied with the batch's tables
