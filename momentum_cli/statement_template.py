@@ -4,7 +4,9 @@ in its numbers (and a `problem` title) is made from that one's nodes, not parsed
 In: a statement's text (one chunk of statement_memo's cut, at its first line) and the
 nodes of a chunk parsed before. Out: the nodes the parse of the new text gives, or None.
 Variants of a problem change a mass or a speed: the statement's nodes are the same but
-for the numbers' values and the columns after each changed number on its line.
+for the numbers' values and the columns after each changed number on its line. This
+holds while syntax.Rules keeps a number only as a Num's value and never looks at it
+(tests/test_statement_template.py checks every example against the whole parse).
 """
 from __future__ import annotations
 
