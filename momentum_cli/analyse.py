@@ -46,6 +46,8 @@ class Structure:
 
     def undetermined_for(self, names) -> list[str]:
         """The under-determined unknowns that `names` need (directly or through blocks)."""
+        if not self.under:  # nothing is under-determined: no walk of the blocks
+            return []
         out = {n for n in names if n in self.under}
         for b in self.needed_blocks(names):
             for e in self.blocks[b].equations:
