@@ -880,10 +880,18 @@ def _solve_one(system: System, block, values) -> BlockReport | None:
                        0, 0.0, [[float(a)]], [float(b)], quality)
 
 
+def _all_finite(rows, rhs) -> bool:
+    """Every coefficient (row by row) and then every right-hand side is finite."""
+    isfinite = math.isfinite
+    for row in rows:
+        if not all(map(isfinite, row.values())):
+            return False
+    return all(map(isfinite, rhs))
+
+
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
     """Solve one linear block; a singular one is named by an exact rank test."""
-    if not all(math.isfinite(x) for row in rows for x in row.values()) or \
-            not all(math.isfinite(x) for x in rhs):
+    if not _all_finite(rows, rhs):
         raise ProblemError("the equations contain a number that is not finite", eqs[0].span,
                            code="number")
     try:
