@@ -25,9 +25,10 @@ def block_key(rows, rhs=()) -> tuple | None:
     (rationals of exact mode, traced numbers of a sweep: never shared)."""
     vals = [v for row in rows for v in row.values()]
     vals.extend(rhs)
-    if any(type(v) is not float for v in vals):
-        return None
-    return (tuple(tuple(row) for row in rows), pack(f"{len(vals)}d", *vals))
+    for v in vals:
+        if type(v) is not float:
+            return None
+    return (tuple([tuple(row) for row in rows]), pack(f"{len(vals)}d", *vals))
 
 
 def solve(rows, rhs, n: int, precision: str = "float"):

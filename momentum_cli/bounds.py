@@ -257,21 +257,25 @@ def propagate(system, reports, values, exact: bool = False):
             delta.append(d)
         # the block's largest quantity in each unknown's units (columns scaled as the
         # solver equilibrates them): a value far below it is round-off, not a result
-        rmax = [max((abs(v) for v in row.values()), default=0.0) for row in A]
-        unit = [max((a / rmax[i] for i, a in cols[j] if rmax[i] > 0), default=0.0)
-                for j in range(n)]
-        big = max((abs(values.get(nm, 0.0)) * unit[j] for j, nm in enumerate(names)),
-                  default=0.0)
+        # (lists, not generators, for max/min/sum: the same values in the same order)
+        rmax = [max([abs(v) for v in row.values()]) if row else 0.0 for row in A]
+        unit = []
+        for cj in cols:
+            us = [a / rmax[i] for i, a in cj if rmax[i] > 0]
+            unit.append(max(us) if us else 0.0)
+        xs = [abs(values.get(nm, 0.0)) for nm in names]
+        big = max([x * u for x, u in zip(xs, unit)]) if names else 0.0
         for j, name in enumerate(names):
-            x = abs(values.get(name, 0.0))
+            x = xs[j]
             cands = [scale[i] / a for i, a in cols[j]]
-            size[name] = max(x, min(cands, default=x), big / unit[j] if unit[j] > 0 else 0.0)
+            uj = unit[j]
+            size[name] = max(x, min(cands) if cands else x, big / uj if uj > 0 else 0.0)
         inv = abs_inverse(A, _abs_inverse) if n <= DENSE and len(A) == n else None
         q = rep.quality
         comps = q.components if q is not None and q.components else [0.0] * n
         for j, name in enumerate(names):
             if inv is not None:
-                e = sum(inv[j][i] * delta[i] for i in range(n))
+                e = sum([a * b for a, b in zip(inv[j], delta)])
             else:
                 cond = rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0
                 e = cond * max((delta[i] / a for i, a in cols[j]),
@@ -290,15 +294,18 @@ def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
     f = system.equations[rep.equations[0]].residual
     dv, mag = fast_derivatives_and_size(f, values)
     a = None  # A[0][0]: the derivative by the block's unknown, where nonzero
-    up = {}
+    sc = d = 0  # the sizes and bounds of the unknowns used, summed from int 0 as sum() does
+    sget, eget = size.get, err.get
     for v, s in dv.items():
         if v == name:
             if s != 0:
                 a = s
         else:
-            up[v] = abs(s)
-    scale = mag + sum([s * size.get(v, 0.0) for v, s in up.items() if s])
-    d = error_of(up, err)
+            s = abs(s)
+            if s:
+                sc += s * sget(v, 0.0)
+                d += s * eget(v, 0.0)
+    scale = mag + sc
     if not exact or newton:
         d += ROUNDOFF * scale
     if newton:

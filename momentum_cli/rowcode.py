@@ -290,7 +290,8 @@ def _compiled(cache: dict, key, make):
 
 
 def _val_of(key):
-    return _compiled(_VAL, key, _val_function)
+    f = _VAL.get(key)
+    return f if f is not None else _compiled(_VAL, key, _val_function)
 
 
 def _evaluate_parts(e, values):
@@ -350,7 +351,8 @@ def derivatives_and_size(e, values, shaped=None):
 
 
 def _gs_of(key):
-    return _compiled(_GS, key, _gs_function)
+    f = _GS.get(key)
+    return f if f is not None else _compiled(_GS, key, _gs_function)
 
 
 def grad_size_big(e, values, walk):
@@ -464,6 +466,12 @@ def affine(e, block, values, shaped=None):
     if sh is None:
         return walk(e, block, values)
     key, nums, names = sh
-    inside = tuple(nm in block for nm in names)
-    f = _compiled(_AFF, (key, inside), lambda k: _affine_function(*k))
+    k = (key, tuple([nm in block for nm in names]))
+    f = _AFF.get(k)  # compiled already: the common case, without `_compiled`'s call
+    if f is None:
+        f = _compiled(_AFF, k, _affine_of)
     return f(nums, names, values) if f is not None else walk(e, block, values)
+
+
+def _affine_of(k):
+    return _affine_function(*k)

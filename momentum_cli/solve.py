@@ -408,8 +408,20 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
         for k in _under_rows(structure):
             names.extend(v for v in structure.incidence[k]
                          if v not in structure.under and v not in values)
+    # blocks of one unknown in one equation, in float (most blocks of a large scene):
+    # `_solve_block`'s first step and `_add_bounds` in line; None goes the general way
+    lane = rowcode.ENABLED and not system.integrations and exact is None and \
+        precision == "float"
+    blocks, used = structure.blocks, state.used
     for b in structure.needed_blocks(names):
-        block = structure.blocks[b]
+        block = blocks[b]
+        if lane and len(block.unknowns) == 1 and len(block.equations) == 1:
+            rep = _solve_one(system, block, values)
+            if rep is not None:
+                reports.append(rep)
+                used.add(block.equations[0])
+                bounds[block.unknowns[0]] = rep.quality.components[0]
+                continue
         try:
             rep = _solve_block(system, structure, block, values, precision, exact)
         except ProblemError as exc:
@@ -868,10 +880,18 @@ def _solve_one(system: System, block, values) -> BlockReport | None:
                        0, 0.0, [[float(a)]], [float(b)], quality)
 
 
+def _all_finite(rows, rhs) -> bool:
+    """Every coefficient (row by row) and then every right-hand side is finite."""
+    isfinite = math.isfinite
+    for row in rows:
+        if not all(map(isfinite, row.values())):
+            return False
+    return all(map(isfinite, rhs))
+
+
 def solve_linear(rows, rhs, eqs, names, precision: str = "float"):
     """Solve one linear block; a singular one is named by an exact rank test."""
-    if not all(math.isfinite(x) for row in rows for x in row.values()) or \
-            not all(math.isfinite(x) for x in rhs):
+    if not _all_finite(rows, rhs):
         raise ProblemError("the equations contain a number that is not finite", eqs[0].span,
                            code="number")
     try:
