@@ -15,6 +15,7 @@ from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
+from .printer import printers
 from .statements import statements
 from .reader import (
     STATE_DIMS,
@@ -84,6 +85,28 @@ def _finite_all(xs) -> list:
             for x in xs]
 
 
+_NONE: frozenset = frozenset()
+
+
+def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
+           shown: tuple) -> tuple[str, str]:
+    """(symbolic, numeric) line of one equation: an integration's as it integrated;
+    in SI and radians by the printer compiled for the equation's shape (printer.py).
+    `shown`: the numbers printed so far, to 6 and to `sig` figures (value -> text)."""
+    if integrated:
+        return e.text(), e.text(numeric=True)
+    if reader.system != "us" and not reader.degrees:
+        got = printers(e)
+        if got is not None:
+            leaves, (sym, num) = got
+            texts = e._texts
+            s = texts[0] if texts is not None and texts[0] is not None else \
+                sym(leaves, None, None, 6, shown[0])
+            return s, num(leaves, values, keep, sig, shown[1])
+    return (symbolic_line(e, system, reader, sig),
+            numeric_line(e, values, keep, system, reader, sig))
+
+
 def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") -> Report:
     """`units`: si | us | file (the units the file is written in), for what is shown;
     the SI values stay beside them (si_value) for JSON."""
@@ -112,10 +135,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
             role[k] = "not needed"
     # an integration's rows print what it integrated and its result (integration.py)
     integrated = {k for integ in system.integrations for k in integ.equations}
+    six: dict = {}
+    shown = (six, six if sig == 6 else {})
     rows = [EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
-                        e.text() if k in integrated else symbolic_line(e, system, reader, sig),
-                        e.text(numeric=True) if k in integrated else
-                        numeric_line(e, values, keeps.get(k, set()), system, reader, sig),
+                        *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
+                                reader, sig, shown),
                         e.kind, role[k], solves.get(k, []))
             for k, e in enumerate(system.equations)]
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
