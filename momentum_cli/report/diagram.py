@@ -422,12 +422,19 @@ class _Builder:
     # -- the impulses of one application, split into their unknowns
     def _impulses(self, a, body: DiagramBody) -> list[DiagramImpulse]:
         t, vals = self.t, self.values
-        names = variables(a.J.x) | variables(a.J.y)
-        torque = variables(a.torque) if a.torque is not None else set()
-        base = _Over(vals)  # an unknown nothing solved (an angle not needed) reads 0
-        for n in names | variables(a.arm.x) | variables(a.arm.y) | torque:
-            if not _impulse(n):
-                base.setdefault(n, 0.0)
+        names = variables(a.J.x)
+        variables(a.J.y, names)
+        torque = variables(a.torque) if a.torque is not None else _NO_NAMES
+        # an unknown nothing solved (an angle not needed) reads 0: the values themselves
+        # where every name is solved or an impulse (no layer over them for most impulses)
+        arm_names = variables(a.arm.x)
+        variables(a.arm.y, arm_names)
+        over = {}
+        for group in (names, arm_names, torque):
+            for n in group:
+                if n not in vals and n not in over and not _impulse(n):
+                    over[n] = 0.0
+        base = _Over(vals, over) if over or a.torque is not None else vals
         p = a.point
         if p.round_contact or p.located_by is not None:
             try:
@@ -603,6 +610,9 @@ class _Builder:
         return [(jt.label, jt.b.offset) for jt in self.sc.joints
                 if jt.kind in (JointKind.PIN, JointKind.WELD) and jt.b.body is None
                 and jt.a.body in self.t.bodies]
+
+
+_NO_NAMES: frozenset = frozenset()
 
 
 class _Over(dict):

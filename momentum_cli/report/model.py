@@ -15,7 +15,7 @@ from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
-from .printer import printers
+from .printer import lines
 from .statements import statements
 from .reader import (
     STATE_DIMS,
@@ -96,13 +96,9 @@ def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
     if integrated:
         return e.text(), e.text(numeric=True)
     if reader.system != "us" and not reader.degrees:
-        got = printers(e)
+        got = lines(e, values, keep, sig, shown[0], shown[1])
         if got is not None:
-            leaves, (sym, num) = got
-            texts = e._texts
-            s = texts[0] if texts is not None and texts[0] is not None else \
-                sym(leaves, None, None, 6, shown[0])
-            return s, num(leaves, values, keep, sig, shown[1])
+            return got
     return (symbolic_line(e, system, reader, sig),
             numeric_line(e, values, keep, system, reader, sig))
 

@@ -17,6 +17,7 @@ from .reader import _NAME, _si_den, _si_text
 ENABLED = True  # tests turn it off (or compile every shape at once) to compare the paths
 COMPILE_AFTER = 1  # a shape is compiled the second time it is met
 LIMIT = 512  # compiled shapes kept
+MAX_TOKENS = 2000  # a larger tree (a system law over 10^4 bodies) is printed by the walks
 
 # tokens of a shape, in pre-order: leaves, a sum or product (its size follows), a factor
 # x^-p of a product (printed in its denominator by the walk), any other node (by the walk)
@@ -252,6 +253,8 @@ def printers(eq):
     _walk(eq.lhs, toks, leaves)
     toks.append(_EQ)
     _walk(eq.rhs, toks, leaves)
+    if len(toks) > MAX_TOKENS:
+        return None
     key = tuple(toks)
     fns = _FNS.get(key)
     if fns is None:
@@ -266,3 +269,21 @@ def printers(eq):
         fns = _FNS[key] = _compile(key)
         _SEEN.pop(key, None)
     return leaves, fns
+
+
+def lines(eq, values, keep, sig: int, six: dict | None = None, shown: dict | None = None):
+    """(symbolic line, numeric line in SI and radians) of `eq` by its shape's printers, or
+    None (print it by the walks). `six`, `shown`: numbers already printed to 6 and to
+    `sig` figures (value -> text), kept by the caller across equations."""
+    got = printers(eq)
+    if got is None:
+        return None
+    leaves, (sym, num) = got
+    if six is None:
+        six = {}
+    if shown is None:
+        shown = six if sig == 6 else {}
+    texts = getattr(eq, "_texts", None)  # `Equation.text()` printed it already
+    s = texts[0] if texts is not None and texts[0] is not None else \
+        sym(leaves, None, None, 6, six)
+    return s, num(leaves, values, keep, sig, shown)
