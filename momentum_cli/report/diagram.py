@@ -320,21 +320,36 @@ class _Builder:
 
     def _bodies(self) -> list[DiagramBody]:
         i, j = self.t.before, self.t.after
-        ki, kj = self._known_at(i), self._known_at(j)
+        ki = self._known_at(i)
+        values, states = self.values, self.sc.states
+        st_i, st_j = states.get(i), states.get(j)
+        gi = st_i.givens if st_i is not None else {}
+        gj = st_j.givens if st_j is not None else {}
+        at_i, at_j = "@" + i, "@" + j
+
+        def vel(body: str, q: str, at: str, givens: dict):
+            """`known(body, q, state)` of a velocity (no shared position to fall back on)."""
+            v = values.get(body + q + at)
+            if v is None:
+                g = givens.get((body, q[1:]))
+                v = g[0] if g is not None else None
+            return v
+
         out = []
+        bodies = self.sc.bodies
         for name in self.t.bodies:
-            b = self.sc.bodies[name]
+            b = bodies[name]
             x, y, ang = ki(name, "x"), ki(name, "y"), ki(name, "angle")
-            vi = (ki(name, "vx"), ki(name, "vy"))
-            vj = (kj(name, "vx"), kj(name, "vy"))
+            vi = (vel(name, ".vx", at_i, gi), vel(name, ".vy", at_i, gi))
+            vj = (vel(name, ".vx", at_j, gj), vel(name, ".vy", at_j, gj))
             parts = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
             particle = b.is_particle
             out.append(DiagramBody(
                 name, b.kind, x if x is not None else math.nan, y if y is not None else math.nan,
                 ang or 0.0, x is not None and y is not None, parts,
                 None if None in vi else vi, None if None in vj else vj,
-                None if particle else ki(name, "omega"),
-                None if particle else kj(name, "omega"), particle))
+                None if particle else vel(name, ".omega", at_i, gi),
+                None if particle else vel(name, ".omega", at_j, gj), particle))
             if ang is None and not particle and _turns(b):
                 self.notes.append(f"{name}'s angle is not known at state {i}: drawn at 0")
         return out
