@@ -103,3 +103,28 @@ def test_the_report_takes_the_printers_and_the_walks_alike(monkeypatch):
     assert render(build_report("chain.mom", sol, 6, "file"), 6) == slow[0]
     monkeypatch.setattr(printer, "COMPILE_AFTER", 0)
     assert render(build_report("chain.mom", sol, 4, "file"), 4) == slow[1]
+
+
+@pytest.mark.parametrize("after", [0, 1])
+def test_statements_of_long_and_short_laws_print_as_the_walks(monkeypatch, after):
+    """A system law over 700 bodies (a sum too long for one shape: printed term by term)
+    and the two-body laws of a sequence: the same dicts with the printers on and off."""
+    from helpers import solve_text
+    from test_hard import cradle_text
+
+    from momentum_cli.bench import chain_text
+    from momentum_cli.report.reader import reader_for
+    from momentum_cli.report.statements import statements
+
+    monkeypatch.setattr(printer, "COMPILE_AFTER", after)
+    for text in (chain_text(700), cradle_text(12, "sequence")):
+        sol = solve_text(text, "x.mom")
+        system = sol.system
+        reader = reader_for("file", system.scene.file_units)
+        for sig in (6, 3):
+            for t in system.transitions:
+                monkeypatch.setattr(printer, "ENABLED", True)
+                fast = statements(t, sol.values, system, reader, sig)
+                monkeypatch.setattr(printer, "ENABLED", False)
+                assert fast == statements(t, sol.values, system, reader, sig)
+                assert fast or t.kind != "impact"

@@ -358,6 +358,8 @@ class _Builder:
     def _place(self, bodies: list[DiagramBody]) -> None:
         """Known positions first; then what pins, welds and contacts tie to a placed body;
         a group that nothing places starts at a schematic spot, in a row beside the rest."""
+        if all(b.placed for b in bodies):  # every position known: nothing to tie
+            return
         where = {b.name: b for b in bodies}
         ties = self._ties()
         size = self._size()

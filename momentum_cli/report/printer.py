@@ -17,11 +17,12 @@ from .reader import _NAME, _si_den, _si_text
 ENABLED = True  # tests turn it off (or compile every shape at once) to compare the paths
 COMPILE_AFTER = 1  # a shape is compiled the second time it is met
 LIMIT = 512  # compiled shapes kept
-MAX_TOKENS = 2000  # a larger tree (a system law over 10^4 bodies) is printed by the walks
+MAX_TOKENS = 2000  # a larger tree (a system law over 10^4 bodies) is printed term by term
+_LONG = MAX_TOKENS // 4  # a sum of more terms than this is larger
 
 # tokens of a shape, in pre-order: leaves, a sum or product (its size follows), a factor
 # x^-p of a product (printed in its denominator by the walk), any other node (by the walk)
-_C, _V, _K, _ADDT, _MULT, _DEN, _OTHER, _EQ = range(8)
+_C, _V, _K, _ADDT, _MULT, _DEN, _OTHER, _EQ, _EXPR = range(9)
 
 _FNS: dict = {}  # shape -> compiled printer
 _SEEN: dict = {}  # shape -> times met before it was compiled
@@ -222,6 +223,11 @@ class _Gen:
         return s, p
 
     def source(self) -> str:
+        if self.toks[0] == _EXPR:  # one expression: its (text, precedence)
+            self.pos = 1
+            s, p = self.node(1)
+            return "\n".join(["def printer(L, values, keep, sig, F):", *self.code,
+                              f"    return {s}, {p}"])
         lhs, _ = self.node(1)
         assert self.toks[self.pos] == _EQ
         self.pos += 1
@@ -245,16 +251,32 @@ def _compile(key) -> tuple:
 
 def printers(eq):
     """(leaves, (symbolic printer, numeric printer)) for `eq`, or None: a shape met for
-    the first time (or printing turned off) is printed by the walks."""
+    the first time (or printing turned off) is printed by the walks; False: too large."""
     if not ENABLED:
         return None
+    lhs, rhs = eq.lhs, eq.rhs
+    if (type(lhs) is Add and len(lhs.terms) > _LONG) or \
+            (type(rhs) is Add and len(rhs.terms) > _LONG):
+        return False  # a long sum: not walked whole to find it out
     toks: list = []
     leaves: list = []
     _walk(eq.lhs, toks, leaves)
     toks.append(_EQ)
     _walk(eq.rhs, toks, leaves)
+    return _found(toks, leaves)
+
+
+def _term_printers(e):
+    """`printers` of one expression (a term of a long sum)."""
+    toks: list = [_EXPR]
+    leaves: list = []
+    _walk(e, toks, leaves)
+    return _found(toks, leaves)
+
+
+def _found(toks: list, leaves: list):
     if len(toks) > MAX_TOKENS:
-        return None
+        return False
     key = tuple(toks)
     fns = _FNS.get(key)
     if fns is None:
@@ -276,8 +298,19 @@ def lines(eq, values, keep, sig: int, six: dict | None = None, shown: dict | Non
     None (print it by the walks). `six`, `shown`: numbers already printed to 6 and to
     `sig` figures (value -> text), kept by the caller across equations."""
     got = printers(eq)
-    if got is None:
-        return None
+    if not got:
+        if got is None or not ENABLED:
+            return None
+        if six is None:
+            six = {}
+        if shown is None:
+            shown = six if sig == 6 else {}
+        # a long equation (a system's momentum over 10^4 bodies): its sums term by term
+        sl, nl = _side(eq.lhs, values, keep, sig, six, shown)
+        sr, nr = _side(eq.rhs, values, keep, sig, six, shown)
+        texts = getattr(eq, "_texts", None)
+        s = texts[0] if texts is not None and texts[0] is not None else f"{sl} = {sr}"
+        return s, f"{nl} = {nr}"
     leaves, (sym, num) = got
     if six is None:
         six = {}
@@ -287,3 +320,27 @@ def lines(eq, values, keep, sig: int, six: dict | None = None, shown: dict | Non
     s = texts[0] if texts is not None and texts[0] is not None else \
         sym(leaves, None, None, 6, six)
     return s, num(leaves, values, keep, sig, shown)
+
+
+def _side(e, values, keep, sig: int, six: dict, shown: dict) -> tuple[str, str]:
+    """(symbolic, numeric) text of one side; a sum term by term, each term by its
+    shape's printers, joined as the walks join a sum's terms."""
+    if type(e) is not Add:
+        return _txt(e, False, 6, None, False)[0], _si_text(e, values, keep, sig)[0]
+    syms: list = []
+    nums: list = []
+    for x in e.terms:
+        got = _term_printers(x)
+        if got:
+            leaves, (sym, num) = got
+            s, n = sym(leaves, None, None, 6, six)[0], num(leaves, values, keep, sig, shown)[0]
+        else:
+            s, n = _txt(x, False, 6, None, False)[0], _si_text(x, values, keep, sig)[0]
+        for out, t in ((syms, s), (nums, n)):
+            if not out:
+                out.append(t)
+            elif t[:1] == "-":
+                out.append(" - " + t[1:])
+            else:
+                out.append(" + " + t)
+    return "".join(syms), "".join(nums)

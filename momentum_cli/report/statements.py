@@ -39,11 +39,12 @@ class _Eq:
         return f"{to_text(self.lhs, numeric)} = {to_text(self.rhs, numeric)}"
 
 
-def _moving_together(law, values) -> bool:
-    """Every body has the same velocity component afterwards (to round-off)."""
+def _moving_together(law, values, rhs_names=None) -> bool:
+    """Every body has the same velocity component afterwards (to round-off);
+    `rhs_names`: `variables(law.rhs)` if already taken."""
     if law.locked is None:
         return False
-    comps = [values.get(n) for n in variables(law.rhs)]
+    comps = [values.get(n) for n in (variables(law.rhs) if rhs_names is None else rhs_names)]
     if any(v is None for v in comps) or len(comps) < 2:
         return False
     scale = max(abs(v) for v in comps) or 1.0
@@ -114,11 +115,12 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[di
     for law in getattr(t, "laws", ()) or ():
         steps, result = [], []
         rhs = law.rhs
-        names = variables(law.lhs) | variables(law.rhs)
+        rhs_names = variables(law.rhs)
+        names = variables(law.lhs) | rhs_names
         if law.kind == "linear" and all(values.get(n, 1.0) == 0 for n in names):
             continue  # nothing moves along it: 0 = 0 says nothing
         vals = values
-        if law.kind == "linear" and _moving_together(law, values):
+        if law.kind == "linear" and _moving_together(law, values, rhs_names):
             rhs = law.locked
             vals = ChainMap({k: values[v] for k, v in law.alias.items() if v in values}, values)
             for k, v in law.alias.items():
