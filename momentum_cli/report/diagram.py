@@ -107,10 +107,14 @@ class ImpulseDiagram:
         # the reader's factors and labels once (as `show` gives them), numbers through
         # one cache: the same few values recur along a chain
         r = self.reader
-        shown = {m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
-                 ((False, IMPULSE), (True, ANGULAR_IMPULSE))}
-        f = r.factor(LENGTH)
-        cache: dict = {}
+        got = _SHOWN.get(r)
+        if got is None:
+            got = _SHOWN[r] = ({m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
+                                ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+        shown, f = got
+        cache = _NUMS
+        if len(cache) > 4096:
+            cache.clear()
 
         def num(x):
             s = cache.get(x)
@@ -159,6 +163,10 @@ class ImpulseDiagram:
                       for i in self.impulses],
             dropped=[dict(body=d.body, what=d.what, why=d.why) for d in self.dropped],
             lines=self.lines())
+
+
+_SHOWN: dict = {}  # reader -> the impulses' (factor, label) by moment, the length factor
+_NUMS: dict = {}  # x -> its text in a diagram (a pure function of x: shared by all)
 
 
 def _list(v):
