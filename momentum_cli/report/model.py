@@ -196,12 +196,17 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
         if r.group not in used_groups:
             other.setdefault(r.group, []).append(r)
     blocks = []
+    eqs = system.equations
     for b in sol.blocks:
+        ks = b.equations
+        if len(ks) == 1:  # most blocks (one unknown, one equation): no set to sort
+            span = eqs[ks[0]].span
+            lines = [span.line] if span else []
+        else:
+            lines = sorted({eqs[k].span.line for k in ks if eqs[k].span})
         d = dict(index=len(blocks) + 1, unknowns=list(b.unknowns), method=b.method,
                  condition_number=_finite(b.cond), iterations=b.iterations,
-                 residual=_finite(b.residual),
-                 lines=sorted({system.equations[k].span.line for k in b.equations
-                               if system.equations[k].span}))
+                 residual=_finite(b.residual), lines=lines)
         q = b.quality
         if q is not None:
             d["quality"] = dict(method=q.method, precision=q.precision,

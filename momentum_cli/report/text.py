@@ -145,8 +145,9 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
         out.append("")
         out.append(f"Solution ({u.get('name', 'SI')})")
         out.extend(table(["unknown", "value", "unit"],
-                         [[x["name"], f(x.get("value", x["si_value"])),
-                           x.get("shown_unit", x["unit"])] for x in rep.unknowns]))
+                         [[x["name"], shown[v] if v in shown else f(v),
+                           x.get("shown_unit", x["unit"])] for x in rep.unknowns
+                          for v in (x.get("value", x["si_value"]),)]))
         if rep.regimes:
             out.append("")
             out.append("Friction regimes")
