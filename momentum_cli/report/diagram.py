@@ -107,10 +107,14 @@ class ImpulseDiagram:
         # the reader's factors and labels once (as `show` gives them), numbers through
         # one cache: the same few values recur along a chain
         r = self.reader
-        shown = {m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
-                 ((False, IMPULSE), (True, ANGULAR_IMPULSE))}
-        f = r.factor(LENGTH)
-        cache: dict = {}
+        got = _SHOWN.get(r)
+        if got is None:
+            got = _SHOWN[r] = ({m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
+                                ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+        shown, f = got
+        cache = _NUMS
+        if len(cache) > 4096:
+            cache.clear()
 
         def num(x):
             s = cache.get(x)
@@ -159,6 +163,10 @@ class ImpulseDiagram:
                       for i in self.impulses],
             dropped=[dict(body=d.body, what=d.what, why=d.why) for d in self.dropped],
             lines=self.lines())
+
+
+_SHOWN: dict = {}  # reader -> the impulses' (factor, label) by moment, the length factor
+_NUMS: dict = {}  # x -> its text in a diagram (a pure function of x: shared by all)
 
 
 def _list(v):
@@ -320,21 +328,36 @@ class _Builder:
 
     def _bodies(self) -> list[DiagramBody]:
         i, j = self.t.before, self.t.after
-        ki, kj = self._known_at(i), self._known_at(j)
+        ki = self._known_at(i)
+        values, states = self.values, self.sc.states
+        st_i, st_j = states.get(i), states.get(j)
+        gi = st_i.givens if st_i is not None else {}
+        gj = st_j.givens if st_j is not None else {}
+        at_i, at_j = "@" + i, "@" + j
+
+        def vel(body: str, q: str, at: str, givens: dict):
+            """`known(body, q, state)` of a velocity (no shared position to fall back on)."""
+            v = values.get(body + q + at)
+            if v is None:
+                g = givens.get((body, q[1:]))
+                v = g[0] if g is not None else None
+            return v
+
         out = []
+        bodies = self.sc.bodies
         for name in self.t.bodies:
-            b = self.sc.bodies[name]
+            b = bodies[name]
             x, y, ang = ki(name, "x"), ki(name, "y"), ki(name, "angle")
-            vi = (ki(name, "vx"), ki(name, "vy"))
-            vj = (kj(name, "vx"), kj(name, "vy"))
+            vi = (vel(name, ".vx", at_i, gi), vel(name, ".vy", at_i, gi))
+            vj = (vel(name, ".vx", at_j, gj), vel(name, ".vy", at_j, gj))
             parts = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
             particle = b.is_particle
             out.append(DiagramBody(
                 name, b.kind, x if x is not None else math.nan, y if y is not None else math.nan,
                 ang or 0.0, x is not None and y is not None, parts,
                 None if None in vi else vi, None if None in vj else vj,
-                None if particle else ki(name, "omega"),
-                None if particle else kj(name, "omega"), particle))
+                None if particle else vel(name, ".omega", at_i, gi),
+                None if particle else vel(name, ".omega", at_j, gj), particle))
             if ang is None and not particle and _turns(b):
                 self.notes.append(f"{name}'s angle is not known at state {i}: drawn at 0")
         return out
@@ -343,6 +366,8 @@ class _Builder:
     def _place(self, bodies: list[DiagramBody]) -> None:
         """Known positions first; then what pins, welds and contacts tie to a placed body;
         a group that nothing places starts at a schematic spot, in a row beside the rest."""
+        if all(b.placed for b in bodies):  # every position known: nothing to tie
+            return
         where = {b.name: b for b in bodies}
         ties = self._ties()
         size = self._size()
@@ -422,12 +447,19 @@ class _Builder:
     # -- the impulses of one application, split into their unknowns
     def _impulses(self, a, body: DiagramBody) -> list[DiagramImpulse]:
         t, vals = self.t, self.values
-        names = variables(a.J.x) | variables(a.J.y)
-        torque = variables(a.torque) if a.torque is not None else set()
-        base = _Over(vals)  # an unknown nothing solved (an angle not needed) reads 0
-        for n in names | variables(a.arm.x) | variables(a.arm.y) | torque:
-            if not _impulse(n):
-                base.setdefault(n, 0.0)
+        names = variables(a.J.x)
+        variables(a.J.y, names)
+        torque = variables(a.torque) if a.torque is not None else _NO_NAMES
+        # an unknown nothing solved (an angle not needed) reads 0: the values themselves
+        # where every name is solved or an impulse (no layer over them for most impulses)
+        arm_names = variables(a.arm.x)
+        variables(a.arm.y, arm_names)
+        over = {}
+        for group in (names, arm_names, torque):
+            for n in group:
+                if n not in vals and n not in over and not _impulse(n):
+                    over[n] = 0.0
+        base = _Over(vals, over) if over or a.torque is not None else vals
         p = a.point
         if p.round_contact or p.located_by is not None:
             try:
@@ -603,6 +635,9 @@ class _Builder:
         return [(jt.label, jt.b.offset) for jt in self.sc.joints
                 if jt.kind in (JointKind.PIN, JointKind.WELD) and jt.b.body is None
                 and jt.a.body in self.t.bodies]
+
+
+_NO_NAMES: frozenset = frozenset()
 
 
 class _Over(dict):

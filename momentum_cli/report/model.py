@@ -15,6 +15,7 @@ from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
+from .printer import lines
 from .statements import statements
 from .reader import (
     STATE_DIMS,
@@ -84,6 +85,24 @@ def _finite_all(xs) -> list:
             for x in xs]
 
 
+_NONE: frozenset = frozenset()
+
+
+def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
+           shown: tuple) -> tuple[str, str]:
+    """(symbolic, numeric) line of one equation: an integration's as it integrated;
+    in SI and radians by the printer compiled for the equation's shape (printer.py).
+    `shown`: the numbers printed so far, to 6 and to `sig` figures (value -> text)."""
+    if integrated:
+        return e.text(), e.text(numeric=True)
+    if reader.system != "us" and not reader.degrees:
+        got = lines(e, values, keep, sig, shown[0], shown[1])
+        if got is not None:
+            return got
+    return (symbolic_line(e, system, reader, sig),
+            numeric_line(e, values, keep, system, reader, sig))
+
+
 def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") -> Report:
     """`units`: si | us | file (the units the file is written in), for what is shown;
     the SI values stay beside them (si_value) for JSON."""
@@ -112,10 +131,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
             role[k] = "not needed"
     # an integration's rows print what it integrated and its result (integration.py)
     integrated = {k for integ in system.integrations for k in integ.equations}
+    six: dict = {}
+    shown = (six, six if sig == 6 else {})
     rows = [EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
-                        e.text() if k in integrated else symbolic_line(e, system, reader, sig),
-                        e.text(numeric=True) if k in integrated else
-                        numeric_line(e, values, keeps.get(k, set()), system, reader, sig),
+                        *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
+                                reader, sig, shown),
                         e.kind, role[k], solves.get(k, []))
             for k, e in enumerate(system.equations)]
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
@@ -176,12 +196,17 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
         if r.group not in used_groups:
             other.setdefault(r.group, []).append(r)
     blocks = []
+    eqs = system.equations
     for b in sol.blocks:
+        ks = b.equations
+        if len(ks) == 1:  # most blocks (one unknown, one equation): no set to sort
+            span = eqs[ks[0]].span
+            lines = [span.line] if span else []
+        else:
+            lines = sorted({eqs[k].span.line for k in ks if eqs[k].span})
         d = dict(index=len(blocks) + 1, unknowns=list(b.unknowns), method=b.method,
                  condition_number=_finite(b.cond), iterations=b.iterations,
-                 residual=_finite(b.residual),
-                 lines=sorted({system.equations[k].span.line for k in b.equations
-                               if system.equations[k].span}))
+                 residual=_finite(b.residual), lines=lines)
         q = b.quality
         if q is not None:
             d["quality"] = dict(method=q.method, precision=q.precision,

@@ -25,6 +25,7 @@ from ..expr import (
 )
 from ..numbers import fmt_num
 from ..units import INERTIA, LENGTH, MASS, VELOCITY
+from .printer import lines
 from .reader import Reader, numeric_line, symbolic_line
 
 
@@ -38,11 +39,12 @@ class _Eq:
         return f"{to_text(self.lhs, numeric)} = {to_text(self.rhs, numeric)}"
 
 
-def _moving_together(law, values) -> bool:
-    """Every body has the same velocity component afterwards (to round-off)."""
+def _moving_together(law, values, rhs_names=None) -> bool:
+    """Every body has the same velocity component afterwards (to round-off);
+    `rhs_names`: `variables(law.rhs)` if already taken."""
     if law.locked is None:
         return False
-    comps = [values.get(n) for n in variables(law.rhs)]
+    comps = [values.get(n) for n in (variables(law.rhs) if rhs_names is None else rhs_names)]
     if any(v is None for v in comps) or len(comps) < 2:
         return False
     scale = max(abs(v) for v in comps) or 1.0
@@ -107,20 +109,24 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[di
     the common velocity)."""
     out = []
     shown: set = set()  # a pin's parallel-axis step is shown once per transition
+    si = reader.system != "us" and not reader.degrees  # the printers per shape (printer.py)
+    six: dict = {}
+    shown_numbers = six if sig == 6 else {}
     for law in getattr(t, "laws", ()) or ():
         steps, result = [], []
         rhs = law.rhs
-        names = variables(law.lhs) | variables(law.rhs)
+        rhs_names = variables(law.rhs)
+        names = variables(law.lhs) | rhs_names
         if law.kind == "linear" and all(values.get(n, 1.0) == 0 for n in names):
             continue  # nothing moves along it: 0 = 0 says nothing
         vals = values
-        if law.kind == "linear" and _moving_together(law, values):
+        if law.kind == "linear" and _moving_together(law, values, rhs_names):
             rhs = law.locked
             vals = ChainMap({k: values[v] for k, v in law.alias.items() if v in values}, values)
             for k, v in law.alias.items():
                 if v in values:
-                    shown = values[v] / reader.factor(VELOCITY)
-                    result.append(f"{k} = {fmt_num(shown, sig)} {reader.label(VELOCITY)}: "
+                    v_shown = values[v] / reader.factor(VELOCITY)
+                    result.append(f"{k} = {fmt_num(v_shown, sig)} {reader.label(VELOCITY)}: "
                                   "the bodies move together")
         lhs = law.lhs
         if law.kind == "pin":
@@ -146,10 +152,12 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[di
             steps.append(f"I_{p['point']} = I_G + m*d^2 = {f(I_G)} + {f(m)}*{f(d)}^2 = {f(I_O)} "
                           f"{reader.label(INERTIA)} (parallel axes: {p['body']}'s G is "
                           f"{f(d)} {reader.label(LENGTH)} from {p['point']})")
+        got = lines(eq, vals, keep, sig, six, shown_numbers) if si else None
+        if got is None:
+            got = (symbolic_line(eq, system, reader, sig),
+                   numeric_line(eq, vals, keep, system, reader, sig))
         out.append(dict(kind=law.kind, principle=law.principle, why=law.why, steps=steps,
-                        symbolic=symbolic_line(eq, system, reader, sig),
-                        numeric=numeric_line(eq, vals, keep, system, reader, sig),
-                        result=result))
+                        symbolic=got[0], numeric=got[1], result=result))
     return out
 
 

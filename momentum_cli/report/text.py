@@ -10,6 +10,9 @@ from .abbrev import abbreviate
 from .model import Report, diagram_for
 
 
+_FORMATS: dict = {}  # (indent, column widths) -> (line format, rule): small tables recur
+
+
 def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list[str]:
     """Columns padded to their widest cell; the last column is not padded."""
     n = len(headers)
@@ -17,10 +20,19 @@ def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list
         # the usual case: every row as wide as the header: each column measured once
         # (max over it) and every line made by one format call
         cols = list(zip(*rows)) if rows else [()] * n
-        widths = [max(len(h), max(map(len, c), default=0)) for h, c in zip(headers, cols)]
-        fmt = indent + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}"
-        out = [fmt.format(*headers).rstrip(), indent + "  ".join("-" * w for w in widths)]
-        out += [s.rstrip() for s in map(fmt.format, *cols)] if rows else []
+        widths = tuple([max(len(h), max(map(len, c), default=0))
+                        for h, c in zip(headers, cols)])
+        got = _FORMATS.get((indent, widths))
+        if got is None:
+            if len(_FORMATS) > 256:
+                _FORMATS.clear()
+            got = _FORMATS[indent, widths] = (
+                indent + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}",
+                indent + "  ".join("-" * w for w in widths))
+        fmt = got[0]
+        out = [fmt.format(*headers).rstrip(), got[1]]
+        if rows:
+            out += [s.rstrip() for s in map(fmt.format, *cols)]
         return out
     widths = [len(h) for h in headers]
     for r in rows:
@@ -49,6 +61,7 @@ def formatter(sig: int):
         if s is None:
             s = cache[x] = fmt_num(x, sig)
         return s
+    f.cache = cache  # for a loop that reads it inline (never holds None)
     return f
 
 
@@ -108,26 +121,33 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
             _equations(rows, out)
         out.append("")
         out.append("Solving, block by block")
+        add = out.append
+        shown = f.cache
         for b in rep.blocks:
             how = (f"linear, condition number {f(b['condition_number'])}"
                    if b["method"] == "linear" else
                    "integrated numerically from its inputs" if b["method"] == "integrated" else
                    f"Newton, {b['iterations']} iterations, residual {fmt_tiny(b['residual'] or 0)}")
             # a block of thousands: its first and last unknowns and lines, and how many
-            names, n = abbreviate(b["unknowns"])
-            lines, n_lines = abbreviate(b["lines"])
-            lines = f"{n_lines} lines: {lines}" if n_lines else f"lines {lines}"
-            count = f"{n} unknowns; " if n else ""
-            out.append(f"  block {b['index']}: {names} ({count}{how}; {lines})")
+            unknowns, lines = b["unknowns"], b["lines"]
+            if len(unknowns) == 1 and len(lines) == 1:  # as `abbreviate` shows one name
+                add(f"  block {b['index']}: {unknowns[0]} ({how}; lines {lines[0]})")
+            else:
+                names, n = abbreviate(unknowns)
+                lines, n_lines = abbreviate(lines)
+                lines = f"{n_lines} lines: {lines}" if n_lines else f"lines {lines}"
+                count = f"{n} unknowns; " if n else ""
+                add(f"  block {b['index']}: {names} ({count}{how}; {lines})")
             if "matrix" in b:
-                rows = [[f(x) for x in row] + ["|", f(rhs)] for row, rhs in
-                        zip(b["matrix"], b["rhs"])]
-                out.extend(table(b["unknowns"] + ["", "rhs"], rows, indent="      "))
+                rows = [[shown[x] if x in shown else f(x) for x in row] + ["|", f(rhs)]
+                        for row, rhs in zip(b["matrix"], b["rhs"])]
+                out.extend(table(unknowns + ["", "rhs"], rows, indent="      "))
         out.append("")
         out.append(f"Solution ({u.get('name', 'SI')})")
         out.extend(table(["unknown", "value", "unit"],
-                         [[x["name"], f(x.get("value", x["si_value"])),
-                           x.get("shown_unit", x["unit"])] for x in rep.unknowns]))
+                         [[x["name"], shown[v] if v in shown else f(v),
+                           x.get("shown_unit", x["unit"])] for x in rep.unknowns
+                          for v in (x.get("value", x["si_value"]),)]))
         if rep.regimes:
             out.append("")
             out.append("Friction regimes")

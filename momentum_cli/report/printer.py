@@ -1,0 +1,346 @@
+"""Report stage: an equation's two lines printed by code compiled once per shape of tree.
+
+In: an equation (lhs, rhs), the solved values, the unknowns its block keeps by name.
+Out: its symbolic line (`Equation.text()`) and its numeric line in SI and radians
+(`reader.numeric_line`), the very same strings. A big scene has a handful of shapes
+(the 10^4-ball chain: five), so the tree's layout is read by one short walk (its leaves
+in a list) and printed by straight-line code made for that layout on its second sight,
+with the leaves' names and numbers slotted in; a shape met once, and every node other
+than a sum, a product or a leaf, are printed by the walks themselves.
+"""
+from __future__ import annotations
+
+from ..expr import _ADD, _ATOM, _MUL, Add, Const, Known, Mul, Pow, Var, _den_txt, _join, _txt
+from ..numbers import fmt_num
+from .reader import _NAME, _si_den, _si_text
+
+ENABLED = True  # tests turn it off (or compile every shape at once) to compare the paths
+COMPILE_AFTER = 1  # a shape is compiled the second time it is met
+LIMIT = 512  # compiled shapes kept
+MAX_TOKENS = 2000  # a larger tree (a system law over 10^4 bodies) is printed term by term
+_LONG = MAX_TOKENS // 4  # a sum of more terms than this is larger
+
+# tokens of a shape, in pre-order: leaves, a sum or product (its size follows), a factor
+# x^-p of a product (printed in its denominator by the walk), any other node (by the walk)
+_C, _V, _K, _ADDT, _MULT, _DEN, _OTHER, _EQ, _EXPR = range(9)
+
+_FNS: dict = {}  # shape -> compiled printer
+_SEEN: dict = {}  # shape -> times met before it was compiled
+
+
+def _walk(e, toks: list, leaves: list) -> None:
+    """The shape's tokens and the leaves (and nodes printed by the walks) of `e`; a sum's
+    or product's leaves are taken in its loop (no call per leaf)."""
+    t = type(e)
+    if t is Add or t is Mul:
+        add = toks.append
+        put = leaves.append
+        if t is Add:
+            xs = e.terms
+            add(_ADDT)
+        else:
+            xs = e.factors
+            add(_MULT)
+        add(len(xs))
+        for x in xs:
+            tx = type(x)
+            if tx is Var:
+                add(_V)
+                put(x)
+            elif tx is Const:
+                add(_C)
+                put(x)
+            elif tx is Known:
+                add(_K)
+                put(x)
+            elif tx is Add or tx is Mul:
+                _walk(x, toks, leaves)
+            elif tx is Pow and t is Mul and x.exp < 0:
+                add(_DEN)
+                put(x)
+            else:
+                add(_OTHER)
+                put(x)
+    elif t is Const:
+        toks.append(_C)
+        leaves.append(e)
+    elif t is Var:
+        toks.append(_V)
+        leaves.append(e)
+    elif t is Known:
+        toks.append(_K)
+        leaves.append(e)
+    else:
+        toks.append(_OTHER)
+        leaves.append(e)
+
+
+class _Gen:
+    """Python source of one shape's printer (`numeric`: the numeric line's leaves)."""
+
+    def __init__(self, toks, numeric: bool):
+        self.toks, self.numeric = toks, numeric
+        self.pos = 0  # next token
+        self.slot = 0  # next leaf
+        self.n = 0  # next variable
+        self.code: list[str] = []
+
+    def var(self) -> str:
+        self.n += 1
+        return f"_{self.n}"
+
+    def emit(self, line: str, ind: int) -> None:
+        self.code.append("    " * ind + line)
+
+    def leaf(self, tok, ind: int) -> tuple[str, str, str]:
+        """Code that sets (s, p, v) of the next leaf as `_si_leaf` (numeric) or
+        `expr._leaf_txt` (symbolic) gives them; v is _NAME for a leaf shown by name."""
+        i = self.slot
+        self.slot += 1
+        s, p, v = self.var(), self.var(), self.var()
+        e = self.emit
+        if tok == _C or (self.numeric and tok == _K):
+            e(f"{v} = L[{i}].value", ind)
+            if tok == _K:  # a known without a value prints as fmt_num does, not moved
+                e(f"if {v} is None or (isinstance({v}, float) and {v} != {v}):", ind)
+                e(f"    {s} = fmt_num({v}, sig)", ind)
+                e(f"    {v} = NAME", ind)
+                e("else:", ind)
+                e(f"    {s} = F.get({v})", ind)
+                e(f"    if {s} is None:", ind)
+                e(f"        {s} = F[{v}] = fmt_num({v}, sig)", ind)
+            else:
+                e(f"{s} = F.get({v})", ind)
+                e(f"if {s} is None:", ind)
+                e(f"    {s} = F[{v}] = fmt_num({v}, sig)", ind)
+            e(f"{p} = ADD if {s}[:1] == '-' else ATOM", ind)
+        elif tok == _V and self.numeric:
+            e(f"{s} = L[{i}].name", ind)
+            e(f"{p} = ATOM", ind)
+            e(f"{v} = NAME", ind)
+            e(f"if {s} not in keep:", ind)
+            e(f"    {v} = values.get({s}, NAME)", ind)
+            e(f"    if {v} is None or (isinstance({v}, float) and {v} != {v}):", ind)
+            e(f"        {v} = NAME", ind)
+            e(f"    elif {v} is not NAME:", ind)
+            e(f"        {s} = F.get({v})", ind)
+            e(f"        if {s} is None:", ind)
+            e(f"            {s} = F[{v}] = fmt_num({v}, sig)", ind)
+            e(f"        if {s}[:1] == '-':", ind)
+            e(f"            {p} = ADD", ind)
+        else:  # a name
+            e(f"{s} = L[{i}].name", ind)
+            e(f"{p} = ATOM", ind)
+            e(f"{v} = NAME", ind)
+        return s, p, v
+
+    def node(self, ind: int) -> tuple[str, str]:
+        """Code that prints the node at `pos`: (text variable, precedence variable)."""
+        tok = self.toks[self.pos]
+        self.pos += 1
+        if tok in (_C, _V, _K):
+            s, p, _ = self.leaf(tok, ind)
+            return s, p
+        if tok == _OTHER:
+            i = self.slot
+            self.slot += 1
+            s, p = self.var(), self.var()
+            self.emit(f"{s}, {p} = " + ("si_text(L[%d], values, keep, sig)" if self.numeric
+                                        else "txt(L[%d], False, sig, None, False)") % i, ind)
+            return s, p
+        n = self.toks[self.pos]
+        self.pos += 1
+        if tok == _ADDT:
+            s = self.var()
+            self.emit(f"{s} = ''", ind)
+            for k in range(n):
+                t, _ = self.node(ind)
+                if k == 0:
+                    self.emit(f"{s} = {t}", ind)
+                else:
+                    self.emit(f"{s} += (' - ' + {t}[1:]) if {t}[:1] == '-' else (' + ' + {t})",
+                              ind)
+            p = self.var()
+            self.emit(f"{p} = ADD", ind)
+            return s, p
+        # a product: its first factor's sign moves in front (a -1 is left out)
+        sign = self.var()
+        self.emit(f"{sign} = ''", ind)
+        items: list = []  # (text, precedence) variables of the factors, in order
+        dens: list = []
+        skip = None  # the variable that says the first factor (a -1) is left out
+        for k in range(n):
+            ft = self.toks[self.pos]
+            if ft == _DEN:
+                self.pos += 1
+                i = self.slot
+                self.slot += 1
+                d = self.var()
+                self.emit(f"{d} = " + ("si_den(L[%d], values, keep, sig)" if self.numeric
+                                       else "den_txt(L[%d], False, sig, None)") % i, ind)
+                dens.append(d)
+            elif k == 0 and ft in (_C, _V, _K):
+                self.pos += 1
+                s, p, v = self.leaf(ft, ind)
+                skip = self.var()
+                self.emit(f"{skip} = False", ind)
+                self.emit(f"if {v} is not NAME and {v} < 0:", ind)
+                self.emit(f"    {sign} = '-'", ind)
+                self.emit(f"    if {v} == -1.0:", ind)
+                self.emit(f"        {skip} = True", ind)
+                self.emit("    else:", ind)
+                self.emit(f"        {s} = fmt_num(-{v}, sig)", ind)
+                self.emit(f"        {p} = ADD if {s}[:1] == '-' else ATOM", ind)
+                items.append((s, p))
+            else:
+                items.append(self.node(ind))
+        s, p = self.var(), self.var()
+        lst = "[" + ", ".join(f"({a}, {b})" for a, b in items) + "]"
+        if len(items) == 2 and not dens:
+            # `_join` of two factors: each in parentheses below a product, x*x as x^2
+            w = []
+            for a, b in items:
+                w.append(self.var())
+                self.emit(f"{w[-1]} = {a} if {b} >= MUL else '(' + {a} + ')'", ind)
+            two = f"({w[0]} + '^2' if {w[0]} == {w[1]} else {w[0]} + '*' + {w[1]})"
+            if skip is not None:
+                self.emit(f"{s} = {w[1]} if {skip} else {two}", ind)
+            else:
+                self.emit(f"{s} = {two}", ind)
+        else:
+            rest = "[" + ", ".join(f"({a}, {b})" for a, b in items[1:]) + "]"
+            if skip is not None:
+                self.emit(f"{s} = join({rest} if {skip} else {lst})", ind)
+            else:
+                self.emit(f"{s} = join({lst})", ind)
+        if dens:
+            d = self.var()
+            self.emit(f"{d} = join([{', '.join(dens)}])", ind)
+            self.emit(f"{s} += '/(' + {d} + ')'" if len(dens) > 1 else f"{s} += '/' + {d}",
+                      ind)
+        self.emit(f"{p} = ADD if {sign} else MUL", ind)
+        self.emit(f"{s} = {sign} + {s}", ind)
+        return s, p
+
+    def source(self) -> str:
+        if self.toks[0] == _EXPR:  # one expression: its (text, precedence)
+            self.pos = 1
+            s, p = self.node(1)
+            return "\n".join(["def printer(L, values, keep, sig, F):", *self.code,
+                              f"    return {s}, {p}"])
+        lhs, _ = self.node(1)
+        assert self.toks[self.pos] == _EQ
+        self.pos += 1
+        rhs, _ = self.node(1)
+        return "\n".join(["def printer(L, values, keep, sig, F):", *self.code,
+                          f"    return {lhs} + ' = ' + {rhs}"])
+
+
+_ENV = dict(fmt_num=fmt_num, NAME=_NAME, ADD=_ADD, ATOM=_ATOM, MUL=_MUL, join=_join,
+            si_text=_si_text, si_den=_si_den, txt=_txt, den_txt=_den_txt)
+
+
+def _compile(key) -> tuple:
+    out = []
+    for numeric in (False, True):
+        env = dict(_ENV)
+        exec(_Gen(key, numeric).source(), env)  # noqa: S102 - our own generated code
+        out.append(env["printer"])
+    return tuple(out)
+
+
+def printers(eq):
+    """(leaves, (symbolic printer, numeric printer)) for `eq`, or None: a shape met for
+    the first time (or printing turned off) is printed by the walks; False: too large."""
+    if not ENABLED:
+        return None
+    lhs, rhs = eq.lhs, eq.rhs
+    if (type(lhs) is Add and len(lhs.terms) > _LONG) or \
+            (type(rhs) is Add and len(rhs.terms) > _LONG):
+        return False  # a long sum: not walked whole to find it out
+    toks: list = []
+    leaves: list = []
+    _walk(eq.lhs, toks, leaves)
+    toks.append(_EQ)
+    _walk(eq.rhs, toks, leaves)
+    return _found(toks, leaves)
+
+
+def _term_printers(e):
+    """`printers` of one expression (a term of a long sum)."""
+    toks: list = [_EXPR]
+    leaves: list = []
+    _walk(e, toks, leaves)
+    return _found(toks, leaves)
+
+
+def _found(toks: list, leaves: list):
+    if len(toks) > MAX_TOKENS:
+        return False
+    key = tuple(toks)
+    fns = _FNS.get(key)
+    if fns is None:
+        seen = _SEEN.get(key, 0)
+        if seen < COMPILE_AFTER:
+            if len(_SEEN) > 4 * LIMIT:
+                _SEEN.clear()
+            _SEEN[key] = seen + 1
+            return None
+        if len(_FNS) >= LIMIT:
+            _FNS.clear()
+        fns = _FNS[key] = _compile(key)
+        _SEEN.pop(key, None)
+    return leaves, fns
+
+
+def lines(eq, values, keep, sig: int, six: dict | None = None, shown: dict | None = None):
+    """(symbolic line, numeric line in SI and radians) of `eq` by its shape's printers, or
+    None (print it by the walks). `six`, `shown`: numbers already printed to 6 and to
+    `sig` figures (value -> text), kept by the caller across equations."""
+    got = printers(eq)
+    if not got:
+        if got is None or not ENABLED:
+            return None
+        if six is None:
+            six = {}
+        if shown is None:
+            shown = six if sig == 6 else {}
+        # a long equation (a system's momentum over 10^4 bodies): its sums term by term
+        sl, nl = _side(eq.lhs, values, keep, sig, six, shown)
+        sr, nr = _side(eq.rhs, values, keep, sig, six, shown)
+        texts = getattr(eq, "_texts", None)
+        s = texts[0] if texts is not None and texts[0] is not None else f"{sl} = {sr}"
+        return s, f"{nl} = {nr}"
+    leaves, (sym, num) = got
+    if six is None:
+        six = {}
+    if shown is None:
+        shown = six if sig == 6 else {}
+    texts = getattr(eq, "_texts", None)  # `Equation.text()` printed it already
+    s = texts[0] if texts is not None and texts[0] is not None else \
+        sym(leaves, None, None, 6, six)
+    return s, num(leaves, values, keep, sig, shown)
+
+
+def _side(e, values, keep, sig: int, six: dict, shown: dict) -> tuple[str, str]:
+    """(symbolic, numeric) text of one side; a sum term by term, each term by its
+    shape's printers, joined as the walks join a sum's terms."""
+    if type(e) is not Add:
+        return _txt(e, False, 6, None, False)[0], _si_text(e, values, keep, sig)[0]
+    syms: list = []
+    nums: list = []
+    for x in e.terms:
+        got = _term_printers(x)
+        if got:
+            leaves, (sym, num) = got
+            s, n = sym(leaves, None, None, 6, six)[0], num(leaves, values, keep, sig, shown)[0]
+        else:
+            s, n = _txt(x, False, 6, None, False)[0], _si_text(x, values, keep, sig)[0]
+        for out, t in ((syms, s), (nums, n)):
+            if not out:
+                out.append(t)
+            elif t[:1] == "-":
+                out.append(" - " + t[1:])
+            else:
+                out.append(" + " + t)
+    return "".join(syms), "".join(nums)
