@@ -320,7 +320,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         b = self.scene.bodies[body]
         if b.is_particle and qty in ("angle", "omega"):
             return ZERO
-        key = self._find((body, qty, sid))
+        chains = self._chains
+        key = None
+        if chains is not None:
+            # sv remembers its answers: ask the chains directly (no second memo by key)
+            key = chains.head(body, qty, sid, self._given, self._linked)
+        if key is None:
+            key = self._find((body, qty, sid))
         hit = self._at_key.get(key)  # states that share the variable share its node
         if hit is None:
             hit = self._at_key[key] = self._key_value(key, body, qty)
@@ -411,6 +417,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def point_velocity(self, p: PointOn | None, sid: str, normal=None, sign=1.0) -> V2:
         if p is None or p.body is None:
             return V2(ZERO, ZERO)
+        b = self.scene.bodies[p.body]
+        if p.located_by is None and b.is_particle and (
+                not (p.round_contact and normal is not None and b.radius) or
+                (type(b.radius) in _PLAIN and type(normal[0]) in _PLAIN and
+                 type(normal[1]) in _PLAIN and type(sign) in _PLAIN)):
+            # a particle's arm is plain numbers (or none) and its w is 0: v itself
+            return self.vel(p.body, sid)
         r = self.arm(p, sid, normal, sign)
         v = self.vel(p.body, sid)  # first: the order unknowns are made in is the columns'
         w = self.sv(p.body, "omega", sid)
@@ -871,6 +884,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                    "act there)"
         return "no point is free of external angular impulse"
 
+_PLAIN = (float, int)  # numbers that are not a sweep's traced ones
 _NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
 ZERO_V2 = V2(ZERO, ZERO)  # the arm of a point at G (a V2 is frozen: one for all)
 
