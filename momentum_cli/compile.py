@@ -496,9 +496,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             else:
                 self._impulse_phase(t)
         for sid, st in sc.states.items():
-            phase = Phase.state(sid)
-            for jt in self.joints:
-                jt.stamp(phase, self)
+            if self.joints:
+                phase = Phase.state(sid)
+                for jt in self.joints:
+                    jt.stamp(phase, self)
             for body, surface, span in st.rolls:
                 self._rolling(body, surface, sid, f"state {sid}", span, None)
         for s in sc.stated:
