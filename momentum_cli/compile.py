@@ -324,17 +324,17 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         key = None
         if chains is not None:
             # sv remembers its answers: ask the chains directly (no second memo by key)
-            key = chains.head(body, qty, sid, self._given, self._linked)
+            key, given = chains.head_given(body, qty, sid, self.scene.states, self._linked)
         if key is None:
             key = self._find((body, qty, sid))
+            given = self._given(key)
         hit = self._at_key.get(key)  # states that share the variable share its node
         if hit is None:
-            hit = self._at_key[key] = self._key_value(key, body, qty)
+            hit = self._at_key[key] = self._key_value(key, body, qty, given)
         return hit
 
-    def _key_value(self, key: tuple, body: str, qty: str) -> E:
+    def _key_value(self, key: tuple, body: str, qty: str, given) -> E:
         name = state_key(*key)
-        given = self._given(key)
         if given is not None:
             return Known(name, given[0])
         dim, unit = STATE_QTYS[qty]
