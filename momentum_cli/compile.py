@@ -352,6 +352,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def mass(self, body: str, sid: str) -> E:
         """A body's mass at a state: as declared, or what the last burn before it left."""
+        if self.flows is None:
+            m = self._mass.get(body)
+            if m is not None:
+                return m
         b = self.scene.bodies[body]
         if self.flows is None or not self.flows.masses:
             m = self._mass.get(body)
@@ -690,7 +694,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                     normal = c.normal
             self._rolling(body, surface, j, group, span, normal)
         self.sources[key] = sources
-        why = self._why(sources, t)
+        why = self._why(sources, t, moved)
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
         laws = system_laws(self, t, sources, moved, hits) if not is_interval else []
         for k, a in applied:  # each element applies its impulses, then names its source
@@ -839,10 +843,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                                                tuple(b for g in groups for b in g)))
 
     # ---- why a principle holds --------------------------------------------------------------------
-    def _why(self, sources: list[ImpulseSource], t: TransitionSpec) -> list[str]:
-        """For the bodies the transition moves, together and one by one (up to six)."""
+    def _why(self, sources: list[ImpulseSource], t: TransitionSpec,
+             bodies: list[str] | None = None) -> list[str]:
+        """For the bodies the transition moves (`bodies`, when the caller has them),
+        together and one by one (up to six)."""
         out = []
-        bodies = self._moved(t.key)
+        if bodies is None:
+            bodies = self._moved(t.key)
         if not bodies:
             return ["nothing acts: every body keeps its velocity"]
         system = set(bodies)
@@ -867,9 +874,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if all(d is not None for d in dirs):
             d0 = dirs[0]
             if all(abs(d0[0] * d[1] - d0[1] * d[0]) < 1e-12 for d in dirs):
-                perp = (-d0[1], d0[0])
-                return (f"{label}: external impulses act only along ({_f(d0[0])}, {_f(d0[1])}), so "
-                        f"linear momentum is conserved along ({_f(perp[0])}, {_f(perp[1])})")
+                return f"{label}: {_along(d0)}"
         names = ", ".join(sorted({s.what for s in lines}))
         return f"{label}: external impulses ({names}) leave no direction free"
 
@@ -898,6 +903,23 @@ def _plain_const(e: E) -> bool:
 def _unit(v) -> tuple[float, float]:
     n = math.hypot(v[0], v[1])
     return (v[0] / n, v[1] / n)
+
+
+_ALONG: dict = {}  # direction -> its words (a few directions: bounded below)
+
+
+def _along(d0) -> str:
+    """`external impulses act only along (1, 0), so ...` for direction d0 (remembered:
+    an impact's why repeats the words of its normal for each body)."""
+    key = (d0[0], d0[1], math.copysign(1.0, d0[0]), math.copysign(1.0, d0[1]))
+    hit = _ALONG.get(key)
+    if hit is None:
+        perp = (-d0[1], d0[0])
+        hit = (f"external impulses act only along ({_f(d0[0])}, {_f(d0[1])}), so "
+               f"linear momentum is conserved along ({_f(perp[0])}, {_f(perp[1])})")
+        if len(_ALONG) < 256 and type(d0[0]) is float and type(d0[1]) is float:
+            _ALONG[key] = hit
+    return hit
 
 
 def _f(x: float) -> str:
