@@ -63,8 +63,9 @@ class StateChains:
             for b in busy[ts[0].key]:
                 for q in VELOCITIES:
                     breaks.setdefault((b, q, c), []).append(p)
-        for v in breaks.values():
+        for k, v in breaks.items():
             v.sort()
+            breaks[k] = tuple(v)  # half a one-item list's size: a big scene has ~3 a body
         return cls(where, chains, {s: ts[0] for s, ts in into.items()}, breaks)
 
     def head(self, body: str, qty: str, sid: str, given, linked):

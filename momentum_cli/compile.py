@@ -323,8 +323,17 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         chains = self._chains
         key = None
         if chains is not None:
-            # sv remembers its answers: ask the chains directly (no second memo by key)
+            # sv remembers its answers: ask the chains directly (no second memo by key);
+            # a head is its own head, so sv's memo at the head state holds the shared node
             key, given = chains.head_given(body, qty, sid, self.scene.states, self._linked)
+            if key is not None:
+                if key[2] == sid:
+                    return self._key_value(key, body, qty, given)
+                svs = self._sv
+                hit = svs.get(key)
+                if hit is None:
+                    hit = svs[key] = self._key_value(key, body, qty, given)
+                return hit
         if key is None:
             key = self._find((body, qty, sid))
             given = self._given(key)
