@@ -481,6 +481,11 @@ class ContactElement(Element):
     def stamp(self, phase: Phase, compiler) -> None:
         c = self.c
         n = c.normal
+        if phase.kind is PhaseKind.IMPACT and type(self.tangential) is Smooth and \
+                type(self.restitution) is NewtonRestitution and not c.restitution_unknown \
+                and type(c.restitution) is float and type(n[0]) is float and \
+                type(n[1]) is float:
+            return self._stamp_smooth_newton(phase, compiler)
         tg = (-n[1], n[0])
         nv, tv = V2(Const(n[0]), Const(n[1])), V2(Const(tg[0]), Const(tg[1]))
         keys = self.unknowns(phase)
@@ -514,6 +519,39 @@ class ContactElement(Element):
                 compiler.eq(vn, ZERO, f"contact {c.label} persists (no normal velocity)",
                             f"state {sid}", c.span)
             self.tangential.stamp_interval(rows, compiler)
+
+    def _stamp_smooth_newton(self, phase: Phase, compiler) -> None:
+        """`stamp` for the commonest contact, in an impact: smooth, Newton's law with a
+        given e (one unknown J_n, one row). The same nodes in the same order as the
+        general path (tests/test_compile_equal.py), without its rows object and laws'
+        dispatch: a chain of N balls stamps N of these."""
+        c = self.c
+        n = c.normal
+        n0, n1 = n
+        key = f"{phase.before}->{phase.after}"
+        kn = impulse_key(Component.JN, self.label, key)
+        Jn = compiler.unknown(kn, IMPULSE, KeyKind.IMPULSE)
+        compiler.unknowns[kn].hints.append((">", 0.0, c.span))
+        J = V2(add(mul(Jn, Const(n0)), mul(ZERO, Const(-n1))),
+               add(mul(Jn, Const(n1)), mul(ZERO, Const(n0))))
+        phase.apply(c.a, J, None, n, 1.0)
+        if c.b is not None:
+            phase.apply(c.b, -J, None, n, -1.0)
+        body_a = compiler.scene.bodies[c.a.body]
+        where = f"{c.label}'s contact point" if c.a.round_contact and body_a.radius else c.a.name
+        phase.sources.append(ImpulseSource(self.bodies(), where, n, False, f"contact {c.label}"))
+        r1, r2 = self.relative_velocity(phase.before, compiler), \
+            self.relative_velocity(phase.after, compiler)
+        nv = V2(Const(n0), Const(n1))
+        vn1, vn2 = r1.dot(nv), r2.dot(nv)
+        e = c.restitution
+        # energy_loss: -1/2 J_n (1 - e) v_n- (Newton's normal_loss; smooth: no tangent)
+        compiler.losses.setdefault(key, []).append(
+            mul(Const(-0.5), mul(Jn, mul(Const(1.0 - e), vn1))))
+        E_ = Known(parameter_key(Component.E, c.label), e)
+        compiler.eq(vn2, mul(neg(E_), vn1), f"restitution at {c.label} (Newton)", phase.group,
+                    c.span)
+        phase.contacts.append((c.label, vn1, vn2))
 
     def energy_loss(self, rows: ContactRows, compiler) -> E:
         """The kinetic energy the contact takes in an impact, -J.(v- + v+)/2 along its
