@@ -99,8 +99,12 @@ class Equation:
             self._texts = [None, None]
         t = self._texts[numeric]
         if t is None:
-            t = self._texts[numeric] = f"{to_text(self.lhs, numeric)} = " \
-                                       f"{to_text(self.rhs, numeric)}"
+            lhs = rhs = None
+            if not numeric:
+                lhs, rhs = _short_text(self.lhs), _short_text(self.rhs)
+            t = self._texts[numeric] = \
+                f"{to_text(self.lhs, numeric) if lhs is None else lhs} = " \
+                f"{to_text(self.rhs, numeric) if rhs is None else rhs}"
         return t
 
 
@@ -902,6 +906,40 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 _PLAIN = (float, int)  # numbers that are not a sweep's traced ones
 _NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
 ZERO_V2 = V2(ZERO, ZERO)  # the arm of a point at G (a V2 is frozen: one for all)
+
+
+def _minus(e) -> str | None:
+    """The name of x in -x, `Mul((Const(-1.0), x))` with x named; else None."""
+    if type(e) is Mul:
+        fs = e.factors
+        if len(fs) == 2:
+            c, x = fs
+            if type(c) is Const and type(c.value) is float and c.value == -1.0 and \
+                    type(x) in _NAMED:
+                return x.name
+    return None
+
+
+def _short_text(e: E) -> str | None:
+    """What to_text prints symbolically for the commonest small trees of impulse-momentum
+    rows (x, -x, m*(b - a), with named leaves), without its walk; None for any other."""
+    t = type(e)
+    if t in _NAMED:
+        return e.name
+    if t is Mul:
+        fs = e.factors
+        if len(fs) != 2:
+            return None
+        m, d = fs
+        if type(m) in _NAMED and type(d) is Add and len(d.terms) == 2:
+            b, a = d.terms
+            a = _minus(a)
+            if a is not None and type(b) in _NAMED:
+                return f"{m.name}*({b.name} - {a})"
+            return None
+        a = _minus(e)
+        return None if a is None else "-" + a
+    return None
 
 
 def _plain_const(e: E) -> bool:
