@@ -544,10 +544,18 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._into.setdefault(t.after, []).append(t)
             self._out.setdefault(t.before, []).append(t)
         self._chains = StateChains.build(sc.states, self._into, self._out, self._busy)
-        for sid, st in sc.states.items():
+        states = sc.states
+        for sid, st in states.items():
+            outs = self._out.get(sid)
+            if not outs or not st.givens:
+                continue
+            # the givens of each state after (a state no transition's: none)
+            ends = [(t, states[t.after].givens if t.after in states else {}) for t in outs]
+            if not any(g for _, g in ends):
+                continue
             for (b, q), (value, span) in st.givens.items():
-                for t in self._out.get(sid, ()):
-                    gc = self._given((b, q, t.after))
+                for t, after in ends:
+                    gc = after.get((b, q))
                     if gc is None or gc[0] == value or not self._linked(b, q, t):
                         continue
                     why = ("positions unchanged during an impact" if q in ("x", "y", "angle")
