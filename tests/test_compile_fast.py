@@ -110,3 +110,28 @@ def test_short_text_prints_as_to_text():
             short += 1
             assert s == to_text(t)
     assert short == 4
+
+
+def test_key_constructors_make_what_key_makes():
+    """state_key, impulse_key and parameter_key build their Key without Key.__new__:
+    the same text, class and fields (and the same after pickling) as Key(...) gives."""
+    import pickle
+
+    from momentum_cli.elements.keys import Key, impulse_key, parameter_key, state_key
+    from momentum_cli.elements.kinds import Component, KeyKind
+
+    def fields(k):
+        return (str(k), type(k), k.kind, k.body, k.qty, k.state, k.transition, k.label,
+                k.comp)
+
+    pairs = [(state_key("b", "vx", "3"),
+              Key("b.vx@3", KeyKind.STATE, body="b", qty="vx", state="3"))]
+    for comp in Component:
+        kind = KeyKind.ANGULAR_IMPULSE if comp is Component.M else KeyKind.IMPULSE
+        pairs.append((impulse_key(comp, "A", "1->2"),
+                      Key(f"{comp}[A]@1->2", kind, label="A", transition="1->2", comp=comp)))
+        kind = KeyKind.RESTITUTION if comp is Component.E else KeyKind.PARAMETER
+        pairs.append((parameter_key(comp, "A"), Key(f"{comp}[A]", kind, label="A", comp=comp)))
+    for fast, slow in pairs:
+        assert fields(fast) == fields(slow)
+        assert fields(pickle.loads(pickle.dumps(fast))) == fields(slow)
