@@ -135,3 +135,23 @@ def test_key_constructors_make_what_key_makes():
     for fast, slow in pairs:
         assert fields(fast) == fields(slow)
         assert fields(pickle.loads(pickle.dumps(fast))) == fields(slow)
+
+
+def test_a_smooth_contacts_impulse_folds_as_mul_and_add():
+    """contacts._along gives the tree add(mul(J_n, a), mul(0, b)) gives, for zeros of
+    either sign, ones, infinities, NaN and ints."""
+    import itertools
+    import math
+
+    from momentum_cli.elements.contacts import _along
+    from momentum_cli.expr import ZERO, Const, Var, add, mul
+    from structure_dump import node
+
+    J = Var("J_n[A]@1->2")
+    values = [0.0, -0.0, 1.0, -1.0, 0.6, -0.8, 1e-300, 2.0, math.inf, -math.inf, math.nan,
+              1, 2, 0]
+    for a, b in itertools.product(values, values):
+        fast, slow = [], []
+        node(_along(J, a, b), fast)
+        node(add(mul(J, Const(a)), mul(ZERO, Const(b))), slow)
+        assert fast == slow, (a, b)

@@ -11,7 +11,7 @@ with `@restitution_law`; it may take over the tangential rows (`owns_tangential`
 from __future__ import annotations
 
 from ..diagnostics import ProblemError
-from ..expr import ZERO, Const, E, Known, V2, add, evaluate, mul, neg, power, variables
+from ..expr import ZERO, Const, E, Known, Mul, V2, add, evaluate, mul, neg, power, variables
 from ..records import record
 from ..units import IMPULSE, NONE
 from .base import Check, Element, FrictionSite, ImpulseSource, Phase, SimRow, registrar
@@ -532,8 +532,7 @@ class ContactElement(Element):
         kn = impulse_key(Component.JN, self.label, key)
         Jn = compiler.unknown(kn, IMPULSE, KeyKind.IMPULSE)
         compiler.unknowns[kn].hints.append((">", 0.0, c.span))
-        J = V2(add(mul(Jn, Const(n0)), mul(ZERO, Const(-n1))),
-               add(mul(Jn, Const(n1)), mul(ZERO, Const(n0))))
+        J = V2(_along(Jn, n0, -n1), _along(Jn, n1, n0))
         phase.apply(c.a, J, None, n, 1.0)
         if c.b is not None:
             phase.apply(c.b, -J, None, n, -1.0)
@@ -583,6 +582,22 @@ class ContactElement(Element):
         vb = compiler.point_velocity(c.b, sid, c.normal, -1.0) if c.b is not None \
             else V2(ZERO, ZERO)
         return va - vb
+
+
+def _along(Jn: E, a: float, b: float) -> E:
+    """J_n a + 0 b as `add(mul(Jn, Const(a)), mul(ZERO, Const(b)))` folds it (a smooth
+    contact's impulse component, J_t = 0), without the calls and their spare leaves."""
+    if type(a) is not float or type(b) is not float:
+        pass
+    elif a == 0.0:
+        if b - b == 0.0:  # finite: 0 * b is a zero, and 0 + it is it
+            return Const(0.0 * b)
+    elif a == 1.0:
+        if b - b == 0.0:
+            return Jn
+    elif a - a == 0.0 and b - b == 0.0:
+        return Mul((Const(a), Jn))
+    return add(mul(Jn, Const(a)), mul(ZERO, Const(b)))
 
 
 class PlanFriction(Element):
