@@ -608,6 +608,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         ang: dict[str, list[E]] = defaultdict(list)
         sources: list[ImpulseSource] = []
         hits: dict[str, list] = defaultdict(list)  # per body: (point, arm, J, torque)
+        pins = bool(self.joints)  # hits are read only about a pin (system_laws._pins)
         applied: list[tuple[int, Applied]] = []  # (index of the source it precedes, impulse)
         contacts_info = []
         duration: E | None = None
@@ -628,7 +629,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             if p is None or p.body is None:
                 return
             r = self.arm(p, i, normal, sign)
-            hits[p.body].append((p, r, J, torque))
+            if pins:
+                hits[p.body].append((p, r, J, torque))
             applied.append((len(sources), Applied(p.body, p, J, torque, r)))
             lin[p.body].append(J)
             if sc.bodies[p.body].is_particle:
