@@ -63,8 +63,9 @@ class StateChains:
             for b in busy[ts[0].key]:
                 for q in VELOCITIES:
                     breaks.setdefault((b, q, c), []).append(p)
-        for v in breaks.values():
+        for k, v in breaks.items():
             v.sort()
+            breaks[k] = tuple(v)  # half a one-item list's size: a big scene has ~3 a body
         return cls(where, chains, {s: ts[0] for s, ts in into.items()}, breaks)
 
     def head(self, body: str, qty: str, sid: str, given, linked):
@@ -89,3 +90,29 @@ class StateChains:
             if given((body, qty, nxt)) is not None and linked(body, qty, self.into[nxt]):
                 return (body, qty, nxt)
         return key
+
+    def head_given(self, body: str, qty: str, sid: str, states: dict, linked):
+        """`head`, with the value given there (None: an unknown), in one walk: the
+        compiler makes each state quantity's node from both. (None, None): sid is on no
+        chain."""
+        w = self.where.get(sid)
+        if w is None:
+            return None, None
+        c, p = w
+        chain = self.chains[c]
+        bq = (body, qty)
+        pts = self.breaks.get((body, qty, c))
+        if pts is None:
+            start = chain[0]
+            return (body, qty, start), states[start].givens.get(bq)
+        k = bisect_right(pts, p) - 1
+        start = chain[pts[k]] if k >= 0 else chain[0]
+        g = states[start].givens.get(bq)
+        if g is not None:
+            return (body, qty, start), g
+        if k + 1 < len(pts):
+            nxt = chain[pts[k + 1]]
+            g = states[nxt].givens.get(bq)
+            if g is not None and linked(body, qty, self.into[nxt]):
+                return (body, qty, nxt), g
+        return (body, qty, start), None

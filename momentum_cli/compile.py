@@ -99,8 +99,12 @@ class Equation:
             self._texts = [None, None]
         t = self._texts[numeric]
         if t is None:
-            t = self._texts[numeric] = f"{to_text(self.lhs, numeric)} = " \
-                                       f"{to_text(self.rhs, numeric)}"
+            lhs = rhs = None
+            if not numeric:
+                lhs, rhs = _short_text(self.lhs), _short_text(self.rhs)
+            t = self._texts[numeric] = \
+                f"{to_text(self.lhs, numeric) if lhs is None else lhs} = " \
+                f"{to_text(self.rhs, numeric) if rhs is None else rhs}"
         return t
 
 
@@ -320,15 +324,30 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         b = self.scene.bodies[body]
         if b.is_particle and qty in ("angle", "omega"):
             return ZERO
-        key = self._find((body, qty, sid))
+        chains = self._chains
+        key = None
+        if chains is not None:
+            # sv remembers its answers: ask the chains directly (no second memo by key);
+            # a head is its own head, so sv's memo at the head state holds the shared node
+            key, given = chains.head_given(body, qty, sid, self.scene.states, self._linked)
+            if key is not None:
+                if key[2] == sid:
+                    return self._key_value(key, body, qty, given)
+                svs = self._sv
+                hit = svs.get(key)
+                if hit is None:
+                    hit = svs[key] = self._key_value(key, body, qty, given)
+                return hit
+        if key is None:
+            key = self._find((body, qty, sid))
+            given = self._given(key)
         hit = self._at_key.get(key)  # states that share the variable share its node
         if hit is None:
-            hit = self._at_key[key] = self._key_value(key, body, qty)
+            hit = self._at_key[key] = self._key_value(key, body, qty, given)
         return hit
 
-    def _key_value(self, key: tuple, body: str, qty: str) -> E:
+    def _key_value(self, key: tuple, body: str, qty: str, given) -> E:
         name = state_key(*key)
-        given = self._given(key)
         if given is not None:
             return Known(name, given[0])
         dim, unit = STATE_QTYS[qty]
@@ -346,6 +365,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def mass(self, body: str, sid: str) -> E:
         """A body's mass at a state: as declared, or what the last burn before it left."""
+        if self.flows is None:
+            m = self._mass.get(body)
+            if m is not None:
+                return m
         b = self.scene.bodies[body]
         if self.flows is None or not self.flows.masses:
             m = self._mass.get(body)
@@ -411,6 +434,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def point_velocity(self, p: PointOn | None, sid: str, normal=None, sign=1.0) -> V2:
         if p is None or p.body is None:
             return V2(ZERO, ZERO)
+        b = self.scene.bodies[p.body]
+        if p.located_by is None and b.is_particle and (
+                not (p.round_contact and normal is not None and b.radius) or
+                (type(b.radius) in _PLAIN and type(normal[0]) in _PLAIN and
+                 type(normal[1]) in _PLAIN and type(sign) in _PLAIN)):
+            # a particle's arm is plain numbers (or none) and its w is 0: v itself
+            return self.vel(p.body, sid)
         r = self.arm(p, sid, normal, sign)
         v = self.vel(p.body, sid)  # first: the order unknowns are made in is the columns'
         w = self.sv(p.body, "omega", sid)
@@ -483,9 +513,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             else:
                 self._impulse_phase(t)
         for sid, st in sc.states.items():
-            phase = Phase.state(sid)
-            for jt in self.joints:
-                jt.stamp(phase, self)
+            if self.joints:
+                phase = Phase.state(sid)
+                for jt in self.joints:
+                    jt.stamp(phase, self)
             for body, surface, span in st.rolls:
                 self._rolling(body, surface, sid, f"state {sid}", span, None)
         for s in sc.stated:
@@ -513,10 +544,18 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._into.setdefault(t.after, []).append(t)
             self._out.setdefault(t.before, []).append(t)
         self._chains = StateChains.build(sc.states, self._into, self._out, self._busy)
-        for sid, st in sc.states.items():
+        states = sc.states
+        for sid, st in states.items():
+            outs = self._out.get(sid)
+            if not outs or not st.givens:
+                continue
+            # the givens of each state after (a state no transition's: none)
+            ends = [(t, states[t.after].givens if t.after in states else {}) for t in outs]
+            if not any(g for _, g in ends):
+                continue
             for (b, q), (value, span) in st.givens.items():
-                for t in self._out.get(sid, ()):
-                    gc = self._given((b, q, t.after))
+                for t, after in ends:
+                    gc = after.get((b, q))
                     if gc is None or gc[0] == value or not self._linked(b, q, t):
                         continue
                     why = ("positions unchanged during an impact" if q in ("x", "y", "angle")
@@ -569,6 +608,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         ang: dict[str, list[E]] = defaultdict(list)
         sources: list[ImpulseSource] = []
         hits: dict[str, list] = defaultdict(list)  # per body: (point, arm, J, torque)
+        pins = bool(self.joints)  # hits are read only about a pin (system_laws._pins)
         applied: list[tuple[int, Applied]] = []  # (index of the source it precedes, impulse)
         contacts_info = []
         duration: E | None = None
@@ -589,7 +629,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             if p is None or p.body is None:
                 return
             r = self.arm(p, i, normal, sign)
-            hits[p.body].append((p, r, J, torque))
+            if pins:
+                hits[p.body].append((p, r, J, torque))
             applied.append((len(sources), Applied(p.body, p, J, torque, r)))
             lin[p.body].append(J)
             if sc.bodies[p.body].is_particle:
@@ -676,7 +717,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                     normal = c.normal
             self._rolling(body, surface, j, group, span, normal)
         self.sources[key] = sources
-        why = self._why(sources, t)
+        why = self._why(sources, t, moved)
         energy = (self._kinetic(i, moved), self._kinetic(j, moved))
         laws = system_laws(self, t, sources, moved, hits) if not is_interval else []
         for k, a in applied:  # each element applies its impulses, then names its source
@@ -825,10 +866,13 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                                                tuple(b for g in groups for b in g)))
 
     # ---- why a principle holds --------------------------------------------------------------------
-    def _why(self, sources: list[ImpulseSource], t: TransitionSpec) -> list[str]:
-        """For the bodies the transition moves, together and one by one (up to six)."""
+    def _why(self, sources: list[ImpulseSource], t: TransitionSpec,
+             bodies: list[str] | None = None) -> list[str]:
+        """For the bodies the transition moves (`bodies`, when the caller has them),
+        together and one by one (up to six)."""
         out = []
-        bodies = self._moved(t.key)
+        if bodies is None:
+            bodies = self._moved(t.key)
         if not bodies:
             return ["nothing acts: every body keeps its velocity"]
         system = set(bodies)
@@ -853,9 +897,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if all(d is not None for d in dirs):
             d0 = dirs[0]
             if all(abs(d0[0] * d[1] - d0[1] * d[0]) < 1e-12 for d in dirs):
-                perp = (-d0[1], d0[0])
-                return (f"{label}: external impulses act only along ({_f(d0[0])}, {_f(d0[1])}), so "
-                        f"linear momentum is conserved along ({_f(perp[0])}, {_f(perp[1])})")
+                return f"{label}: {_along(d0)}"
         names = ", ".join(sorted({s.what for s in lines}))
         return f"{label}: external impulses ({names}) leave no direction free"
 
@@ -871,8 +913,43 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                    "act there)"
         return "no point is free of external angular impulse"
 
+_PLAIN = (float, int)  # numbers that are not a sweep's traced ones
 _NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
 ZERO_V2 = V2(ZERO, ZERO)  # the arm of a point at G (a V2 is frozen: one for all)
+
+
+def _minus(e) -> str | None:
+    """The name of x in -x, `Mul((Const(-1.0), x))` with x named; else None."""
+    if type(e) is Mul:
+        fs = e.factors
+        if len(fs) == 2:
+            c, x = fs
+            if type(c) is Const and type(c.value) is float and c.value == -1.0 and \
+                    type(x) in _NAMED:
+                return x.name
+    return None
+
+
+def _short_text(e: E) -> str | None:
+    """What to_text prints symbolically for the commonest small trees of impulse-momentum
+    rows (x, -x, m*(b - a), with named leaves), without its walk; None for any other."""
+    t = type(e)
+    if t in _NAMED:
+        return e.name
+    if t is Mul:
+        fs = e.factors
+        if len(fs) != 2:
+            return None
+        m, d = fs
+        if type(m) in _NAMED and type(d) is Add and len(d.terms) == 2:
+            b, a = d.terms
+            a = _minus(a)
+            if a is not None and type(b) in _NAMED:
+                return f"{m.name}*({b.name} - {a})"
+            return None
+        a = _minus(e)
+        return None if a is None else "-" + a
+    return None
 
 
 def _plain_const(e: E) -> bool:
@@ -883,6 +960,23 @@ def _plain_const(e: E) -> bool:
 def _unit(v) -> tuple[float, float]:
     n = math.hypot(v[0], v[1])
     return (v[0] / n, v[1] / n)
+
+
+_ALONG: dict = {}  # direction -> its words (a few directions: bounded below)
+
+
+def _along(d0) -> str:
+    """`external impulses act only along (1, 0), so ...` for direction d0 (remembered:
+    an impact's why repeats the words of its normal for each body)."""
+    key = (d0[0], d0[1], math.copysign(1.0, d0[0]), math.copysign(1.0, d0[1]))
+    hit = _ALONG.get(key)
+    if hit is None:
+        perp = (-d0[1], d0[0])
+        hit = (f"external impulses act only along ({_f(d0[0])}, {_f(d0[1])}), so "
+               f"linear momentum is conserved along ({_f(perp[0])}, {_f(perp[1])})")
+        if len(_ALONG) < 256 and type(d0[0]) is float and type(d0[1]) is float:
+            _ALONG[key] = hit
+    return hit
 
 
 def _f(x: float) -> str:

@@ -40,9 +40,12 @@ def _external(sources, members: set) -> list:
             and not (s.bodies[0] in members and s.bodies[1] in members)]
 
 
+_AXES = {(1.0, 0.0): "x", (0.0, 1.0): "y"}
+
+
 def _words(d) -> str:
-    return {(1.0, 0.0): "x", (0.0, 1.0): "y"}.get((abs(d[0]), abs(d[1])),
-                                                   f"({d[0]:.4g}, {d[1]:.4g})")
+    w = _AXES.get((abs(d[0]), abs(d[1])))
+    return w if w is not None else f"({d[0]:.4g}, {d[1]:.4g})"
 
 
 def system_laws(c, t, sources, moved: list[str], hits: dict) -> list[SystemLaw]:

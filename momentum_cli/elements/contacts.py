@@ -11,7 +11,7 @@ with `@restitution_law`; it may take over the tangential rows (`owns_tangential`
 from __future__ import annotations
 
 from ..diagnostics import ProblemError
-from ..expr import ZERO, Const, E, Known, V2, add, evaluate, mul, neg, power, variables
+from ..expr import ZERO, Const, E, Known, Mul, V2, add, evaluate, mul, neg, power, variables
 from ..records import record
 from ..units import IMPULSE, NONE
 from .base import Check, Element, FrictionSite, ImpulseSource, Phase, SimRow, registrar
@@ -481,6 +481,11 @@ class ContactElement(Element):
     def stamp(self, phase: Phase, compiler) -> None:
         c = self.c
         n = c.normal
+        if phase.kind is PhaseKind.IMPACT and type(self.tangential) is Smooth and \
+                type(self.restitution) is NewtonRestitution and not c.restitution_unknown \
+                and type(c.restitution) is float and type(n[0]) is float and \
+                type(n[1]) is float:
+            return self._stamp_smooth_newton(phase, compiler)
         tg = (-n[1], n[0])
         nv, tv = V2(Const(n[0]), Const(n[1])), V2(Const(tg[0]), Const(tg[1]))
         keys = self.unknowns(phase)
@@ -515,6 +520,38 @@ class ContactElement(Element):
                             f"state {sid}", c.span)
             self.tangential.stamp_interval(rows, compiler)
 
+    def _stamp_smooth_newton(self, phase: Phase, compiler) -> None:
+        """`stamp` for the commonest contact, in an impact: smooth, Newton's law with a
+        given e (one unknown J_n, one row). The same nodes in the same order as the
+        general path (tests/test_compile_equal.py), without its rows object and laws'
+        dispatch: a chain of N balls stamps N of these."""
+        c = self.c
+        n = c.normal
+        n0, n1 = n
+        key = f"{phase.before}->{phase.after}"
+        kn = impulse_key(Component.JN, self.label, key)
+        Jn = compiler.unknown(kn, IMPULSE, KeyKind.IMPULSE)
+        compiler.unknowns[kn].hints.append((">", 0.0, c.span))
+        J = V2(_along(Jn, n0, -n1), _along(Jn, n1, n0))
+        phase.apply(c.a, J, None, n, 1.0)
+        if c.b is not None:
+            phase.apply(c.b, -J, None, n, -1.0)
+        body_a = compiler.scene.bodies[c.a.body]
+        where = f"{c.label}'s contact point" if c.a.round_contact and body_a.radius else c.a.name
+        phase.sources.append(ImpulseSource(self.bodies(), where, n, False, f"contact {c.label}"))
+        r1, r2 = self.relative_velocity(phase.before, compiler), \
+            self.relative_velocity(phase.after, compiler)
+        nv = V2(Const(n0), Const(n1))
+        vn1, vn2 = r1.dot(nv), r2.dot(nv)
+        e = c.restitution
+        # energy_loss: -1/2 J_n (1 - e) v_n- (Newton's normal_loss; smooth: no tangent)
+        compiler.losses.setdefault(key, []).append(
+            mul(Const(-0.5), mul(Jn, mul(Const(1.0 - e), vn1))))
+        E_ = Known(parameter_key(Component.E, c.label), e)
+        compiler.eq(vn2, mul(neg(E_), vn1), f"restitution at {c.label} (Newton)", phase.group,
+                    c.span)
+        phase.contacts.append((c.label, vn1, vn2))
+
     def energy_loss(self, rows: ContactRows, compiler) -> E:
         """The kinetic energy the contact takes in an impact, -J.(v- + v+)/2 along its
         impulse, in the form each law makes free of cancellation (T1 - T2 loses every
@@ -545,6 +582,22 @@ class ContactElement(Element):
         vb = compiler.point_velocity(c.b, sid, c.normal, -1.0) if c.b is not None \
             else V2(ZERO, ZERO)
         return va - vb
+
+
+def _along(Jn: E, a: float, b: float) -> E:
+    """J_n a + 0 b as `add(mul(Jn, Const(a)), mul(ZERO, Const(b)))` folds it (a smooth
+    contact's impulse component, J_t = 0), without the calls and their spare leaves."""
+    if type(a) is not float or type(b) is not float:
+        pass
+    elif a == 0.0:
+        if b - b == 0.0:  # finite: 0 * b is a zero, and 0 + it is it
+            return Const(0.0 * b)
+    elif a == 1.0:
+        if b - b == 0.0:
+            return Jn
+    elif a - a == 0.0 and b - b == 0.0:
+        return Mul((Const(a), Jn))
+    return add(mul(Jn, Const(a)), mul(ZERO, Const(b)))
 
 
 class PlanFriction(Element):

@@ -42,16 +42,33 @@ class Key(str):
         return str(self)
 
 
+_str_new = str.__new__  # a Key made without Key.__new__'s keywords: 4x faster
+
+
+def _key(text: str, kind: KeyKind, body, qty, state, transition, label, comp) -> Key:
+    """What `Key(text, kind, ...)` makes, for the constructors below (a big scene makes
+    ~6 keys a body)."""
+    k = _str_new(Key, text)
+    k.kind = kind
+    k.body = body
+    k.qty = qty
+    k.state = state
+    k.transition = transition
+    k.label = label
+    k.comp = comp
+    return k
+
+
 def state_key(body: str, qty: str, sid: str) -> Key:
     """A body's state quantity: `rod.omega@3`."""
-    return Key(f"{body}.{qty}@{sid}", KeyKind.STATE, body=body, qty=qty, state=sid)
+    return _key(f"{body}.{qty}@{sid}", KeyKind.STATE, body, qty, sid, None, None, None)
 
 
 def impulse_key(comp: Component, label: str, transition: str) -> Key:
     """A reaction's impulse in a transition: `J_n[A]@2->3`, `M[O]@1->2`."""
     kind = KeyKind.ANGULAR_IMPULSE if comp is Component.M else KeyKind.IMPULSE
-    return Key(f"{comp}[{label}]@{transition}", kind, label=label, transition=transition,
-               comp=comp)
+    return _key(f"{comp}[{label}]@{transition}", kind, None, None, None, transition, label,
+                comp)
 
 
 def duration_key(transition: str) -> Key:
@@ -62,7 +79,7 @@ def duration_key(transition: str) -> Key:
 def parameter_key(comp: Component, label: str) -> Key:
     """A contact's parameter: `e[A]`, `v_sep[A]`."""
     kind = KeyKind.RESTITUTION if comp is Component.E else KeyKind.PARAMETER
-    return Key(f"{comp}[{label}]", kind, label=label, comp=comp)
+    return _key(f"{comp}[{label}]", kind, None, None, None, None, label, comp)
 
 
 def named_key(name: str, kind: KeyKind) -> Key:
