@@ -26,3 +26,22 @@ def error_of(text: str, name: str = "test.mom"):
     except ProblemError as exc:
         return exc.diagnostics[0]
     raise AssertionError("expected a ProblemError")
+
+
+def solved_scenes():
+    """(name, Solution, {equation index: the unknowns its block keeps}) for every example
+    that solves and for a generated chain and sequential cradle: the scenes on which the
+    report's fast printers are compared with the walks they replace."""
+    from conftest import EXAMPLES
+    from test_hard import cradle_text
+
+    from momentum_cli.bench import chain_text
+
+    scenes = [(p.name, p.read_text(encoding="utf-8")) for p in sorted(EXAMPLES.glob("*.mom"))]
+    scenes += [("chain.mom", chain_text(40)), ("cradle.mom", cradle_text(30, "sequence"))]
+    for name, text in scenes:
+        try:
+            sol = solve_text(text, name)
+        except ProblemError:
+            continue
+        yield name, sol, {k: set(b.unknowns) for b in sol.blocks for k in b.equations}

@@ -109,18 +109,6 @@ def test_si_numeric_text_equals_substituting_leaf_by_leaf(e, values, keep, sig):
 
 
 # ---- every equation of the examples and of generated big scenes: fast line == slow line ----
-def _scenes():
-    from conftest import EXAMPLES
-    from test_hard import cradle_text
-
-    from momentum_cli.bench import chain_text
-
-    for p in sorted(EXAMPLES.glob("*.mom")):
-        yield p.name, p.read_text(encoding="utf-8")
-    yield "chain.mom", chain_text(40)
-    yield "cradle.mom", cradle_text(30, "sequence")
-
-
 def _slow_line(eq, values, keep, system, reader, sig):
     """`reader.numeric_line` as it was before its SI walk: every leaf through `_Sub`."""
     from momentum_cli.report.reader import _dim_down, _dim_up
@@ -143,19 +131,13 @@ def _slow_line(eq, values, keep, system, reader, sig):
 
 
 def test_numeric_lines_of_examples_and_big_scenes_equal_the_leaf_by_leaf_lines():
-    from helpers import solve_text
+    from helpers import solved_scenes
 
-    from momentum_cli.diagnostics import ProblemError
     from momentum_cli.report.reader import numeric_line, reader_for
 
     checked = 0
-    for name, text in _scenes():
-        try:
-            sol = solve_text(text, name)
-        except ProblemError:
-            continue
+    for name, sol, keeps in solved_scenes():
         system, values = sol.system, sol.values
-        keeps = {k: set(b.unknowns) for b in sol.blocks for k in b.equations}
         for units in ("file", "si", "us"):
             reader = reader_for(units, system.scene.file_units)
             for k, e in enumerate(system.equations):

@@ -9,7 +9,6 @@ from __future__ import annotations
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_report_fast import _scenes
 from test_report_printer import NAMES, NUMBERS, TREES, _outcome
 
 from momentum_cli.compile import Equation
@@ -61,19 +60,13 @@ def test_a_product_of_equal_numbers_and_a_minus_one_print_as_the_walks(compile_a
 
 
 def test_every_equation_of_the_examples_and_big_scenes_prints_as_the_walks(compile_at_once):
-    from helpers import solve_text
+    from helpers import solved_scenes
 
-    from momentum_cli.diagnostics import ProblemError
     from momentum_cli.report.reader import numeric_line, reader_for
 
     checked = 0
-    for name, text in _scenes():
-        try:
-            sol = solve_text(text, name)
-        except ProblemError:
-            continue
+    for name, sol, keeps in solved_scenes():
         system, values = sol.system, sol.values
-        keeps = {k: set(b.unknowns) for b in sol.blocks for k in b.equations}
         reader = reader_for("si", system.scene.file_units)
         integrated = {k for integ in system.integrations for k in integ.equations}
         for k, e in enumerate(system.equations):
