@@ -279,6 +279,9 @@ def _solve_job(job):
                 checks = list(res.report.checks)
                 res.report = Rendered(made, checks) if isinstance(made, str) else \
                     Rendered("", checks, made)
+                from .report.model import forget_diagram_index
+
+                forget_diagram_index()  # the report is freed now, its diagrams with it
         return res
     except ModuleNotFoundError as exc:  # the installation, not momentum, is broken
         return FileResult(source.name, "internal", None, None, [Diagnostic(
