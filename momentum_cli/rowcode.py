@@ -397,6 +397,8 @@ def grad_size_big(e, values, walk):
         return out, gs(e, 1.0)
     except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
         return None
+    finally:  # gs refers to itself: without this the cycle keeps `values` and `out`
+        del gs  # alive until a cyclic collection (paused during a solve)
 
 
 # ---- expr._affine_float ----------------------------------------------------------------

@@ -129,6 +129,7 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         with _NoCyclicGC():
             scene = _build_scene(source, overrides)
             sol = solve_scene(scene, solve_all, precision=precision)
+            _shed(sol)
             _instant_phases(sol)
             rep = build_report(source.name, sol, sig, units)
             if sensitivity:
@@ -146,6 +147,15 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         return _failed(source, list(exc.diagnostics))
     except RecursionError:  # `parse` bounds the depth; this is the last line of defence
         return _too_deep(source)
+
+
+def _shed(sol) -> None:
+    """Free what only the solve reads (the structure's incidence sets and matching,
+    one or two entries per equation) before the report is built: the report, the
+    expectations and the sensitivities read the blocks and the redundant and
+    undetermined equations, never these."""
+    st = sol.structure
+    st.incidence, st.match_eq, st.match_var, st.block_of_var = [], {}, {}, {}
 
 
 def _sensitivities(source: Source, overrides, sol) -> dict:
@@ -279,6 +289,9 @@ def _solve_job(job):
                 checks = list(res.report.checks)
                 res.report = Rendered(made, checks) if isinstance(made, str) else \
                     Rendered("", checks, made)
+                from .report.model import forget_diagram_index
+
+                forget_diagram_index()  # the report is freed now, its diagrams with it
         return res
     except ModuleNotFoundError as exc:  # the installation, not momentum, is broken
         return FileResult(source.name, "internal", None, None, [Diagnostic(

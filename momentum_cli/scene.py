@@ -282,7 +282,11 @@ def unit_direction(x: float, y: float, node, what: str) -> tuple[float, float]:
 
 def build(doc: S.Document) -> Scene:
     """Resolve names, convert to SI and compute inertias; raise ProblemError on misuse."""
-    return _Builder(doc).run()
+    b = _Builder(doc)
+    try:
+        return b.run()
+    finally:  # the builder <-> evaluator cycle would keep the document alive until a
+        b.ev = None  # cyclic collection (paused during a solve): break it here
 
 
 class _Kinds:

@@ -275,8 +275,21 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
         sys.stdout.write(render(report, digits))
     else:
         from .report.text import render
-        sys.stdout.write(render(report, digits, detail=detail))
+        _write_text(sys.stdout, render(report, digits, detail=detail))
     return console
+
+
+WRITE_CHUNK = 1 << 20  # characters
+
+
+def _write_text(out, text: str) -> None:
+    """Write `text` in pieces of WRITE_CHUNK characters: a text stream encodes what it is
+    given at once, so a 100 MB report written whole costs another 100 MB of bytes."""
+    if len(text) <= WRITE_CHUNK:
+        out.write(text)
+        return
+    for i in range(0, len(text), WRITE_CHUNK):
+        out.write(text[i:i + WRITE_CHUNK])
 
 
 def run_solve(files, fmt=SolveFormat.auto, json_flag=False, plain=False, output=None,
@@ -436,7 +449,7 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
         elif isinstance(res.report, Rendered):  # plain text, made by the worker
             if i:
                 out.write("\n")
-            out.write(res.report.text)
+            _write_text(out, res.report.text)
         else:
             with _NoCyclicGC():
                 console = _render(res.report, mode, console, i, digits, simulation=False,

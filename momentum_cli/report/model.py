@@ -278,6 +278,12 @@ def diagram_for(rep: Report, t: dict):
     return cache[2].get((t["kind"], t["key"]))
 
 
+def forget_diagram_index() -> None:
+    """Drop `diagram_for`'s index (it holds the last report's diagrams): once a report
+    is rendered, so that its diagrams are freed with it."""
+    _DIAGRAM_INDEX[:] = [None, 0, {}]
+
+
 def expectation_dict(c) -> dict:
     """One checked `expect` line as plain data, values in the expectation's unit."""
     s = c.spec

@@ -167,7 +167,8 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
         from .sensitivity import text_lines
 
         out.extend(text_lines(rep.sensitivities, sig, table))
-    return "\n".join(out) + "\n"
+    out.append("")  # the final newline: not a second copy of a large text
+    return "\n".join(out)
 
 
 def _items(k: dict, f) -> str:
