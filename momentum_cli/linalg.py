@@ -494,7 +494,8 @@ def _step_dense(J: list[list[float]], r: list[float], n: int) -> list[float] | N
     C = [_pow2(x) for x in C]
     A = [[v / R[i] / C[j] if v != 0.0 else 0.0 for j, v in enumerate(row)]
          for i, row in enumerate(J)]
-    norm1 = max((sum(abs(A[i][j]) for i in range(n)) for j in range(n)), default=0.0)
+    # column sums in row order, as `_cond` adds them (zip and map: no Python-level loop)
+    norm1 = max([sum(map(abs, col)) for col in zip(*A)], default=0.0)
     M = [A[i] + [r[i] / R[i]] + [1.0 if k == i else 0.0 for k in range(n)] for i in range(n)]
     for col in range(n):  # Gauss-Jordan with partial pivoting on [A | b | I]
         piv, best = col, abs(M[col][col])
@@ -514,7 +515,7 @@ def _step_dense(J: list[list[float]], r: list[float], n: int) -> list[float] | N
                 f = Mi[col]
                 if f != 0.0:
                     M[i] = [a - f * b for a, b in zip(Mi, rowp)]
-    inv_norm1 = max(sum(abs(M[i][n + 1 + j]) for i in range(n)) for j in range(n))
+    inv_norm1 = max([sum(map(abs, col)) for col in zip(*M)][n + 1:])
     cond = norm1 * inv_norm1
     if not math.isfinite(cond) or cond > SINGULAR_COND:
         return None

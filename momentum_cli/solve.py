@@ -1119,6 +1119,7 @@ def _newton_from(F, J, names, values, x0, lowered=(None, None)):
     env = dict(values)
     x = [float(v) for v in x0]
     fast_f, fast_j = lowered
+    isfinite = math.isfinite
 
     def resid(xv):
         for n, v in zip(names, xv):
@@ -1127,17 +1128,17 @@ def _newton_from(F, J, names, values, x0, lowered=(None, None)):
             out = fast_f(env)[0] if fast_f is not None else [evaluate(f, env) for f in F]
         except (ValueError, ZeroDivisionError, OverflowError):
             return None
-        return out if all(math.isfinite(v) for v in out) else None
+        return out if all(map(isfinite, out)) else None
 
     def norm(v):
-        return math.sqrt(sum(a * a for a in v))
+        return math.sqrt(sum([a * a for a in v]))
 
     r = resid(x)
     if r is None:
         return None
     for it in range(1, 101):
-        scale = max(1.0, max(abs(v) for v in x))
-        if max(abs(v) for v in r) == 0.0:
+        scale = max(1.0, max(map(abs, x)))
+        if max(map(abs, r)) == 0.0:
             return x, it - 1
         try:
             Jm = fast_j(env) if fast_j is not None else \
@@ -1145,7 +1146,7 @@ def _newton_from(F, J, names, values, x0, lowered=(None, None)):
             dx = lstsq_small(Jm, [-v for v in r])
         except (ValueError, ZeroDivisionError, OverflowError, ArithmeticError):
             return None
-        if not all(math.isfinite(v) for v in dx):
+        if not all(map(isfinite, dx)):
             return None
         step, norm0 = 1.0, norm(r)
         while step > 1e-6:
