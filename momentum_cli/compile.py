@@ -24,6 +24,7 @@ from .elements.joints import BearingFriction, joint_element
 from .elements.keys import duration_key, state_key
 from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
 from .energy_groups import energy_groups, split_joints
+from . import impact_contacts
 from .expr import (
     V2,
     ZERO,
@@ -198,6 +199,8 @@ def _chronological(phases: list) -> list:
 
 
 class _Compiler(ReferencesMixin, PrinciplesMixin):
+    Applied = Applied  # for impact_contacts (which compile imports)
+
     def __init__(self, scene: Scene, regimes: dict[str, str]):
         self.scene = scene
         self.regimes = regimes
@@ -642,8 +645,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
         phase = Phase(PhaseKind(t.kind), i, j, group, t.span, apply, sources, contacts_info,
                       dur)
+        fast = not is_interval
+        bodies = sc.bodies
         for c in t.contacts:
-            contact_element(c).stamp(phase, self)
+            if fast and impact_contacts.fits(c, bodies):
+                impact_contacts.stamp(self, c, i, j, key, group, pins, hits, applied, lin,
+                                      sources, contacts_info)
+            else:
+                contact_element(c).stamp(phase, self)
         for jt in self.joints:
             if jt.acts_in(self, t):
                 jt.stamp(phase, self)
@@ -915,7 +924,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
 _PLAIN = (float, int)  # numbers that are not a sweep's traced ones
 _NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
-ZERO_V2 = V2(ZERO, ZERO)  # the arm of a point at G (a V2 is frozen: one for all)
+ZERO_V2 = impact_contacts.ZERO_V2  # the arm of a point at G (a V2 is frozen: one for all)
 
 
 def _minus(e) -> str | None:

@@ -1,0 +1,102 @@
+"""Compile helper: the commonest contact of an impact, stamped without the element layers.
+
+In: a smooth contact with Newton's law and a given e between particles (or a particle
+and the ground), and the impact's bookkeeping (compile._impulse_phase's lists). Out:
+the same unknowns, rows, impulses and sources in the same order as
+ContactElement.stamp gives (tests/test_impact_contacts.py compares them on every
+example and on big chains and cradles); a chain of N balls stamps N of these.
+"""
+from __future__ import annotations
+
+from .elements.base import ImpulseSource
+from .elements.contacts import NewtonRestitution, RESTITUTION_LAWS, Smooth, TANGENTIAL_LAWS, \
+    _along
+from .elements.keys import impulse_key, parameter_key
+from .elements.kinds import Component, KeyKind, Restitution, Tangential
+from .expr import V2, ZERO, Const, Known, mul, neg
+from .units import IMPULSE
+
+_PLAIN = (float, int)
+ZERO_V2 = V2(ZERO, ZERO)  # compile's own (an arm at G): one frozen vector for all
+ENABLED = True  # tests switch it off to compare with the element's own stamp
+_JN = Component.JN
+_E = Component.E
+
+
+def _laws_fit(c) -> bool:
+    """Smooth with Newton's law, as ContactElement would choose them."""
+    law = getattr(c, "law", None) or (Restitution.SEPARATION if c.separation is not None
+                                      else Restitution.NEWTON)
+    return RESTITUTION_LAWS.get(law) is NewtonRestitution and \
+        TANGENTIAL_LAWS.get(Tangential(c.mode)) is Smooth
+
+
+def fits(c, bodies) -> bool:
+    """Whether contact c takes this path: Newton's law with a given float e, smooth, a
+    float normal, and particles at both ends whose point velocity is their own."""
+    if not ENABLED:
+        return False
+    n = c.normal
+    if n is None or c.restitution_unknown or type(c.restitution) is not float or \
+            type(n[0]) is not float or type(n[1]) is not float:
+        return False
+    for p in (c.a, c.b):
+        if p is None:
+            continue
+        if p.body is None or p.located_by is not None:
+            return False
+        b = bodies[p.body]
+        if not b.is_particle or (p.round_contact and b.radius and type(b.radius) not in _PLAIN):
+            return False
+    return _laws_fit(c)
+
+
+def stamp(comp, c, i: str, j: str, key: str, group: str, pins: bool, hits, applied, lin,
+          sources, contacts) -> None:
+    """ContactElement(c).stamp for a contact that `fits`, with Phase.apply inlined."""
+    bodies = comp.scene.bodies
+    n = c.normal
+    n0, n1 = n
+    label = c.label
+    kn = impulse_key(_JN, label, key)
+    Jn = comp.unknown(kn, IMPULSE, KeyKind.IMPULSE)
+    comp.unknowns[kn].hints.append((">", 0.0, c.span))
+    J = V2(_along(Jn, n0, -n1), _along(Jn, n1, n0))
+    pa, pb = c.a, c.b
+    a = pa.body
+    body_a = bodies[a]
+    _apply(comp, pa, body_a, J, n, 1.0, pins, hits, applied, lin, sources)
+    if pb is not None:
+        _apply(comp, pb, bodies[pb.body], -J, n, -1.0, pins, hits, applied, lin, sources)
+    where = f"{label}'s contact point" if pa.round_contact and body_a.radius else pa.name
+    sources.append(ImpulseSource((a, pb.body if pb is not None else None), where, n, False,
+                                 f"contact {label}"))
+    vel = comp.vel
+    if pb is not None:
+        b = pb.body
+        r1 = vel(a, i) - vel(b, i)
+        r2 = vel(a, j) - vel(b, j)
+    else:
+        r1 = vel(a, i) - V2(ZERO, ZERO)
+        r2 = vel(a, j) - V2(ZERO, ZERO)
+    nv = V2(Const(n0), Const(n1))
+    vn1, vn2 = r1.dot(nv), r2.dot(nv)
+    e = c.restitution
+    comp.losses.setdefault(key, []).append(
+        mul(Const(-0.5), mul(Jn, mul(Const(1.0 - e), vn1))))
+    E_ = Known(parameter_key(_E, label), e)
+    comp.eq(vn2, mul(neg(E_), vn1), f"restitution at {label} (Newton)", group, c.span)
+    contacts.append((label, vn1, vn2))
+
+
+def _apply(comp, p, body, J, normal, sign, pins, hits, applied, lin, sources) -> None:
+    """compile's `apply` for a particle: its arm (the rim along the normal, or none)."""
+    r = body.radius
+    if p.round_contact and r:
+        arm = V2(Const(-sign * r * normal[0]), Const(-sign * r * normal[1]))
+    else:
+        arm = ZERO_V2
+    if pins:
+        hits[p.body].append((p, arm, J, None))
+    applied.append((len(sources), comp.Applied(p.body, p, J, None, arm)))
+    lin[p.body].append(J)
