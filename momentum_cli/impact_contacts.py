@@ -8,12 +8,15 @@ example and on big chains and cradles); a chain of N balls stamps N of these.
 """
 from __future__ import annotations
 
+import math
+
 from .elements.base import ImpulseSource
 from .elements.contacts import NewtonRestitution, RESTITUTION_LAWS, Smooth, TANGENTIAL_LAWS, \
     _along
 from .elements.keys import impulse_key, parameter_key
 from .elements.kinds import Component, KeyKind, Restitution, Tangential
 from .expr import V2, ZERO, Const, Known, mul, neg
+from .tree_template import plain_leaves, template
 from .units import IMPULSE
 
 _PLAIN = (float, int)
@@ -61,32 +64,55 @@ def stamp(comp, c, i: str, j: str, key: str, group: str, pins: bool, hits, appli
     kn = impulse_key(_JN, label, key)
     Jn = comp.unknown(kn, IMPULSE, KeyKind.IMPULSE)
     comp.unknowns[kn].hints.append((">", 0.0, c.span))
-    J = V2(_along(Jn, n0, -n1), _along(Jn, n1, n0))
+    e = c.restitution
     pa, pb = c.a, c.b
     a = pa.body
+    vel = comp.vel
+    E_ = Known(parameter_key(_E, label), e)
+    # the unknowns in the order the element makes them: J_n, then v_a, v_b before, after
+    if pb is not None:
+        b = pb.body
+        va1, vb1, va2, vb2 = vel(a, i), vel(b, i), vel(a, j), vel(b, j)
+        leaves = (Jn, va1.x, va1.y, vb1.x, vb1.y, va2.x, va2.y, vb2.x, vb2.y, E_)
+    else:
+        va1, va2 = vel(a, i), vel(a, j)
+        leaves = (Jn, va1.x, va1.y, va2.x, va2.y, E_)
+    f = None
+    if plain_leaves(*leaves):
+        f = template(("contact", n0, math.copysign(1.0, n0), n1, math.copysign(1.0, n1),
+                      e, math.copysign(1.0, e), pb is not None), _builder(n0, n1, e, pb),
+                     len(leaves))
+    J, Jb, vn1, vn2, loss, rhs = (f or _builder(n0, n1, e, pb))(*leaves)
     body_a = bodies[a]
     _apply(comp, pa, body_a, J, n, 1.0, pins, hits, applied, lin, sources)
     if pb is not None:
-        _apply(comp, pb, bodies[pb.body], -J, n, -1.0, pins, hits, applied, lin, sources)
+        _apply(comp, pb, bodies[pb.body], Jb, n, -1.0, pins, hits, applied, lin, sources)
     where = f"{label}'s contact point" if pa.round_contact and body_a.radius else pa.name
     sources.append(ImpulseSource((a, pb.body if pb is not None else None), where, n, False,
                                  f"contact {label}"))
-    vel = comp.vel
-    if pb is not None:
-        b = pb.body
-        r1 = vel(a, i) - vel(b, i)
-        r2 = vel(a, j) - vel(b, j)
-    else:
-        r1 = vel(a, i) - V2(ZERO, ZERO)
-        r2 = vel(a, j) - V2(ZERO, ZERO)
-    nv = V2(Const(n0), Const(n1))
-    vn1, vn2 = r1.dot(nv), r2.dot(nv)
-    e = c.restitution
-    comp.losses.setdefault(key, []).append(
-        mul(Const(-0.5), mul(Jn, mul(Const(1.0 - e), vn1))))
-    E_ = Known(parameter_key(_E, label), e)
-    comp.eq(vn2, mul(neg(E_), vn1), f"restitution at {label} (Newton)", group, c.span)
+    comp.losses.setdefault(key, []).append(loss)
+    comp.eq(vn2, rhs, f"restitution at {label} (Newton)", group, c.span)
     contacts.append((label, vn1, vn2))
+
+
+def _builder(n0: float, n1: float, e: float, pb):
+    """The contact's trees from its leaves, as the element folds them: J on a (and -J on
+    b), v_n before and after, the energy loss and the restitution row's right side."""
+    def trees(Jn, *rest):
+        if pb is not None:
+            ax1, ay1, bx1, by1, ax2, ay2, bx2, by2, E_ = rest
+            r1 = V2(ax1, ay1) - V2(bx1, by1)
+            r2 = V2(ax2, ay2) - V2(bx2, by2)
+        else:
+            ax1, ay1, ax2, ay2, E_ = rest
+            r1 = V2(ax1, ay1) - V2(ZERO, ZERO)
+            r2 = V2(ax2, ay2) - V2(ZERO, ZERO)
+        J = V2(_along(Jn, n0, -n1), _along(Jn, n1, n0))
+        nv = V2(Const(n0), Const(n1))
+        vn1, vn2 = r1.dot(nv), r2.dot(nv)
+        loss = mul(Const(-0.5), mul(Jn, mul(Const(1.0 - e), vn1)))
+        return J, (-J if pb is not None else None), vn1, vn2, loss, mul(neg(E_), vn1)
+    return trees
 
 
 def _apply(comp, p, body, J, normal, sign, pins, hits, applied, lin, sources) -> None:

@@ -133,3 +133,24 @@ def test_random_scenes_compile_the_same_both_ways():
             _same(scenegen.render(sc))
             n += 1
     assert n > 50
+
+
+def test_a_tree_template_makes_the_builders_nodes_fresh_and_shares_what_it_shares():
+    from momentum_cli.expr import V2, ZERO, Const, Known, Var, add, mul, neg
+    from momentum_cli.tree_template import _shape, template
+
+    def builder(a, b, k):
+        s = add(a, neg(b))  # used twice: one node in both places
+        return (mul(Const(0.5), s), add(mul(s, k), ZERO), V2(mul(Const(0.0), a), ZERO),
+                add(ZERO, b))
+
+    f = template(("test", 1), builder, 3)
+    assert f is not None
+    leaves = (Var("x"), Known("y", 2.0), Var("z"))
+    got, want = f(*leaves), builder(*leaves)
+    assert _shape(got, leaves, {id(ZERO): ZERO}) == _shape(want, leaves, {id(ZERO): ZERO})
+    assert got[0].factors[1] is got[1].factors[0]  # the shared sum stays shared
+    assert got[2].y is ZERO and got[2].x is ZERO
+    again = f(*leaves)
+    assert again[0].factors[0] is not got[0].factors[0]  # numbers are fresh each time
+    assert got[3] is leaves[1]
