@@ -14,6 +14,7 @@ from .elements.keys import state_key
 from .elements.kinds import JointKind
 from .expr import V2, ZERO, Add, Const, E, Known, Mul, Var, add, add_all, mul, neg
 from .records import field, record
+from .tree_template import plain_leaves, template
 
 
 @record
@@ -130,6 +131,37 @@ def _pinned_system(c, t, sources, moved, i, j) -> list[SystemLaw]:
     return out
 
 
+_FEW = 8  # bodies of an impact whose sums of momenta replay a template (tree_template)
+
+
+def _momenta(c, moved, i, j, d) -> tuple[E, E]:
+    """The sums of m v along d before and after, for a few bodies: replayed from a
+    template per direction and number of bodies when the leaves allow (the same nodes)."""
+    leaves = []
+    for sid in (i, j):
+        for b in moved:
+            v = c.vel(b, sid)
+            leaves += (c.mass(b, sid), v.x, v.y)
+    k = len(moved)
+    builder = _momenta_builder(k, d)
+    f = None
+    if plain_leaves(*leaves):
+        f = template(("momenta", k, d[0], math.copysign(1.0, d[0]), d[1],
+                      math.copysign(1.0, d[1])), builder, len(leaves))
+    return (f or builder)(*leaves)
+
+
+def _momenta_builder(k: int, d):
+    def sums(*leaves):
+        dv = V2(Const(d[0]), Const(d[1]))
+        out = []
+        for side in (leaves[:3 * k], leaves[3 * k:]):
+            out.append(add_all([mul(side[3 * n], V2(side[3 * n + 1], side[3 * n + 2]).dot(dv))
+                                for n in range(k)]))
+        return tuple(out)
+    return sums
+
+
 def _linear(c, sources, moved, i, j) -> list[SystemLaw]:
     members = set(moved)
     ext = [s for s in _external(sources, members) if not s.torque_only]
@@ -148,10 +180,14 @@ def _linear(c, sources, moved, i, j) -> list[SystemLaw]:
               f"along ({ds[0][0]:.4g}, {ds[0][1]:.4g})"
     names = ", ".join(moved)
     out = []
+    few = len(moved) <= _FEW
     for d in dirs:
         dv = V2(Const(d[0]), Const(d[1]))
-        lhs = add_all([mul(c.mass(b, i), c.vel(b, i).dot(dv)) for b in moved])
-        rhs = add_all([mul(c.mass(b, j), c.vel(b, j).dot(dv)) for b in moved])
+        if few:
+            lhs, rhs = _momenta(c, moved, i, j, d)
+        else:
+            lhs = add_all([mul(c.mass(b, i), c.vel(b, i).dot(dv)) for b in moved])
+            rhs = add_all([mul(c.mass(b, j), c.vel(b, j).dot(dv)) for b in moved])
         comp = _words(d)
         tag = comp if comp in ("x", "y") else "n"
         stand_in = f"v{tag}'@{j}"

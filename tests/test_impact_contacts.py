@@ -67,7 +67,7 @@ def _sharing(system) -> list:
 
 
 def _compiled(text: str, fast: bool):
-    from momentum_cli import impact_contacts
+    from momentum_cli import impact_contacts, tree_template
     from momentum_cli.compile import _Compiler
     from momentum_cli.diagnostics import ProblemError
     from momentum_cli.scene import build
@@ -75,7 +75,7 @@ def _compiled(text: str, fast: bool):
     from momentum_cli.syntax import parse
 
     was = impact_contacts.ENABLED
-    impact_contacts.ENABLED = fast
+    impact_contacts.ENABLED = tree_template.ENABLED = fast
     try:
         scene = build(parse(Source("t.mom", text)))
         c = _Compiler(scene, {})
@@ -83,7 +83,7 @@ def _compiled(text: str, fast: bool):
     except ProblemError as exc:
         return [f"error {exc}"]
     finally:
-        impact_contacts.ENABLED = was
+        impact_contacts.ENABLED = tree_template.ENABLED = was
     losses = []
     for k, ls in c.losses.items():
         losses.append(k)
