@@ -134,30 +134,36 @@ def _pinned_system(c, t, sources, moved, i, j) -> list[SystemLaw]:
 _FEW = 8  # bodies of an impact whose sums of momenta replay a template (tree_template)
 
 
-def _momenta(c, moved, i, j, d) -> tuple[E, E]:
-    """The sums of m v along d before and after, for a few bodies: replayed from a
-    template per direction and number of bodies when the leaves allow (the same nodes)."""
+def _momenta(c, moved, i, j, dirs) -> list[tuple]:
+    """For each direction d: the sums of m v along d before and after, the total mass
+    after and the first body's velocity along d (the stand-in's value), as the general
+    loop folds them; replayed from a template per directions and number of bodies when
+    the leaves allow. Each body's mass and velocities are asked for once."""
     leaves = []
     for sid in (i, j):
         for b in moved:
             v = c.vel(b, sid)
             leaves += (c.mass(b, sid), v.x, v.y)
     k = len(moved)
-    builder = _momenta_builder(k, d)
+    builder = _momenta_builder(k, dirs)
     f = None
     if plain_leaves(*leaves):
-        f = template(("momenta", k, d[0], math.copysign(1.0, d[0]), d[1],
-                      math.copysign(1.0, d[1])), builder, len(leaves))
+        f = template(("momenta", k) + tuple((d[0], math.copysign(1.0, d[0]), d[1],
+                                              math.copysign(1.0, d[1])) for d in dirs),
+                     builder, len(leaves))
     return (f or builder)(*leaves)
 
 
-def _momenta_builder(k: int, d):
+def _momenta_builder(k: int, dirs):
     def sums(*leaves):
-        dv = V2(Const(d[0]), Const(d[1]))
         out = []
-        for side in (leaves[:3 * k], leaves[3 * k:]):
-            out.append(add_all([mul(side[3 * n], V2(side[3 * n + 1], side[3 * n + 2]).dot(dv))
-                                for n in range(k)]))
+        before, after = leaves[:3 * k], leaves[3 * k:]
+        for d in dirs:
+            dv = V2(Const(d[0]), Const(d[1]))
+            lhs, rhs = [add_all([mul(side[3 * n], V2(side[3 * n + 1], side[3 * n + 2]).dot(dv))
+                                 for n in range(k)]) for side in (before, after)]
+            total = Add(tuple(after[3 * n] for n in range(k)))
+            out.append((lhs, rhs, total, V2(after[1], after[2]).dot(dv)))
         return tuple(out)
     return sums
 
@@ -180,19 +186,19 @@ def _linear(c, sources, moved, i, j) -> list[SystemLaw]:
               f"along ({ds[0][0]:.4g}, {ds[0][1]:.4g})"
     names = ", ".join(moved)
     out = []
-    few = len(moved) <= _FEW
-    for d in dirs:
-        dv = V2(Const(d[0]), Const(d[1]))
-        if few:
-            lhs, rhs = _momenta(c, moved, i, j, d)
+    rows = _momenta(c, moved, i, j, dirs) if len(moved) <= _FEW else None
+    for n, d in enumerate(dirs):
+        if rows is not None:
+            lhs, rhs, total, first = rows[n]
         else:
+            dv = V2(Const(d[0]), Const(d[1]))
             lhs = add_all([mul(c.mass(b, i), c.vel(b, i).dot(dv)) for b in moved])
             rhs = add_all([mul(c.mass(b, j), c.vel(b, j).dot(dv)) for b in moved])
+            total = Add(tuple(c.mass(b, j) for b in moved))
+            first = c.vel(moved[0], j).dot(dv)
         comp = _words(d)
         tag = comp if comp in ("x", "y") else "n"
         stand_in = f"v{tag}'@{j}"
-        total = Add(tuple(c.mass(b, j) for b in moved))
-        first = c.vel(moved[0], j).dot(dv)
         alias = {stand_in: first.name} if isinstance(first, Var) else {}
         out.append(SystemLaw("linear", f"linear momentum of {{{names}}} along {comp}: "
                              "sum of m v before = sum of m v after", why, lhs, rhs,
