@@ -43,7 +43,7 @@ from .expr import (
     rotate_v2,
     to_text,
 )
-from .principles import PrinciplesMixin, _acts_on, _internal
+from .principles import PrinciplesMixin
 from .records import field, record
 from .references import FindSpec, ReferencesMixin
 from .scene import (
@@ -888,12 +888,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         shown = bodies if len(bodies) <= 6 else bodies[:3] + ["..."] + bodies[-2:]
         label = f"{{{', '.join(shown)}}}" + (f" ({len(bodies)} bodies)" if len(bodies) > 6
                                                else "")
-        groups = [(label, system)]
+        # external to a group: one side in it and the other not (_acts_on, not _internal)
+        ends = [(s, s.bodies[0], s.bodies[1]) for s in sources]
+        ext = [s for s, a, b in ends if (a in system) is not (b in system)]
+        out.append(self._linear_why(label, ext) + "; " + self._angular_why(label, ext))
         if 1 < len(bodies) <= 6:
-            groups += [(b, {b}) for b in bodies]
-        for label, members in groups:
-            ext = [s for s in sources if _acts_on(s, members) and not _internal(s, members)]
-            out.append(self._linear_why(label, ext) + "; " + self._angular_why(label, ext))
+            for body in bodies:
+                ext = [s for s, a, b in ends if (a == body) is not (b == body)]
+                out.append(self._linear_why(body, ext) + "; " + self._angular_why(body, ext))
         return out
 
     @staticmethod
