@@ -154,6 +154,40 @@ def _momenta(c, moved, i, j, dirs) -> list[tuple]:
     return (f or builder)(*leaves)
 
 
+def _many(c, moved, i, j, dirs) -> list[tuple] | None:
+    """`_momenta` for many bodies: each term m (v . d) replayed from a template per
+    direction (None: a leaf that folds, or no template; the general loop then)."""
+    sides = []
+    for sid in (i, j):
+        side = []
+        for b in moved:
+            v = c.vel(b, sid)
+            side.append((c.mass(b, sid), v.x, v.y))
+        sides.append(side)
+    for side in sides:
+        for leaves in side:
+            if not plain_leaves(*leaves):
+                return None
+    out = []
+    for d in dirs:
+        f = template(("term", d[0], math.copysign(1.0, d[0]), d[1], math.copysign(1.0, d[1])),
+                     _term_builder(d), 3)
+        if f is None:
+            return None
+        lhs, rhs = [add_all([f(*leaves) for leaves in side]) for side in sides]
+        after = sides[1]
+        total = Add(tuple(m for m, _, _ in after))
+        _, vx, vy = after[0]
+        out.append((lhs, rhs, total, V2(vx, vy).dot(V2(Const(d[0]), Const(d[1])))))
+    return out
+
+
+def _term_builder(d):
+    def term(m, vx, vy):
+        return mul(m, V2(vx, vy).dot(V2(Const(d[0]), Const(d[1]))))
+    return term
+
+
 def _momenta_builder(k: int, dirs):
     def sums(*leaves):
         out = []
@@ -186,7 +220,7 @@ def _linear(c, sources, moved, i, j) -> list[SystemLaw]:
               f"along ({ds[0][0]:.4g}, {ds[0][1]:.4g})"
     names = ", ".join(moved)
     out = []
-    rows = _momenta(c, moved, i, j, dirs) if len(moved) <= _FEW else None
+    rows = _momenta(c, moved, i, j, dirs) if len(moved) <= _FEW else _many(c, moved, i, j, dirs)
     for n, d in enumerate(dirs):
         if rows is not None:
             lhs, rhs, total, first = rows[n]
