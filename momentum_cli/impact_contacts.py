@@ -8,7 +8,7 @@ example and on big chains and cradles); a chain of N balls stamps N of these.
 """
 from __future__ import annotations
 
-import math
+from math import copysign
 
 from .elements.base import ImpulseSource
 from .elements.contacts import NewtonRestitution, RESTITUTION_LAWS, Smooth, TANGENTIAL_LAWS, \
@@ -79,9 +79,8 @@ def stamp(comp, c, i: str, j: str, key: str, group: str, pins: bool, hits, appli
         leaves = (Jn, va1.x, va1.y, va2.x, va2.y, E_)
     f = None
     if plain_leaves(*leaves):
-        f = template(("contact", n0, math.copysign(1.0, n0), n1, math.copysign(1.0, n1),
-                      e, math.copysign(1.0, e), pb is not None), _builder(n0, n1, e, pb),
-                     len(leaves))
+        f = template(("contact", n0, copysign(1.0, n0), n1, copysign(1.0, n1), e,
+                      copysign(1.0, e), pb is not None), _builder, len(leaves), n0, n1, e, pb)
     J, Jb, vn1, vn2, loss, rhs = (f or _builder(n0, n1, e, pb))(*leaves)
     body_a = bodies[a]
     _apply(comp, pa, body_a, J, n, 1.0, pins, hits, applied, lin, sources)

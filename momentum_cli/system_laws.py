@@ -145,13 +145,12 @@ def _momenta(c, moved, i, j, dirs) -> list[tuple]:
             v = c.vel(b, sid)
             leaves += (c.mass(b, sid), v.x, v.y)
     k = len(moved)
-    builder = _momenta_builder(k, dirs)
     f = None
     if plain_leaves(*leaves):
         f = template(("momenta", k) + tuple((d[0], math.copysign(1.0, d[0]), d[1],
                                               math.copysign(1.0, d[1])) for d in dirs),
-                     builder, len(leaves))
-    return (f or builder)(*leaves)
+                     _momenta_builder, len(leaves), k, dirs)
+    return (f or _momenta_builder(k, dirs))(*leaves)
 
 
 def _many(c, moved, i, j, dirs) -> list[tuple] | None:
@@ -171,7 +170,7 @@ def _many(c, moved, i, j, dirs) -> list[tuple] | None:
     out = []
     for d in dirs:
         f = template(("term", d[0], math.copysign(1.0, d[0]), d[1], math.copysign(1.0, d[1])),
-                     _term_builder(d), 3)
+                     _term_builder, 3, d)
         if f is None:
             return None
         lhs, rhs = [add_all([f(*leaves) for leaves in side]) for side in sides]

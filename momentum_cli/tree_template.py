@@ -27,15 +27,16 @@ def plain_leaves(*leaves) -> bool:
     return True
 
 
-def template(key, builder, nargs: int):
-    """The replay of `builder` (a function of `nargs` leaves) for kind `key`; None when
+def template(key, builder, nargs: int, *args):
+    """The replay of `builder` (a function of `nargs` leaves; or, with `args`, of what
+    `builder(*args)` returns: made only when the kind is new) for kind `key`; None when
     it cannot be replayed (then call the builder itself)."""
     if not ENABLED:
         return None
     hit = _CACHE.get(key, _CACHE)
     if hit is not _CACHE:
         return hit
-    f = _generate(builder, nargs)
+    f = _generate(builder(*args) if args else builder, nargs)
     if len(_CACHE) < _LIMIT:
         _CACHE[key] = f
     return f
