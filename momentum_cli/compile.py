@@ -13,6 +13,7 @@ in `find` lines and equations), flows.py (control volumes and burning bodies).
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from collections import defaultdict
 
 from . import syntax as S
@@ -401,8 +402,49 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def vel(self, body: str, sid: str) -> V2:
         hit = self._vel.get((body, sid))
         if hit is None:
-            hit = self._vel[(body, sid)] = V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
+            hit = self._vel[(body, sid)] = self._new_vel(body, sid)
         return hit
+
+    def _new_vel(self, body: str, sid: str) -> V2:
+        """vel on a miss: sv of vx, then of vy, with what _state_value and the chains'
+        head_given do for a velocity written out once for both (the commonest miss)."""
+        chains = self._chains
+        w = chains.where.get(sid) if chains is not None else None
+        if w is None:
+            return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
+        svs = self._sv
+        c, p = w
+        chain = chains.chains[c]
+        breaks = chains.breaks
+        states = self.scene.states
+        out = []
+        for qty in ("vx", "vy"):
+            k3 = (body, qty, sid)
+            hit = svs.get(k3)
+            if hit is None:
+                bq = (body, qty)
+                pts = breaks.get((body, qty, c))
+                if pts is None:
+                    start = chain[0]
+                    key, given = (body, qty, start), states[start].givens.get(bq)
+                else:
+                    k = bisect_right(pts, p) - 1
+                    start = chain[pts[k]] if k >= 0 else chain[0]
+                    key, given = (body, qty, start), states[start].givens.get(bq)
+                    if given is None and k + 1 < len(pts):
+                        nxt = chain[pts[k + 1]]
+                        g = states[nxt].givens.get(bq)
+                        if g is not None and self._linked(body, qty, chains.into[nxt]):
+                            key, given = (body, qty, nxt), g
+                if key[2] == sid:
+                    hit = self._key_value(key, body, qty, given)
+                else:
+                    hit = svs.get(key)
+                    if hit is None:
+                        hit = svs[key] = self._key_value(key, body, qty, given)
+                svs[k3] = hit
+            out.append(hit)
+        return V2(out[0], out[1])
 
     def pos(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "x", sid), self.sv(body, "y", sid))

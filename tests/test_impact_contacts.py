@@ -74,11 +74,15 @@ def _compiled(text: str, fast: bool):
     from momentum_cli.source import Source
     from momentum_cli.syntax import parse
 
+    from momentum_cli.expr import V2
+
     was = impact_contacts.ENABLED
     impact_contacts.ENABLED = tree_template.ENABLED = fast
     try:
         scene = build(parse(Source("t.mom", text)))
         c = _Compiler(scene, {})
+        if not fast:  # vel's miss as sv asks for each component
+            c._new_vel = lambda body, sid: V2(c.sv(body, "vx", sid), c.sv(body, "vy", sid))
         system = c.run()
     except ProblemError as exc:
         return [f"error {exc}"]
