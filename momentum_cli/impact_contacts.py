@@ -26,12 +26,20 @@ _JN = Component.JN
 _E = Component.E
 
 
+_FIT: dict = {}  # (law, separation given, mode) -> whether the laws fit (a few kinds)
+
+
 def _laws_fit(c) -> bool:
     """Smooth with Newton's law, as ContactElement would choose them."""
-    law = getattr(c, "law", None) or (Restitution.SEPARATION if c.separation is not None
-                                      else Restitution.NEWTON)
-    return RESTITUTION_LAWS.get(law) is NewtonRestitution and \
-        TANGENTIAL_LAWS.get(Tangential(c.mode)) is Smooth
+    kind = (getattr(c, "law", None), c.separation is not None, c.mode)
+    hit = _FIT.get(kind)
+    if hit is None:
+        law = kind[0] or (Restitution.SEPARATION if kind[1] else Restitution.NEWTON)
+        hit = RESTITUTION_LAWS.get(law) is NewtonRestitution and \
+            TANGENTIAL_LAWS.get(Tangential(c.mode)) is Smooth
+        if len(_FIT) < 64:
+            _FIT[kind] = hit
+    return hit
 
 
 def fits(c, bodies) -> bool:
