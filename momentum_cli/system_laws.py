@@ -146,11 +146,16 @@ def _momenta(c, moved, i, j, dirs) -> list[tuple]:
             leaves += (c.mass(b, sid), v.x, v.y)
     k = len(moved)
     f = None
-    if plain_leaves(*leaves):
+    if _plain_dirs(dirs) and plain_leaves(*leaves):
         f = template(("momenta", k) + tuple((d[0], math.copysign(1.0, d[0]), d[1],
                                               math.copysign(1.0, d[1])) for d in dirs),
                      _momenta_builder, len(leaves), k, dirs)
     return (f or _momenta_builder(k, dirs))(*leaves)
+
+
+def _plain_dirs(dirs) -> bool:
+    """Directions of plain floats (a template keys on them and keeps their numbers)."""
+    return all(type(d[0]) is float and type(d[1]) is float for d in dirs)
 
 
 def _many(c, moved, i, j, dirs) -> list[tuple] | None:
@@ -163,6 +168,8 @@ def _many(c, moved, i, j, dirs) -> list[tuple] | None:
             v = c.vel(b, sid)
             side.append((c.mass(b, sid), v.x, v.y))
         sides.append(side)
+    if not _plain_dirs(dirs):
+        return None  # a sweep's traced direction: its numbers are no template's
     for side in sides:
         for leaves in side:
             if not plain_leaves(*leaves):
