@@ -158,3 +158,14 @@ def test_a_tree_template_makes_the_builders_nodes_fresh_and_shares_what_it_share
     again = f(*leaves)
     assert again[0].factors[0] is not got[0].factors[0]  # numbers are fresh each time
     assert got[3] is leaves[1]
+
+
+def test_chains_and_cradles_take_the_templates():
+    """The fast path is the one taken (a kind that failed to generate would fall back
+    silently to the builders: equal, but slow)."""
+    from momentum_cli import tree_template
+
+    _compiled(chain_text(12), True)
+    _compiled(cradle_text(4, "sequence"), True)
+    kinds = {k[0] for k, f in tree_template._CACHE.items() if f is not None}
+    assert {"contact", "momenta", "term"} <= kinds
