@@ -1,10 +1,8 @@
-"""Compile helper: the commonest contact of an impact, stamped without the element layers.
+"""Compile helper: an impact's commonest contact stamped without the element layers.
 
-In: a smooth contact with Newton's law and a given e between particles (or a particle
-and the ground), and the impact's bookkeeping (compile._impulse_phase's lists). Out:
-the same unknowns, rows, impulses and sources in the same order as
-ContactElement.stamp gives (tests/test_impact_contacts.py compares them on every
-example and on big chains and cradles); a chain of N balls stamps N of these.
+In: a smooth contact with Newton's law and a given e between particles (or one and the
+ground), and compile._impulse_phase's lists. Out: the unknowns, rows, impulses and sources
+ContactElement.stamp makes, in its order (tests/test_impact_contacts.py compares them).
 """
 from __future__ import annotations
 

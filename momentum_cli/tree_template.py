@@ -1,13 +1,8 @@
-"""Compile helper: expression trees built once per kind, then replayed with new leaves.
+"""Compile helper: expression trees built once per kind, replayed with new leaves.
 
-In: a builder (the very code that folds a piece of a row: `mul`, `add`, `V2.dot`...) and
-a kind key (the numbers and shapes its folding depends on). Out: a generated function
-of the leaves that makes the same nodes the builder would, without its calls. The
-builder runs twice on stand-in leaves (`Var`s: `add` and `mul` fold only constants,
-sums and products, so any other leaf folds the same way); what it made is written out
-as constructor calls, fresh nodes where it made fresh ones (the report tells numbers
-apart by identity) and the same objects where both runs share one (ZERO).
-Callers check that each real leaf is no Const, Add or Mul (`plain_leaves`).
+In: a builder (the folding code itself: mul, add, V2.dot) and a kind key (the numbers its
+folding depends on). Out: a generated function of the leaves making the builder's nodes
+(fresh where it makes fresh ones, the same shared objects such as ZERO), without its calls.
 """
 from __future__ import annotations
 
@@ -20,7 +15,8 @@ ENABLED = True  # tests switch it off to compare with the builders' own nodes
 
 
 def plain_leaves(*leaves) -> bool:
-    """Whether the leaves fold like the stand-ins (no constant, sum or product)."""
+    """Whether the leaves fold like the builder's stand-in Vars (no constant, sum or
+    product: add and mul fold only those). Callers check it before a replay."""
     for x in leaves:
         if type(x) in _FOLDED:
             return False
