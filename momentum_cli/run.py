@@ -308,8 +308,9 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
     """Solve sources in order, in parallel worker processes when there are many.
 
     Yields FileResults in the input order. Each file is independent, so with many
-    files a fork-based pool on every core cuts the per-file cost; the parser's
-    tables are loaded first, so each worker inherits them. Files of a batch are often
+    files a fork-based worker per core cuts the per-file cost (run_pool routes the
+    files: a family of variants to one worker, flows that may need scipy to one);
+    the parser's tables are loaded first, so each worker inherits them. Files of a batch are often
     variants of one problem: each distinct statement is parsed once (statement_memo).
     `render` (report -> str, picklable): each report comes back as `Rendered` text,
     made by the worker.
@@ -364,12 +365,15 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
             for s in sources]
     done = 0
     if ctx is not None:
-        pool = None
+        from .run_pool import routed
+
+        pools = []
         _before_fork()
         try:
-            pool = ProcessPoolExecutor(cores, mp_context=ctx, initializer=_worker_init,
-                                       initargs=(os.getpid(),))
-            for res in pool.map(_batch_job, jobs, chunksize=8):
+            for _ in range(cores):
+                pools.append(ProcessPoolExecutor(1, mp_context=ctx, initializer=_worker_init,
+                                                 initargs=(os.getpid(),)))
+            for res in routed(jobs, [s.text for s in sources], pools, _batch_job):
                 done += 1
                 yield res
         except (BrokenProcessPool, OSError, RuntimeError):
@@ -378,10 +382,10 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
             _end_workers(mp)
             raise
         finally:
-            if pool is not None:
+            for pool in pools:
                 pool.shutdown(wait=done == len(jobs), cancel_futures=True)
-                if done < len(jobs):
-                    _end_workers(mp)
+            if pools and done < len(jobs):
+                _end_workers(mp)
             import gc
 
             gc.unfreeze()
