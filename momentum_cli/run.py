@@ -408,7 +408,17 @@ def _before_fork() -> None:
 
     from . import expectations, scene, solve  # noqa: F401
     from .report import model, text  # noqa: F401
+    # what the seeds' files import along the way (each worker imported them again)
+    from . import (contact_laws, flows, integration, lowered, massratio,  # noqa: F401
+                   numeric_rank, regime_search, roots, same_solve)
+    from .laws import impulse_path  # noqa: F401
+    from .report import diagram  # noqa: F401
 
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes  # noqa: F401  (_worker_init's prctl)
+        except ImportError:
+            pass
     gc.freeze()
 
 
