@@ -103,12 +103,14 @@ class _NoCyclicGC:
         return False
 
 
-def _build_scene(source: Source, overrides=()):
-    """Parse and build one file, with `--set` (name, value text) overrides of its `let`s."""
+def _build_scene(source: Source, overrides=(), doc=None):
+    """Parse and build one file, with `--set` (name, value text) overrides of its `let`s
+    (`doc`: the file already parsed)."""
     from .scene import build
     from .syntax import parse
 
-    doc = parse(source)
+    if doc is None:
+        doc = parse(source)
     if overrides:
         from .overrides import apply
 
@@ -118,16 +120,17 @@ def _build_scene(source: Source, overrides=()):
 
 def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
                  precision: str = "float", overrides=(), units: str = "file",
-                 sensitivity: bool = False) -> FileResult:
+                 sensitivity: bool = False, doc=None) -> FileResult:
     """Solve one file; `overrides` are `--set` (name, value text) pairs for its `let`s.
     Its `expect` lines are checked (`FileResult.expects`), also when it does not solve.
-    `sensitivity`: the report gets d answer / d given number (`--sensitivity`)."""
+    `sensitivity`: the report gets d answer / d given number (`--sensitivity`).
+    `doc`: the file already parsed (a batch's same_solve)."""
     from .report.model import build_report
     from .solve import solve_scene
 
     try:
         with _NoCyclicGC():
-            scene = _build_scene(source, overrides)
+            scene = _build_scene(source, overrides, doc)
             sol = solve_scene(scene, solve_all, precision=precision)
             _shed(sol)
             _instant_phases(sol)
@@ -276,14 +279,15 @@ class Rendered:
     fields: dict | None = None
 
 
-def _solve_job(job):
+def _solve_job(job, solve=None):
     """Worker: solve one (source, options) job; a bug becomes an internal FileResult.
-    With a `render` (the job's last item), a report is shipped as `Rendered` text."""
+    With a `render` (the job's last item), a report is shipped as `Rendered` text.
+    `solve`: solve_source, or a batch's same_solve.solved (the same result)."""
     source, solve_all, sig, precision, overrides, units, sensitivity, render = job
     try:
         with _NoCyclicGC():  # the report's text too: collected once it is all freed
-            res = solve_source(source, solve_all, sig, precision, overrides, units,
-                               sensitivity)
+            res = (solve or solve_source)(source, solve_all, sig, precision, overrides, units,
+                                          sensitivity)
             if render is not None and res.report is not None:
                 made = render(res.report)
                 checks = list(res.report.checks)
@@ -308,8 +312,9 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
     """Solve sources in order, in parallel worker processes when there are many.
 
     Yields FileResults in the input order. Each file is independent, so with many
-    files a fork-based pool on every core cuts the per-file cost; the parser's
-    tables are loaded first, so each worker inherits them. Files of a batch are often
+    files a fork-based worker per core cuts the per-file cost (run_pool routes the
+    files: a family of variants to one worker, flows that may need scipy to one);
+    the parser's tables are loaded first, so each worker inherits them. Files of a batch are often
     variants of one problem: each distinct statement is parsed once (statement_memo).
     `render` (report -> str, picklable): each report comes back as `Rendered` text,
     made by the worker.
@@ -320,22 +325,24 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
             yield _solve_job((s, solve_all, sig, precision, overrides, units, sensitivity,
                               render))
         return
-    from . import statement_memo
+    from . import same_solve, statement_memo
 
     try:
         yield from _solve_all(sources, solve_all, sig, precision, overrides, units,
                               sensitivity, render)
     finally:
         statement_memo.clear()
+        same_solve.clear()
 
 
 def _batch_job(job):
     """`_solve_job` for a file of a batch: its statements through statement_memo's
     table, which stays (in this process, or in the worker) for the next file."""
+    from .same_solve import solved
     from .statement_memo import hooked
 
     with hooked():
-        return _solve_job(job)
+        return _solve_job(job, lambda *a: solved(solve_source, *a))
 
 
 def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity, render):
@@ -364,12 +371,15 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
             for s in sources]
     done = 0
     if ctx is not None:
-        pool = None
+        from .run_pool import routed
+
+        pools = []
         _before_fork()
         try:
-            pool = ProcessPoolExecutor(cores, mp_context=ctx, initializer=_worker_init,
-                                       initargs=(os.getpid(),))
-            for res in pool.map(_batch_job, jobs, chunksize=8):
+            for _ in range(cores):
+                pools.append(ProcessPoolExecutor(1, mp_context=ctx, initializer=_worker_init,
+                                                 initargs=(os.getpid(),)))
+            for res in routed(jobs, [s.text for s in sources], pools, _batch_job):
                 done += 1
                 yield res
         except (BrokenProcessPool, OSError, RuntimeError):
@@ -378,10 +388,10 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
             _end_workers(mp)
             raise
         finally:
-            if pool is not None:
+            for pool in pools:
                 pool.shutdown(wait=done == len(jobs), cancel_futures=True)
-                if done < len(jobs):
-                    _end_workers(mp)
+            if pools and done < len(jobs):
+                _end_workers(mp)
             import gc
 
             gc.unfreeze()
@@ -398,7 +408,17 @@ def _before_fork() -> None:
 
     from . import expectations, scene, solve  # noqa: F401
     from .report import model, text  # noqa: F401
+    # what the seeds' files import along the way (each worker imported them again)
+    from . import (contact_laws, flows, integration, lowered, massratio,  # noqa: F401
+                   numeric_rank, regime_search, roots, same_solve)
+    from .laws import impulse_path  # noqa: F401
+    from .report import diagram  # noqa: F401
 
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes  # noqa: F401  (_worker_init's prctl)
+        except ImportError:
+            pass
     gc.freeze()
 
 

@@ -17,9 +17,10 @@ _table: dict = {}
 _JOINS = re.compile(r".*\\[\t \f]*$").match  # a line the grammar joins to the next
 
 
-def parse(text: str, parse_text):
-    """The statement nodes of `text` (the file, loop-free), or None: parse it whole.
-    `parse_text(text)`: the statement nodes of a text (it raises where it cannot).
+def parse(text: str, parse_text, loops=None):
+    """The statement nodes of `text` (the file, or with `loops` its loops written out),
+    or None: parse it whole. `parse_text(text)`: the statement nodes of a text (it
+    raises where it cannot).
 
     A statement starts with a letter at column 1; every other line (indented, blank, a
     comment) belongs to the statement before it, as syntax_lines cuts a file. Each
@@ -28,6 +29,9 @@ def parse(text: str, parse_text):
     every file that has the same statement at the same line. Any text this cut might
     not match (something before the first statement, a `\\` continuation at the end
     of a statement, a statement that does not parse alone) is left to the whole parse, which also reports errors.
+    Written-out loops: a node's span is mapped to the file through the lines' origins
+    (loops.Expansion.at), so their key holds those origins too, and no template is
+    made from them or used for them (its columns are the expanded text's).
     """
     lines = text.split("\n")
     if lines[-1] == "":
@@ -51,14 +55,18 @@ def parse(text: str, parse_text):
     for k in range(len(heads) - 1):
         a, b = heads[k], heads[k + 1]
         chunk = "\n".join(lines[a:b]) + "\n"
-        key = (a, chunk)
+        if loops is None:
+            key = (a, chunk)
+        else:
+            key = (a, chunk, tuple([(o.line, o.text, o.where) for o in loops.origins[a:b]]))
         nodes = table.get(key)
         if nodes is None:
-            shape, literals = statement_template.shape(a, chunk)
-            nodes = statement_template.made(shape, literals)  # new numbers, same nodes
-            if nodes is not None:
-                out.extend(nodes)
-                continue
+            if loops is None:
+                shape, literals = statement_template.shape(a, chunk)
+                nodes = statement_template.made(shape, literals)  # new numbers, same nodes
+                if nodes is not None:
+                    out.extend(nodes)
+                    continue
             try:
                 nodes = tuple(parse_text("\n" * a + chunk))
             except Exception:  # an error, or a cut that does not fit: the whole parse's
@@ -66,7 +74,8 @@ def parse(text: str, parse_text):
             if len(table) >= LIMIT:
                 table.clear()
             table[key] = nodes
-            statement_template.remember(shape, literals, nodes)
+            if loops is None:
+                statement_template.remember(shape, literals, nodes)
         out.extend(nodes)
     return out
 

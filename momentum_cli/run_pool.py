@@ -1,0 +1,181 @@
+"""Run stage, for a batch: which worker process solves which files, results in order.
+
+In: a batch's jobs (one per file, in the given order) and a multiprocessing context.
+Out: the jobs' results, in the given order. Each worker is a one-process pool with its
+own queue, so the files can be routed: the files of one family (the same text but for
+its digits) go to one worker in chunks, so each worker parses and warms up on a family
+once, not every worker on every family; and files that may integrate a flow
+(`gain`, `lose`, `burn`: scipy and numpy, ~1 s to import) go to the first worker, so one
+worker imports them instead of each. Routing changes where a file is solved, never its
+result (each file is solved alone, as in one call on it).
+"""
+from __future__ import annotations
+
+import re
+import sys
+from collections import deque
+
+CHUNK = 8  # files sent to a worker at once (the same family)
+AHEAD = 2  # chunks queued per worker, so that none waits for the parent
+WINDOW = 512  # files solved ahead of the next one printed (bounds the results held)
+HEAVY = ("numpy", "scipy")  # the imports worth routing: ~0.2 s and ~1 s per process
+_MAY_INTEGRATE = re.compile(r"^[ \t]*(?:gain|lose|burn)\b", re.M)
+_DIGITS = str.maketrans("", "", "0123456789")
+
+
+def family(text: str) -> int:
+    """Files of one family share most statements (variants of one problem)."""
+    return hash(text.translate(_DIGITS))
+
+
+def may_integrate(text: str) -> bool:
+    """A flow that may have no closed form: solved with scipy's solve_ivp (a hint)."""
+    return _MAY_INTEGRATE.search(text) is not None
+
+
+def chunk_job(jobs, solve):
+    """Worker: `solve` each job; with the results, which HEAVY modules this process had
+    imported before and after (so the parent learns which families need them)."""
+    before = tuple(m for m in HEAVY if m in sys.modules)
+    out = [solve(job) for job in jobs]
+    return out, before, tuple(m for m in HEAVY if m in sys.modules)
+
+
+class Router:
+    """Which pending file each worker gets next. A family belongs to the worker that
+    solved its first chunk; a file that may integrate goes to worker 0 (or to a worker
+    that already imported the HEAVY modules); an idle worker takes another worker's
+    family only if that family needs no import the thief lacks."""
+
+    def __init__(self, texts, workers: int):
+        n = len(texts)
+        self.n, self.workers = n, workers
+        self.fam = [family(t) for t in texts]
+        self.hint = [may_integrate(t) for t in texts]
+        self.taken = bytearray(n)
+        self.lo = 0  # every file before this one is taken
+        self.by_fam: dict = {}
+        for i, f in enumerate(self.fam):
+            q = self.by_fam.get(f)
+            if q is None:
+                q = self.by_fam[f] = deque()
+            q.append(i)
+        self.hinted = deque(i for i in range(n) if self.hint[i])
+        self.owner: dict = {}
+        self.needs: dict = {}  # family -> HEAVY modules its first chunk imported
+        self.loaded = [frozenset() for _ in range(workers)]
+
+    def _may_take(self, w: int, i: int) -> bool:
+        f = self.fam[i]
+        own = self.owner.get(f)
+        if own == w:
+            return True
+        if own is None:
+            return not self.hint[i] or w == 0 or self.loaded[w] >= set(HEAVY)
+        return False
+
+    def _may_steal(self, w: int, i: int) -> bool:
+        f = self.fam[i]
+        if self.hint[i] and not self.loaded[w] >= set(HEAVY):
+            return False
+        return self.needs.get(f, frozenset()) <= self.loaded[w]
+
+    def pick(self, w: int, limit: int):
+        """The next chunk (file indices, in order) for worker `w`, from files before
+        `limit`; None when none fits it now."""
+        limit = min(limit, self.n)
+        taken = self.taken
+        while self.lo < self.n and taken[self.lo]:
+            self.lo += 1
+        i = None
+        if w == 0:  # the files that may integrate first: worker 0 imports for them
+            h = self.hinted
+            while h and taken[h[0]]:
+                h.popleft()
+            for j in h:
+                if j >= limit:
+                    break
+                if not taken[j] and self._may_take(w, j):
+                    i = j
+                    break
+        if i is None:
+            for j in range(self.lo, limit):
+                if not taken[j] and self._may_take(w, j):
+                    i = j
+                    break
+        if i is None:
+            for j in range(self.lo, limit):
+                if not taken[j] and self._may_steal(w, j):
+                    i = j
+                    break
+        if i is None:
+            return None
+        f = self.fam[i]
+        self.owner.setdefault(f, w)
+        q = self.by_fam[f]
+        while q and taken[q[0]]:
+            q.popleft()
+        out = []
+        while q and len(out) < CHUNK and q[0] < limit:
+            j = q.popleft()
+            if not taken[j]:
+                taken[j] = 1
+                out.append(j)
+        return out
+
+    def learned(self, w: int, chunk, before, after) -> None:
+        """A chunk came back from worker `w`: what its process has imported now, and
+        what this family needs if its chunk imported it."""
+        self.loaded[w] = frozenset(after)
+        new = frozenset(after) - frozenset(before)
+        if new:
+            f = self.fam[chunk[0]]
+            self.needs[f] = self.needs.get(f, frozenset()) | new
+
+
+def routed(jobs, texts, pools, solve):
+    """Yield the results of `jobs` in order, solved by `pools` (one-process executors):
+    `solve(job)` in a worker, chunks routed by Router. Raises what a pool raises
+    (BrokenProcessPool when a worker died): the caller solves the rest itself."""
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    n = len(jobs)
+    router = Router(texts, len(pools))
+    results: dict = {}
+    flying: dict = {}  # future -> (worker, chunk)
+    count = [0] * len(pools)
+    nxt = 0
+
+    def refill():
+        limit = nxt + WINDOW
+        for w, pool in enumerate(pools):
+            while count[w] < AHEAD:
+                chunk = router.pick(w, limit)
+                if not chunk:
+                    break
+                fut = pool.submit(chunk_job, [jobs[i] for i in chunk], solve)
+                flying[fut] = (w, chunk)
+                count[w] += 1
+
+    refill()
+    while nxt < n:
+        if nxt in results:
+            res = results.pop(nxt)
+            nxt += 1
+            yield res
+            if nxt % CHUNK == 0:
+                refill()
+            continue
+        if not flying:
+            refill()
+            if not flying:  # never: every file in the window fits some worker
+                raise RuntimeError("batch routing stalled")
+        done, _ = wait(list(flying), return_when=FIRST_COMPLETED)
+        for fut in done:
+            w, chunk = flying.pop(fut)
+            count[w] -= 1
+            out, before, after = fut.result()
+            router.learned(w, chunk, before, after)
+            for i, r in zip(chunk, out):
+                results[i] = r
+        refill()

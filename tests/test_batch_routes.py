@@ -1,0 +1,176 @@
+"""A batch routed to workers (run_pool) prints what each file solved alone prints; so
+does a file that is another's copy under a new title (same_solve: not solved again).
+
+Files of a batch are routed by family to one-process pools (run_pool.Router); where a
+file is solved must never change what is printed. Checked byte for byte (stdout, stderr,
+exit code; --plain and --json) over every example and generated number-only variants
+(numbers scaled, zeroed, negated, made huge: regime changes, singular blocks, bad
+values) and copies under other titles, plus files that do not parse, are not UTF-8 or do not exist, against the same
+call with --traceback (each file solved alone, in order, in one process).
+"""
+from __future__ import annotations
+
+import random
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from momentum_cli import run_pool
+from momentum_cli.run import PARALLEL_MIN
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = sorted((ROOT / "examples").glob("*.mom"))
+NUMBER = re.compile(r"(?<=[=(,] )(\d+\.?\d*)(?=[ ,)\n])")
+TITLE = re.compile(r'^problem "[^"\n]*"', re.M)
+
+
+def variant(text: str, rng: random.Random) -> str:
+    """Some given numbers changed: scaled (a regime may switch), zeroed or negated (a
+    block may turn singular, a value become bad), or made huge."""
+    def new(m):
+        if rng.random() > 0.35:
+            return m.group(1)
+        x = float(m.group(1))
+        return f"{rng.choice([x * rng.uniform(0.3, 3), 0.0, -x, x * 1e9, x * 1.5]):.5g}"
+    return NUMBER.sub(new, text)
+
+
+def batch_files(tmp_path: Path) -> list[str]:
+    rng = random.Random(13)
+    paths = []
+    texts = [p.read_text(encoding="utf-8") for p in EXAMPLES]
+    for k, (p, text) in enumerate(zip(EXAMPLES, texts)):
+        out = tmp_path / f"{k:03d}_{p.name}"
+        out.write_text(text, encoding="utf-8")
+        paths.append(out)
+    for k in range(60):  # variants, interleaved with other families
+        j = rng.randrange(len(texts))
+        out = tmp_path / f"v{k:03d}_{EXAMPLES[j].name}"
+        out.write_text(variant(texts[j], rng), encoding="utf-8")
+        paths.append(out)
+    for k in range(40):  # the same problems under other titles (run's same_solve)
+        j = rng.randrange(len(texts))
+        out = tmp_path / f"t{k:03d}_{EXAMPLES[j].name}"
+        out.write_text(TITLE.sub(f'problem "copy {k * 37} of it"', texts[j], count=1),
+                       encoding="utf-8")
+        paths.append(out)
+    bad = tmp_path / "bad_syntax.mom"
+    bad.write_text("body b: rod(mass = 1 m, length = 1 m)\n", encoding="utf-8")
+    latin = tmp_path / "latin1.mom"
+    latin.write_bytes(b'problem "caf\xe9"\n')
+    empty = tmp_path / "empty.mom"
+    empty.write_text("", encoding="utf-8")
+    paths[10:10] = [bad, latin, tmp_path / "missing.mom", empty]
+    rng.shuffle(paths)
+    assert len(paths) >= PARALLEL_MIN
+    return [str(p) for p in paths]
+
+
+@pytest.mark.parametrize("fmt", ["--plain", "--json"])
+def test_a_routed_batch_prints_what_each_file_alone_prints(tmp_path, fmt):
+    paths = batch_files(tmp_path)
+    args = [sys.executable, "-m", "momentum_cli", "solve", fmt, *paths]
+    par = subprocess.run(args, capture_output=True, text=True, timeout=600)
+    ser = subprocess.run(args + ["--traceback"], capture_output=True, text=True, timeout=600)
+    assert par.returncode == ser.returncode == 2  # the missing file: a usage error
+    assert par.stdout == ser.stdout
+    assert par.stderr == ser.stderr
+    assert "Traceback" not in par.stderr
+
+
+def simulate(texts, workers: int, seed: int):
+    """Run Router as routed does, with chunks finishing in a random order and each
+    worker importing HEAVY when it solves a file that may integrate; returns the chunks
+    per worker and each worker's imports."""
+    rng = random.Random(seed)
+    r = run_pool.Router(texts, workers)
+    flying, out = [], {w: [] for w in range(workers)}
+    loaded = [set() for _ in range(workers)]
+    done: set = set()
+    nxt = 0
+    while nxt < len(texts):
+        while nxt in done:
+            nxt += 1
+        for w in range(workers):
+            while sum(1 for x, _ in flying if x == w) < run_pool.AHEAD:
+                chunk = r.pick(w, nxt + run_pool.WINDOW)
+                if not chunk:
+                    break
+                flying.append((w, chunk))
+        if nxt >= len(texts):
+            break
+        assert flying, "stalled"
+        w, chunk = flying.pop(rng.randrange(len(flying)))
+        before = tuple(sorted(loaded[w]))
+        if any(r.hint[i] for i in chunk):
+            loaded[w] |= set(run_pool.HEAVY)
+        r.learned(w, chunk, before, tuple(sorted(loaded[w])))
+        out[w].append(chunk)
+        done.update(chunk)
+    return r, out, loaded
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_router_hands_out_every_file_once_in_chunks_of_one_family(seed):
+    rng = random.Random(seed)
+    texts = [p.read_text(encoding="utf-8") for p in EXAMPLES]
+    batch = [texts[rng.randrange(len(texts))].replace("1", str(rng.randrange(1, 9)), 1)
+             for _ in range(700)]
+    r, out, loaded = simulate(batch, 2, seed)
+    seen = sorted(i for chunks in out.values() for c in chunks for i in c)
+    assert seen == list(range(len(batch)))
+    for chunks in out.values():
+        for c in chunks:
+            assert c == sorted(c) and len(c) <= run_pool.CHUNK
+            assert len({run_pool.family(batch[i]) for i in c}) == 1
+    # the files that may integrate all went to one worker: only it imported scipy
+    assert any(run_pool.may_integrate(t) for t in batch)
+    assert [bool(x) for x in loaded] == [True, False]
+
+
+def test_a_family_is_its_text_but_for_digits():
+    a = 'problem "P (variant 3)"\nbody a: particle(mass = 2.5 kg)\n'
+    b = 'problem "P (variant 41)"\nbody a: particle(mass = 7.75 kg)\n'
+    c = 'problem "P (variant 3)"\nbody a: particle(mass = 2.5 g)\n'
+    assert run_pool.family(a) == run_pool.family(b) != run_pool.family(c)
+    assert run_pool.may_integrate("let x = 1\n  burn r 1 -> 2:\n")
+    assert not run_pool.may_integrate("# burn r 1 -> 2\nimpact 1 -> 2:\n")
+
+
+def test_a_copy_under_another_title_is_the_first_report_renamed():
+    """same_solve, in this process: each example, then copies of it under other titles
+    (one longer, one shorter, one with digits), as each alone would give them."""
+    from functools import partial
+
+    from momentum_cli import same_solve, statement_memo
+    from momentum_cli.report import json_out, text
+    from momentum_cli.run import solve_source
+    from momentum_cli.source import Source
+
+    plain = partial(text.render, sig=6, detail="full")
+    hits = 0
+    for p in EXAMPLES:
+        body = p.read_text(encoding="utf-8")
+        copies = [body] + [TITLE.sub(f'problem "{t}"', body, count=1)
+                           for t in ("a much longer title than the first one", "x", "v 12")]
+        with statement_memo.enabled():
+            try:
+                for k, t in enumerate(copies):
+                    src = Source(f"c{k}_{p.name}", t)
+                    alone = solve_source(src)
+                    before = dict(same_solve._table)
+                    got = same_solve.solved(solve_source, src)
+                    hits += k > 0 and len(same_solve._table) == len(before) and \
+                        alone.status == "solved"
+                    assert (got.status, got.diagnostics, got.expects) == \
+                        (alone.status, alone.diagnostics, alone.expects), src.name
+                    if alone.report is not None:
+                        assert plain(got.report) == plain(alone.report), src.name
+                        assert json_out.encoded_fields(got.report) == \
+                            json_out.encoded_fields(alone.report), src.name
+            finally:
+                same_solve.clear()
+    assert hits >= 2 * len(EXAMPLES)  # most copies were not solved again
