@@ -103,14 +103,12 @@ class _NoCyclicGC:
         return False
 
 
-def _build_scene(source: Source, overrides=(), doc=None):
-    """Parse and build one file, with `--set` (name, value text) overrides of its `let`s
-    (`doc`: the file already parsed)."""
+def _build_scene(source: Source, overrides=()):
+    """Parse and build one file, with `--set` (name, value text) overrides of its `let`s."""
     from .scene import build
     from .syntax import parse
 
-    if doc is None:
-        doc = parse(source)
+    doc = parse(source)
     if overrides:
         from .overrides import apply
 
@@ -120,17 +118,16 @@ def _build_scene(source: Source, overrides=(), doc=None):
 
 def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
                  precision: str = "float", overrides=(), units: str = "file",
-                 sensitivity: bool = False, doc=None) -> FileResult:
+                 sensitivity: bool = False) -> FileResult:
     """Solve one file; `overrides` are `--set` (name, value text) pairs for its `let`s.
     Its `expect` lines are checked (`FileResult.expects`), also when it does not solve.
-    `sensitivity`: the report gets d answer / d given number (`--sensitivity`).
-    `doc`: the file already parsed (a batch's same_solve)."""
+    `sensitivity`: the report gets d answer / d given number (`--sensitivity`)."""
     from .report.model import build_report
     from .solve import solve_scene
 
     try:
         with _NoCyclicGC():
-            scene = _build_scene(source, overrides, doc)
+            scene = _build_scene(source, overrides)
             sol = solve_scene(scene, solve_all, precision=precision)
             _shed(sol)
             _instant_phases(sol)
@@ -279,15 +276,14 @@ class Rendered:
     fields: dict | None = None
 
 
-def _solve_job(job, solve=None):
+def _solve_job(job):
     """Worker: solve one (source, options) job; a bug becomes an internal FileResult.
-    With a `render` (the job's last item), a report is shipped as `Rendered` text.
-    `solve`: solve_source, or a batch's same_solve.solved (the same result)."""
+    With a `render` (the job's last item), a report is shipped as `Rendered` text."""
     source, solve_all, sig, precision, overrides, units, sensitivity, render = job
     try:
         with _NoCyclicGC():  # the report's text too: collected once it is all freed
-            res = (solve or solve_source)(source, solve_all, sig, precision, overrides, units,
-                                          sensitivity)
+            res = solve_source(source, solve_all, sig, precision, overrides, units,
+                               sensitivity)
             if render is not None and res.report is not None:
                 made = render(res.report)
                 checks = list(res.report.checks)
@@ -325,24 +321,22 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
             yield _solve_job((s, solve_all, sig, precision, overrides, units, sensitivity,
                               render))
         return
-    from . import same_solve, statement_memo
+    from . import statement_memo
 
     try:
         yield from _solve_all(sources, solve_all, sig, precision, overrides, units,
                               sensitivity, render)
     finally:
         statement_memo.clear()
-        same_solve.clear()
 
 
 def _batch_job(job):
     """`_solve_job` for a file of a batch: its statements through statement_memo's
     table, which stays (in this process, or in the worker) for the next file."""
-    from .same_solve import solved
     from .statement_memo import hooked
 
     with hooked():
-        return _solve_job(job, lambda *a: solved(solve_source, *a))
+        return _solve_job(job)
 
 
 def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity, render):

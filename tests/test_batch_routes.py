@@ -1,11 +1,10 @@
-"""A batch routed to workers (run_pool) prints what each file solved alone prints; so
-does a file that is another's copy under a new title (same_solve: not solved again).
+"""A batch routed to workers (run_pool) prints what each file solved alone prints.
 
 Files of a batch are routed by family to one-process pools (run_pool.Router); where a
 file is solved must never change what is printed. Checked byte for byte (stdout, stderr,
 exit code; --plain and --json) over every example and generated number-only variants
 (numbers scaled, zeroed, negated, made huge: regime changes, singular blocks, bad
-values) and copies under other titles, plus files that do not parse, are not UTF-8 or do not exist, against the same
+values), plus files that do not parse, are not UTF-8 or do not exist, against the same
 call with --traceback (each file solved alone, in order, in one process).
 """
 from __future__ import annotations
@@ -24,7 +23,6 @@ from momentum_cli.run import PARALLEL_MIN
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = sorted((ROOT / "examples").glob("*.mom"))
 NUMBER = re.compile(r"(?<=[=(,] )(\d+\.?\d*)(?=[ ,)\n])")
-TITLE = re.compile(r'^problem "[^"\n]*"', re.M)
 
 
 def variant(text: str, rng: random.Random) -> str:
@@ -50,12 +48,6 @@ def batch_files(tmp_path: Path) -> list[str]:
         j = rng.randrange(len(texts))
         out = tmp_path / f"v{k:03d}_{EXAMPLES[j].name}"
         out.write_text(variant(texts[j], rng), encoding="utf-8")
-        paths.append(out)
-    for k in range(40):  # the same problems under other titles (run's same_solve)
-        j = rng.randrange(len(texts))
-        out = tmp_path / f"t{k:03d}_{EXAMPLES[j].name}"
-        out.write_text(TITLE.sub(f'problem "copy {k * 37} of it"', texts[j], count=1),
-                       encoding="utf-8")
         paths.append(out)
     bad = tmp_path / "bad_syntax.mom"
     bad.write_text("body b: rod(mass = 1 m, length = 1 m)\n", encoding="utf-8")
@@ -138,39 +130,3 @@ def test_a_family_is_its_text_but_for_digits():
     assert run_pool.family(a) == run_pool.family(b) != run_pool.family(c)
     assert run_pool.may_integrate("let x = 1\n  burn r 1 -> 2:\n")
     assert not run_pool.may_integrate("# burn r 1 -> 2\nimpact 1 -> 2:\n")
-
-
-def test_a_copy_under_another_title_is_the_first_report_renamed():
-    """same_solve, in this process: each example, then copies of it under other titles
-    (one longer, one shorter, one with digits), as each alone would give them."""
-    from functools import partial
-
-    from momentum_cli import same_solve, statement_memo
-    from momentum_cli.report import json_out, text
-    from momentum_cli.run import solve_source
-    from momentum_cli.source import Source
-
-    plain = partial(text.render, sig=6, detail="full")
-    hits = 0
-    for p in EXAMPLES:
-        body = p.read_text(encoding="utf-8")
-        copies = [body] + [TITLE.sub(f'problem "{t}"', body, count=1)
-                           for t in ("a much longer title than the first one", "x", "v 12")]
-        with statement_memo.enabled():
-            try:
-                for k, t in enumerate(copies):
-                    src = Source(f"c{k}_{p.name}", t)
-                    alone = solve_source(src)
-                    before = dict(same_solve._table)
-                    got = same_solve.solved(solve_source, src)
-                    hits += k > 0 and len(same_solve._table) == len(before) and \
-                        alone.status == "solved"
-                    assert (got.status, got.diagnostics, got.expects) == \
-                        (alone.status, alone.diagnostics, alone.expects), src.name
-                    if alone.report is not None:
-                        assert plain(got.report) == plain(alone.report), src.name
-                        assert json_out.encoded_fields(got.report) == \
-                            json_out.encoded_fields(alone.report), src.name
-            finally:
-                same_solve.clear()
-    assert hits >= 2 * len(EXAMPLES)  # most copies were not solved again
