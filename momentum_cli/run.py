@@ -404,7 +404,7 @@ def _before_fork() -> None:
     from .report import model, text  # noqa: F401
     # what the seeds' files import along the way (each worker imported them again)
     from . import (contact_laws, flows, integration, lowered, massratio,  # noqa: F401
-                   numeric_rank, regime_search, roots, same_solve)
+                   numeric_rank, regime_search, roots)
     from .laws import impulse_path  # noqa: F401
     from .report import diagram  # noqa: F401
 
