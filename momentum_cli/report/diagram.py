@@ -11,7 +11,7 @@ import math
 
 from ..elements.keys import Key
 from ..elements.kinds import Component, JointKind, KeyKind, Tangential
-from ..expr import evaluate, variables
+from ..expr import Const, Known, Mul, Var, evaluate, variables
 from ..numbers import fmt_num
 from ..records import field, record
 from ..units import ANGULAR_IMPULSE, FORCE, IMPULSE, LENGTH, VELOCITY
@@ -447,9 +447,16 @@ class _Builder:
     # -- the impulses of one application, split into their unknowns
     def _impulses(self, a, body: DiagramBody) -> list[DiagramImpulse]:
         t, vals = self.t, self.values
-        names = variables(a.J.x)
-        variables(a.J.y, names)
-        torque = variables(a.torque) if a.torque is not None else _NO_NAMES
+        # J linear in impulses, one per component (a contact's J_n along its normal): the
+        # direction of each is read off its coefficients, as the two evaluations give it
+        mono = _monomials(a.J) if a.torque is None else None
+        if mono is not None:
+            names = set(mono)
+            torque = _NO_NAMES
+        else:
+            names = variables(a.J.x)
+            variables(a.J.y, names)
+            torque = variables(a.torque) if a.torque is not None else _NO_NAMES
         # an unknown nothing solved (an angle not needed) reads 0: the values themselves
         # where every name is solved or an impulse (no layer over them for most impulses)
         arm_names = variables(a.arm.x)
@@ -481,7 +488,7 @@ class _Builder:
             # what J and the torque read, as `base` over the impulses at 0 reads it, in one
             # plain dict (a lookup through no layers; a name `base` lacks stays missing)
             zero = {}
-            for n in names | torque:
+            for n in (names | torque) if mono is None else ():
                 if n in imp_set:
                     zero[n] = 0.0
                 else:
@@ -490,13 +497,16 @@ class _Builder:
                     except KeyError:
                         pass
             for n in imp:
-                one = dict(zero)
-                one[n] = 1.0
-                try:
-                    d = (evaluate(a.J.x, one) - evaluate(a.J.x, zero),
-                         evaluate(a.J.y, one) - evaluate(a.J.y, zero))
-                except (KeyError, ValueError, ZeroDivisionError):
-                    continue
+                if mono is not None:
+                    d = mono[n]
+                else:
+                    one = dict(zero)
+                    one[n] = 1.0
+                    try:
+                        d = (evaluate(a.J.x, one) - evaluate(a.J.x, zero),
+                             evaluate(a.J.y, one) - evaluate(a.J.y, zero))
+                    except (KeyError, ValueError, ZeroDivisionError):
+                        continue
                 size = math.hypot(*d)
                 if size == 0:
                     continue
@@ -638,6 +648,41 @@ class _Builder:
 
 
 _NO_NAMES: frozenset = frozenset()
+
+
+def _monomial(e):
+    """(impulse name or None, coefficient) of a component that is a finite constant, an
+    impulse, or a nonzero finite constant times an impulse; None for anything else."""
+    t = type(e)
+    if t is Const or t is Known:
+        v = e.value
+        return (None, 0.0) if type(v) is float and v - v == 0.0 else None
+    if t is Var:
+        return (e.name, 1.0) if _impulse(e.name) else None
+    if t is Mul and len(e.factors) == 2:
+        f, g = e.factors
+        if type(f) is Var:
+            f, g = g, f
+        if (type(f) is Const or type(f) is Known) and type(g) is Var and _impulse(g.name):
+            c = f.value
+            if type(c) is float and c - c == 0.0 and c != 0.0:
+                return g.name, c
+    return None
+
+
+def _monomials(J) -> dict | None:
+    """impulse name -> (d J.x, d J.y) per unit of it, for a J each of whose components
+    is a `_monomial` (the differences `evaluate(J, one) - evaluate(J, zero)` give: the
+    coefficient where the impulse is, 0.0 elsewhere); None otherwise, or with no impulse."""
+    mx, my = _monomial(J.x), _monomial(J.y)
+    if mx is None or my is None or (mx[0] is None and my[0] is None):
+        return None
+    out = {}
+    if mx[0] is not None:
+        out[mx[0]] = (mx[1], my[1] if my[0] == mx[0] else 0.0)
+    if my[0] is not None and my[0] != mx[0]:
+        out[my[0]] = (0.0, my[1])
+    return out
 
 
 class _Over(dict):
