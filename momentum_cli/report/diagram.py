@@ -98,9 +98,10 @@ class ImpulseDiagram:
         """(value, unit) as the reader reads it: US customary for a US problem."""
         return self.reader.show(si_value, dim, si_unit)
 
-    def lines(self) -> list[str]:
-        """The terminal list: per body its impulses, then what is dropped (plain ASCII)."""
-        out = [self.title]
+    def lines(self, indent: str = "") -> list[str]:
+        """The terminal list: per body its impulses, then what is dropped (plain ASCII);
+        every line after `indent` (the plain report's two spaces, without a second list)."""
+        out = [indent + self.title]
         by_body: dict = {}  # one pass, not one scan of every impulse per body
         for i in self.impulses:
             by_body.setdefault(i.body, []).append(i)
@@ -126,9 +127,9 @@ class ImpulseDiagram:
         for b in self.bodies:
             mine = by_body.get(b.name)
             if not mine:
-                add(f"  {b.name}: no impulse")
+                add(f"{indent}  {b.name}: no impulse")
                 continue
-            add(f"  {b.name}:")
+            add(f"{indent}  {b.name}:")
             for i in mine:
                 k, unit = shown[i.moment]
                 v = "?" if i.value is None else num(i.value / k)
@@ -138,10 +139,10 @@ class ImpulseDiagram:
                     where = f" at {i.point} {_xy(None)}"
                 else:
                     where = f" at {i.point} ({num(i.at[0] / f)}, {num(i.at[1] / f)})"
-                add(f"    {i.name} = {v} {unit}{where}, {i.words}")
+                add(f"{indent}    {i.name} = {v} {unit}{where}, {i.words}")
         for d in self.dropped:
             on = f" ({d.body})" if d.body and d.body not in d.what else ""
-            out.append(f"  dropped: {d.what}{on}: {d.why}")
+            out.append(f"{indent}  dropped: {d.what}{on}: {d.why}")
         return out  # the notes (what is drawn schematically) belong to the drawing
 
     def svg(self) -> str:
