@@ -251,6 +251,7 @@ class _Shared:
             if isinstance(k, Key) and k.kind is KeyKind.STATE and k.qty in POSITION and \
                     k.state is not None:
                 self.placed.setdefault((k.body, k.qty, root(k.state)), v)
+        self.parts: dict = {}  # body -> its parts as a diagram draws them (made once)
         sizes = [_extent(b) for b in sc.bodies.values()]
         self.size = max([x for x in sizes if x > 0] or [1.0])
 
@@ -346,12 +347,15 @@ class _Builder:
 
         out = []
         bodies = self.sc.bodies
+        shapes = self.shared.parts
         for name in self.t.bodies:
             b = bodies[name]
             x, y, ang = ki(name, "x"), ki(name, "y"), ki(name, "angle")
             vi = (vel(name, ".vx", at_i, gi), vel(name, ".vy", at_i, gi))
             vj = (vel(name, ".vx", at_j, gj), vel(name, ".vy", at_j, gj))
-            parts = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
+            parts = shapes.get(name)
+            if parts is None:  # one list per body, shared by its diagrams (read only)
+                parts = shapes[name] = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
             particle = b.is_particle
             out.append(DiagramBody(
                 name, b.kind, x if x is not None else math.nan, y if y is not None else math.nan,

@@ -120,12 +120,14 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
         for k in b.equations:
             solves[k], keeps[k] = unk, keep
     role = {}
-    for k, e in enumerate(system.equations):
+    checked = set(st.redundant).union(st.constant_eqs)  # lists: a set, not a scan per row
+    under = st.under_eqs
+    for k in range(len(system.equations)):
         if k in solved_eqs:
             role[k] = "solved"
-        elif k in st.redundant or k in st.constant_eqs:
+        elif k in checked:
             role[k] = "check"
-        elif k in st.under_eqs:
+        elif k in under:
             role[k] = "undetermined"
         else:
             role[k] = "not needed"
@@ -441,7 +443,15 @@ def value_and_magnitude(e, values) -> tuple[float, float]:
     if t is Add:
         vals, mags = [], []
         for x in e.terms:
-            v, m = value_and_magnitude(x, values)
+            tx = type(x)  # a leaf inline: its value, and its magnitude |value|
+            if tx is Const or tx is Known:
+                v = x.value
+                m = abs(v)
+            elif tx is Var:
+                v = values[x.name]
+                m = abs(v)
+            else:
+                v, m = value_and_magnitude(x, values)
             vals.append(v)
             mags.append(m)
         return math.fsum(vals), sum(mags)
@@ -454,10 +464,12 @@ def value_and_magnitude(e, values) -> tuple[float, float]:
         if len(sums) == 1:
             r = k = 1.0
             for f in fs:
+                tf = type(f)
                 if f is sums[0]:
                     v, m = value_and_magnitude(f, values)
                 else:
-                    v = evaluate(f, values)
+                    v = f.value if tf is Const or tf is Known else \
+                        values[f.name] if tf is Var else evaluate(f, values)
                     k *= v
                 r *= v
             return r, abs(k) * m

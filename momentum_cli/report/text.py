@@ -288,16 +288,17 @@ def _system(t: dict) -> list[str]:
 
 def _equations(rows, out: list) -> None:
     """`_equation` of each row, appended to `out` (one loop, no list per row)."""
-    add = out.append
+    add = out.append  # one item per equation, its lines joined: the same text once joined
     for r in rows:
-        line = f"line {r.line}" if r.line else "scene"
         role = r.role
-        add(f"  ({r.index + 1}) {r.principle} ({line})" if role == "solved" else
-            f"  ({r.index + 1}) {r.principle} ({line}) [{role}]")
         sym, num = r.symbolic, r.numeric
-        add("      " + sym)
-        if num != sym:
-            add("      " + num)
+        tail = f"\n      {sym}\n      {num}" if num != sym else f"\n      {sym}"
+        if r.line:
+            add(f"  ({r.index + 1}) {r.principle} (line {r.line}){tail}" if role == "solved"
+                else f"  ({r.index + 1}) {r.principle} (line {r.line}) [{role}]{tail}")
+        else:
+            add(f"  ({r.index + 1}) {r.principle} (scene){tail}" if role == "solved" else
+                f"  ({r.index + 1}) {r.principle} (scene) [{role}]{tail}")
 
 
 def _equation(r) -> list[str]:
