@@ -224,7 +224,8 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
     degrees = reader.degrees
     for n, u in system.unknowns.items():
         if n in values:
-            si = _finite(values[n])
+            x = values[n]  # `_finite(x)` without a call for a finite float
+            si = (0.0 if x == 0 else x) if type(x) is float and x - x == 0.0 else _finite(x)
             if si is not None and not (degrees and u.qty == "angle"):  # is_angle(Var(n))
                 fl = shows.get((u.dim, u.unit))
                 if fl is None:
@@ -370,6 +371,7 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
     for f in sol.system.finds:
         variables(f.expr, asked)
     out = []
+    texts: dict = {}
     for b in sol.blocks:
         q = b.quality
         if q is None or len(b.unknowns) < 2:
@@ -382,11 +384,16 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
                 if u in asked and u not in (sol.snapped or ())}
         worst = max(mine.values(), default=0.0)
         shown = worst if mine else q.bound
-        detail = (f"cond {fmt_num(q.cond, 3)} (1-norm, equilibrated), backward error "
-                  f"{fmt_tiny(q.backward)}, relative error {fmt_bound(shown)}"
-                  + (" for the answers" if mine else " (no answer here)") +
-                  f" ({q.precision}, {q.method}"
-                  + (f", {q.iterations} refinement steps" if q.iterations else "") + ")")
+        # the text is a function of these alone: a long sequence of like blocks repeats it
+        key = (q.cond, q.backward, shown, bool(mine), q.precision, q.method, q.iterations)
+        detail = texts.get(key)
+        if detail is None:
+            detail = texts[key] = (
+                f"cond {fmt_num(q.cond, 3)} (1-norm, equilibrated), backward error "
+                f"{fmt_tiny(q.backward)}, relative error {fmt_bound(shown)}"
+                + (" for the answers" if mine else " (no answer here)") +
+                f" ({q.precision}, {q.method}"
+                + (f", {q.iterations} refinement steps" if q.iterations else "") + ")")
         status = "ok"
         if mine and worst > 1e-6:
             status = "warning"
