@@ -146,3 +146,106 @@ def test_numeric_lines_of_examples_and_big_scenes_equal_the_leaf_by_leaf_lines()
                 assert numeric_line(e, values, keep, system, reader, 6) == slow, (name, k)
                 checked += 1
     assert checked > 1000
+
+
+# ---- a block's matrix, column by column, against the general table ----------------------
+from momentum_cli.report.text import _matrix  # noqa: E402
+
+MATRIX_NUMBERS = st.one_of(st.none(), NUMBERS)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 4).flatmap(lambda n: st.tuples(
+    st.lists(st.text(alphabet="bv.x@12J_n[c]->", min_size=1, max_size=12), min_size=n,
+             max_size=n),
+    st.lists(st.lists(MATRIX_NUMBERS, min_size=n, max_size=n), max_size=4))),
+    st.lists(MATRIX_NUMBERS, max_size=4), st.sampled_from([6, 3]))
+def test_block_matrix_by_columns_equals_the_table(names_rows, rhs, sig):
+    names, matrix = names_rows
+    rhs = (rhs + [0.0] * len(matrix))[:len(matrix)]
+    f = formatter(sig)
+    out: list = []
+    _matrix(names, matrix, rhs, f, out)
+    rows = [[f(x) for x in row] + ["|", f(r)] for row, r in zip(matrix, rhs)]
+    assert out == table(names + ["", "rhs"], rows, indent="      ")
+
+
+# ---- the impulse diagram's directions by coefficients against the two evaluations --------
+from momentum_cli.elements.keys import Key  # noqa: E402
+from momentum_cli.elements.kinds import KeyKind  # noqa: E402
+from momentum_cli.expr import V2, Const, Known, Mul, Var, evaluate  # noqa: E402
+from momentum_cli.report.diagram import _monomials  # noqa: E402
+
+_IMPULSES = [Key("J_n[A]@1->2", KeyKind.IMPULSE), Key("J_t[A]@1->2", KeyKind.IMPULSE)]
+COMPONENTS = st.one_of(
+    NUMBERS.filter(lambda x: isinstance(x, float)).map(Const),
+    st.sampled_from(_IMPULSES).map(Var),
+    st.tuples(st.sampled_from([Const, lambda v: Known("k", v)]), NUMBERS,
+              st.sampled_from(_IMPULSES), st.booleans()).map(
+        lambda t: Mul((t[0](float(t[1])), Var(t[2])) if t[3] else (Var(t[2]), t[0](float(t[1]))))))
+
+
+@settings(max_examples=300, deadline=None)
+@given(COMPONENTS, COMPONENTS)
+def test_diagram_directions_by_coefficients_equal_the_evaluations(x, y):
+    J = V2(x, y)
+    got = _monomials(J)
+    if got is None:
+        return  # not of that form: the evaluations themselves run
+    for n in _IMPULSES:
+        zero = {m: 0.0 for m in _IMPULSES}
+        one = dict(zero)
+        one[n] = 1.0
+        want = (evaluate(J.x, one) - evaluate(J.x, zero), evaluate(J.y, one) - evaluate(J.y, zero))
+        if n in got:
+            assert repr(got[n]) == repr(want)
+        else:  # an impulse it does not name: no direction (the evaluations give 0)
+            assert want == (0.0, 0.0)
+
+
+# ---- the residual check's value and magnitude, leaves inline, against the plain walk ------
+from momentum_cli.expr import Add  # noqa: E402
+from momentum_cli.report.model import value_and_magnitude  # noqa: E402
+
+
+def _slow_value_and_magnitude(e, values):
+    """`value_and_magnitude` as it was written first: a call per node."""
+    import math as m
+
+    t = type(e)
+    if t is Add:
+        vals, mags = [], []
+        for x in e.terms:
+            v, g = _slow_value_and_magnitude(x, values)
+            vals.append(v)
+            mags.append(g)
+        return m.fsum(vals), sum(mags)
+    if t is Mul:
+        fs = e.factors
+        for f in fs:
+            if (type(f) is Const or type(f) is Known) and f.value == 0.0:
+                return 0.0, 0.0
+        sums = [f for f in fs if type(f) is Add]
+        if len(sums) == 1:
+            r = k = 1.0
+            for f in fs:
+                if f is sums[0]:
+                    v, g = _slow_value_and_magnitude(f, values)
+                else:
+                    v = evaluate(f, values)
+                    k *= v
+                r *= v
+            return r, abs(k) * g
+    v = evaluate(e, values)
+    return v, abs(v)
+
+
+@settings(max_examples=200, deadline=None)
+@given(TREES, st.dictionaries(NAMES, NUMBERS.filter(lambda x: isinstance(x, float))))
+def test_value_and_magnitude_equals_the_walk_per_node(e, values):
+    def run(f):
+        try:
+            return repr(f(e, values))
+        except Exception as exc:  # noqa: BLE001 - the same failure, by type
+            return type(exc)
+    assert run(value_and_magnitude) == run(_slow_value_and_magnitude)

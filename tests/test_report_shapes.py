@@ -121,3 +121,47 @@ def test_statements_of_long_and_short_laws_print_as_the_walks(monkeypatch, after
                 monkeypatch.setattr(printer, "ENABLED", False)
                 assert fast == statements(t, sol.values, system, reader, sig)
                 assert fast or t.kind != "impact"
+
+
+@settings(max_examples=300, deadline=None)
+@given(TREES, TREES, TREES, TREES)
+def test_a_shapes_matcher_lists_the_leaves_of_that_shape_only(lhs, rhs, lhs2, rhs2):
+    """The matcher compiled for the shape of (lhs, rhs) gives, for any tree pair, the
+    leaves `_walk` lists where the walk finds the same shape, and None elsewhere; on the
+    pair itself it always matches."""
+    def walked(a, b):
+        toks: list = []
+        leaves: list = []
+        printer._walk(a, toks, leaves)
+        toks.append(printer._EQ)
+        printer._walk(b, toks, leaves)
+        return tuple(toks), leaves
+
+    key, leaves = walked(lhs, rhs)
+    match = printer._matcher(key)
+    got = match(lhs, rhs)
+    assert got is not None and [id(x) for x in got] == [id(x) for x in leaves]
+    key2, leaves2 = walked(lhs2, rhs2)
+    got2 = match(lhs2, rhs2)
+    if key2 == key:
+        assert got2 is not None and [id(x) for x in got2] == [id(x) for x in leaves2]
+    else:
+        assert got2 is None
+
+
+def test_equations_of_alternating_shapes_print_as_the_walks(compile_at_once):
+    """Shapes that share their sides' top node types and sizes, in turn: each equation
+    is printed by its own shape's printers (the matchers tell them apart)."""
+    from momentum_cli.expr import Add, Mul, Pow, Var
+
+    x, y = Var("x"), Var("y")
+    lhss = [Add((x, Const(2.0))), Add((x, y)), Add((Mul((Const(3.0), x)), y)),
+            Add((x, Pow(y, -1.0))), Add((Const(-1.0), x)), Add((x, Mul((x, Pow(y, -2.0)))))]
+    values = {"x": 2.0, "y": -4.0}
+    for _ in range(3):
+        for lhs in lhss:
+            rhs = Mul((Const(2.0), y))
+            eq = Equation(lhs, rhs, "p", "g", None)
+            assert _both(eq, values, set(), 6) == \
+                (eq.text(), f"{_si_text(lhs, values, set(), 6)[0]} = "
+                            f"{_si_text(rhs, values, set(), 6)[0]}")

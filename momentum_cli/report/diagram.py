@@ -11,7 +11,7 @@ import math
 
 from ..elements.keys import Key
 from ..elements.kinds import Component, JointKind, KeyKind, Tangential
-from ..expr import evaluate, variables
+from ..expr import Const, Known, Mul, Var, evaluate, variables
 from ..numbers import fmt_num
 from ..records import field, record
 from ..units import ANGULAR_IMPULSE, FORCE, IMPULSE, LENGTH, VELOCITY
@@ -98,9 +98,10 @@ class ImpulseDiagram:
         """(value, unit) as the reader reads it: US customary for a US problem."""
         return self.reader.show(si_value, dim, si_unit)
 
-    def lines(self) -> list[str]:
-        """The terminal list: per body its impulses, then what is dropped (plain ASCII)."""
-        out = [self.title]
+    def lines(self, indent: str = "") -> list[str]:
+        """The terminal list: per body its impulses, then what is dropped (plain ASCII);
+        every line after `indent` (the plain report's two spaces, without a second list)."""
+        out = [indent + self.title]
         by_body: dict = {}  # one pass, not one scan of every impulse per body
         for i in self.impulses:
             by_body.setdefault(i.body, []).append(i)
@@ -126,9 +127,9 @@ class ImpulseDiagram:
         for b in self.bodies:
             mine = by_body.get(b.name)
             if not mine:
-                add(f"  {b.name}: no impulse")
+                add(f"{indent}  {b.name}: no impulse")
                 continue
-            add(f"  {b.name}:")
+            add(f"{indent}  {b.name}:")
             for i in mine:
                 k, unit = shown[i.moment]
                 v = "?" if i.value is None else num(i.value / k)
@@ -138,10 +139,10 @@ class ImpulseDiagram:
                     where = f" at {i.point} {_xy(None)}"
                 else:
                     where = f" at {i.point} ({num(i.at[0] / f)}, {num(i.at[1] / f)})"
-                add(f"    {i.name} = {v} {unit}{where}, {i.words}")
+                add(f"{indent}    {i.name} = {v} {unit}{where}, {i.words}")
         for d in self.dropped:
             on = f" ({d.body})" if d.body and d.body not in d.what else ""
-            out.append(f"  dropped: {d.what}{on}: {d.why}")
+            out.append(f"{indent}  dropped: {d.what}{on}: {d.why}")
         return out  # the notes (what is drawn schematically) belong to the drawing
 
     def svg(self) -> str:
@@ -250,6 +251,7 @@ class _Shared:
             if isinstance(k, Key) and k.kind is KeyKind.STATE and k.qty in POSITION and \
                     k.state is not None:
                 self.placed.setdefault((k.body, k.qty, root(k.state)), v)
+        self.parts: dict = {}  # body -> its parts as a diagram draws them (made once)
         sizes = [_extent(b) for b in sc.bodies.values()]
         self.size = max([x for x in sizes if x > 0] or [1.0])
 
@@ -345,12 +347,15 @@ class _Builder:
 
         out = []
         bodies = self.sc.bodies
+        shapes = self.shared.parts
         for name in self.t.bodies:
             b = bodies[name]
             x, y, ang = ki(name, "x"), ki(name, "y"), ki(name, "angle")
             vi = (vel(name, ".vx", at_i, gi), vel(name, ".vy", at_i, gi))
             vj = (vel(name, ".vx", at_j, gj), vel(name, ".vy", at_j, gj))
-            parts = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
+            parts = shapes.get(name)
+            if parts is None:  # one list per body, shared by its diagrams (read only)
+                parts = shapes[name] = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
             particle = b.is_particle
             out.append(DiagramBody(
                 name, b.kind, x if x is not None else math.nan, y if y is not None else math.nan,
@@ -447,9 +452,16 @@ class _Builder:
     # -- the impulses of one application, split into their unknowns
     def _impulses(self, a, body: DiagramBody) -> list[DiagramImpulse]:
         t, vals = self.t, self.values
-        names = variables(a.J.x)
-        variables(a.J.y, names)
-        torque = variables(a.torque) if a.torque is not None else _NO_NAMES
+        # J linear in impulses, one per component (a contact's J_n along its normal): the
+        # direction of each is read off its coefficients, as the two evaluations give it
+        mono = _monomials(a.J) if a.torque is None else None
+        if mono is not None:
+            names = set(mono)
+            torque = _NO_NAMES
+        else:
+            names = variables(a.J.x)
+            variables(a.J.y, names)
+            torque = variables(a.torque) if a.torque is not None else _NO_NAMES
         # an unknown nothing solved (an angle not needed) reads 0: the values themselves
         # where every name is solved or an impulse (no layer over them for most impulses)
         arm_names = variables(a.arm.x)
@@ -481,7 +493,7 @@ class _Builder:
             # what J and the torque read, as `base` over the impulses at 0 reads it, in one
             # plain dict (a lookup through no layers; a name `base` lacks stays missing)
             zero = {}
-            for n in names | torque:
+            for n in (names | torque) if mono is None else ():
                 if n in imp_set:
                     zero[n] = 0.0
                 else:
@@ -490,13 +502,16 @@ class _Builder:
                     except KeyError:
                         pass
             for n in imp:
-                one = dict(zero)
-                one[n] = 1.0
-                try:
-                    d = (evaluate(a.J.x, one) - evaluate(a.J.x, zero),
-                         evaluate(a.J.y, one) - evaluate(a.J.y, zero))
-                except (KeyError, ValueError, ZeroDivisionError):
-                    continue
+                if mono is not None:
+                    d = mono[n]
+                else:
+                    one = dict(zero)
+                    one[n] = 1.0
+                    try:
+                        d = (evaluate(a.J.x, one) - evaluate(a.J.x, zero),
+                             evaluate(a.J.y, one) - evaluate(a.J.y, zero))
+                    except (KeyError, ValueError, ZeroDivisionError):
+                        continue
                 size = math.hypot(*d)
                 if size == 0:
                     continue
@@ -638,6 +653,41 @@ class _Builder:
 
 
 _NO_NAMES: frozenset = frozenset()
+
+
+def _monomial(e):
+    """(impulse name or None, coefficient) of a component that is a finite constant, an
+    impulse, or a nonzero finite constant times an impulse; None for anything else."""
+    t = type(e)
+    if t is Const or t is Known:
+        v = e.value
+        return (None, 0.0) if type(v) is float and v - v == 0.0 else None
+    if t is Var:
+        return (e.name, 1.0) if _impulse(e.name) else None
+    if t is Mul and len(e.factors) == 2:
+        f, g = e.factors
+        if type(f) is Var:
+            f, g = g, f
+        if (type(f) is Const or type(f) is Known) and type(g) is Var and _impulse(g.name):
+            c = f.value
+            if type(c) is float and c - c == 0.0 and c != 0.0:
+                return g.name, c
+    return None
+
+
+def _monomials(J) -> dict | None:
+    """impulse name -> (d J.x, d J.y) per unit of it, for a J each of whose components
+    is a `_monomial` (the differences `evaluate(J, one) - evaluate(J, zero)` give: the
+    coefficient where the impulse is, 0.0 elsewhere); None otherwise, or with no impulse."""
+    mx, my = _monomial(J.x), _monomial(J.y)
+    if mx is None or my is None or (mx[0] is None and my[0] is None):
+        return None
+    out = {}
+    if mx[0] is not None:
+        out[mx[0]] = (mx[1], my[1] if my[0] == mx[0] else 0.0)
+    if my[0] is not None and my[0] != mx[0]:
+        out[my[0]] = (0.0, my[1])
+    return out
 
 
 class _Over(dict):

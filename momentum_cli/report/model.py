@@ -120,12 +120,14 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
         for k in b.equations:
             solves[k], keeps[k] = unk, keep
     role = {}
-    for k, e in enumerate(system.equations):
+    checked = set(st.redundant).union(st.constant_eqs)  # lists: a set, not a scan per row
+    under = st.under_eqs
+    for k in range(len(system.equations)):
         if k in solved_eqs:
             role[k] = "solved"
-        elif k in st.redundant or k in st.constant_eqs:
+        elif k in checked:
             role[k] = "check"
-        elif k in st.under_eqs:
+        elif k in under:
             role[k] = "undetermined"
         else:
             role[k] = "not needed"
@@ -222,7 +224,8 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
     degrees = reader.degrees
     for n, u in system.unknowns.items():
         if n in values:
-            si = _finite(values[n])
+            x = values[n]  # `_finite(x)` without a call for a finite float
+            si = (0.0 if x == 0 else x) if type(x) is float and x - x == 0.0 else _finite(x)
             if si is not None and not (degrees and u.qty == "angle"):  # is_angle(Var(n))
                 fl = shows.get((u.dim, u.unit))
                 if fl is None:
@@ -368,6 +371,7 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
     for f in sol.system.finds:
         variables(f.expr, asked)
     out = []
+    texts: dict = {}
     for b in sol.blocks:
         q = b.quality
         if q is None or len(b.unknowns) < 2:
@@ -380,11 +384,16 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
                 if u in asked and u not in (sol.snapped or ())}
         worst = max(mine.values(), default=0.0)
         shown = worst if mine else q.bound
-        detail = (f"cond {fmt_num(q.cond, 3)} (1-norm, equilibrated), backward error "
-                  f"{fmt_tiny(q.backward)}, relative error {fmt_bound(shown)}"
-                  + (" for the answers" if mine else " (no answer here)") +
-                  f" ({q.precision}, {q.method}"
-                  + (f", {q.iterations} refinement steps" if q.iterations else "") + ")")
+        # the text is a function of these alone: a long sequence of like blocks repeats it
+        key = (q.cond, q.backward, shown, bool(mine), q.precision, q.method, q.iterations)
+        detail = texts.get(key)
+        if detail is None:
+            detail = texts[key] = (
+                f"cond {fmt_num(q.cond, 3)} (1-norm, equilibrated), backward error "
+                f"{fmt_tiny(q.backward)}, relative error {fmt_bound(shown)}"
+                + (" for the answers" if mine else " (no answer here)") +
+                f" ({q.precision}, {q.method}"
+                + (f", {q.iterations} refinement steps" if q.iterations else "") + ")")
         status = "ok"
         if mine and worst > 1e-6:
             status = "warning"
@@ -441,7 +450,15 @@ def value_and_magnitude(e, values) -> tuple[float, float]:
     if t is Add:
         vals, mags = [], []
         for x in e.terms:
-            v, m = value_and_magnitude(x, values)
+            tx = type(x)  # a leaf inline: its value, and its magnitude |value|
+            if tx is Const or tx is Known:
+                v = x.value
+                m = abs(v)
+            elif tx is Var:
+                v = values[x.name]
+                m = abs(v)
+            else:
+                v, m = value_and_magnitude(x, values)
             vals.append(v)
             mags.append(m)
         return math.fsum(vals), sum(mags)
@@ -454,10 +471,12 @@ def value_and_magnitude(e, values) -> tuple[float, float]:
         if len(sums) == 1:
             r = k = 1.0
             for f in fs:
+                tf = type(f)
                 if f is sums[0]:
                     v, m = value_and_magnitude(f, values)
                 else:
-                    v = evaluate(f, values)
+                    v = f.value if tf is Const or tf is Known else \
+                        values[f.name] if tf is Var else evaluate(f, values)
                     k *= v
                 r *= v
             return r, abs(k) * m

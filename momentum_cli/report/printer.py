@@ -251,19 +251,99 @@ def _compile(key) -> tuple:
 
 def printers(eq):
     """(leaves, (symbolic printer, numeric printer)) for `eq`, or None: a shape met for
-    the first time (or printing turned off) is printed by the walks; False: too large."""
+    the first time (or printing turned off) is printed by the walks; False: too large.
+    The last two compiled shapes met with the same top (the sides' node types and sizes)
+    are tried first by their matchers: the leaves without the walk, the shape without
+    its key."""
     if not ENABLED:
         return None
     lhs, rhs = eq.lhs, eq.rhs
-    if (type(lhs) is Add and len(lhs.terms) > _LONG) or \
-            (type(rhs) is Add and len(rhs.terms) > _LONG):
+    tl, tr = type(lhs), type(rhs)
+    top = (tl, len(lhs.terms) if tl is Add else len(lhs.factors) if tl is Mul else -1,
+           tr, len(rhs.terms) if tr is Add else len(rhs.factors) if tr is Mul else -1)
+    last = _LAST.get(top)
+    if last is not None:
+        for m, fns in last:
+            leaves = m(lhs, rhs)
+            if leaves is not None:
+                return leaves, fns
+    if (tl is Add and top[1] > _LONG) or (tr is Add and top[3] > _LONG):
         return False  # a long sum: not walked whole to find it out
     toks: list = []
     leaves: list = []
-    _walk(eq.lhs, toks, leaves)
+    _walk(lhs, toks, leaves)
     toks.append(_EQ)
-    _walk(eq.rhs, toks, leaves)
-    return _found(toks, leaves)
+    _walk(rhs, toks, leaves)
+    got = _found(toks, leaves)
+    if got:
+        key = tuple(toks)
+        m = _MATCHERS.get(key)
+        if m is None:
+            if len(_MATCHERS) >= LIMIT:
+                _MATCHERS.clear()
+                _LAST.clear()
+            m = _MATCHERS[key] = _matcher(key)
+        last = _LAST.get(top)  # two shapes kept per top: a sequence alternates them
+        _LAST[top] = ((m, got[1]),) if last is None else ((m, got[1]), last[0])
+    return got
+
+
+_MATCHERS: dict = {}  # shape -> its matcher
+_LAST: dict = {}  # the sides' top node types and sizes -> the (matcher, printers) met last
+_LEAFY = (Add, Mul, Var, Const, Known)  # the nodes `_walk` tells apart from "other"
+
+
+def _matcher(key: tuple):
+    """A function (lhs, rhs) -> the leaves `_walk` would list, or None where the tree is
+    not of shape `key` (the same node types, the same sizes, at every token)."""
+    code = ["def match(lhs, rhs):", "    L = []", "    put = L.append"]
+    pos = [0]
+    n = [0]
+
+    def var() -> str:
+        n[0] += 1
+        return f"_{n[0]}"
+
+    def emit(line: str) -> None:
+        code.append("    " + line)
+
+    def node(x: str, parent) -> None:
+        tok = key[pos[0]]
+        pos[0] += 1
+        if tok in (_C, _V, _K):
+            emit(f"if type({x}) is not {('Const', 'Var', 'Known')[(_C, _V, _K).index(tok)]}: "
+                 "return None")
+            emit(f"put({x})")
+        elif tok in (_ADDT, _MULT):
+            size = key[pos[0]]
+            pos[0] += 1
+            cls, attr = ("Add", "terms") if tok == _ADDT else ("Mul", "factors")
+            xs = var()
+            emit(f"if type({x}) is not {cls}: return None")
+            emit(f"{xs} = {x}.{attr}")
+            emit(f"if len({xs}) != {size}: return None")
+            for i in range(size):
+                c = var()
+                emit(f"{c} = {xs}[{i}]")
+                node(c, cls)
+        elif tok == _DEN:  # a factor x^-p of a product
+            emit(f"if type({x}) is not Pow or not {x}.exp < 0: return None")
+            emit(f"put({x})")
+        else:  # _OTHER: any node `_walk` does not tell apart (a negative power in a product
+            # is a _DEN there)
+            emit(f"if type({x}) in LEAFY: return None")
+            if parent == "Mul":
+                emit(f"if type({x}) is Pow and {x}.exp < 0: return None")
+            emit(f"put({x})")
+
+    node("lhs", None)
+    assert key[pos[0]] == _EQ
+    pos[0] += 1
+    node("rhs", None)
+    code.append("    return L")
+    env = dict(Add=Add, Mul=Mul, Var=Var, Const=Const, Known=Known, Pow=Pow, LEAFY=_LEAFY)
+    exec("\n".join(code), env)  # noqa: S102 - our own generated code
+    return env["match"]
 
 
 def _term_printers(e):
@@ -288,6 +368,7 @@ def _found(toks: list, leaves: list):
             return None
         if len(_FNS) >= LIMIT:
             _FNS.clear()
+            _LAST.clear()  # its printers: not kept alive beside the table
         fns = _FNS[key] = _compile(key)
         _SEEN.pop(key, None)
     return leaves, fns

@@ -110,7 +110,7 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
             d = diagram_for(rep, t)
             if d is not None:
-                out.extend("  " + x for x in d.lines())
+                out.extend(d.lines("  "))
             for w in t["why"]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))
@@ -139,9 +139,7 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
                 count = f"{n} unknowns; " if n else ""
                 add(f"  block {b['index']}: {names} ({count}{how}; {lines})")
             if "matrix" in b:
-                rows = [[shown[x] if x in shown else f(x) for x in row] + ["|", f(rhs)]
-                        for row, rhs in zip(b["matrix"], b["rhs"])]
-                out.extend(table(unknowns + ["", "rhs"], rows, indent="      "))
+                _matrix(unknowns, b["matrix"], b["rhs"], f, out)
         out.append("")
         out.append(f"Solution ({u.get('name', 'SI')})")
         out.extend(table(["unknown", "value", "unit"],
@@ -169,6 +167,36 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
         out.extend(text_lines(rep.sensitivities, sig, table))
     out.append("")  # the final newline: not a second copy of a large text
     return "\n".join(out)
+
+
+def _matrix(unknowns: list, matrix: list, rhs: list, f, out: list) -> None:
+    """A block's matrix as `table(unknowns + ["", "rhs"], rows, "      ")` lays it out:
+    the cells formatted column by column through the number cache, each column's width
+    measured once, every line from one format string (cached by the widths)."""
+    shown = f.cache
+    n = len(unknowns)
+    cols = [[shown[x] if x in shown else f(x) for x in col] for col in zip(*matrix)]
+    last = [f(x) for x in rhs]
+    if not matrix or len(cols) != n or len(last) != len(matrix) or \
+            any(len(r) != n for r in matrix):  # empty or ragged: the general table
+        rows = [[shown[x] if x in shown else f(x) for x in row] + ["|", f(r)]
+                for row, r in zip(matrix, rhs)]
+        out.extend(table(unknowns + ["", "rhs"], rows, indent="      "))
+        return
+    widths = tuple([max(len(h), max(map(len, c), default=0)) for h, c in zip(unknowns, cols)]
+                   + [1, max(3, max(map(len, last)))])
+    got = _FORMATS.get(("      ", widths))
+    if got is None:
+        if len(_FORMATS) > 256:
+            _FORMATS.clear()
+        got = _FORMATS["      ", widths] = (
+            "      " + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}",
+            "      " + "  ".join("-" * w for w in widths))
+    fmt = got[0].format
+    out.append(fmt(*unknowns, "", "rhs").rstrip())
+    out.append(got[1])
+    bar = ["|"] * len(last)
+    out += [s.rstrip() for s in map(fmt, *cols, bar, last)]
 
 
 def _items(k: dict, f) -> str:
@@ -222,7 +250,7 @@ def render_brief(rep: Report, sig: int = 6, sensitivities: bool = True) -> str:
         out.append(title)
         d = diagram_for(rep, t) if t is not None else None
         if d is not None:  # the first step of a textbook solution
-            out.extend("  " + x for x in d.lines())
+            out.extend(d.lines("  "))
         out.extend(f"  why: {w}" for w in why)
         out.extend(_system(t) if t is not None else [])
         for r in rows:
@@ -260,16 +288,17 @@ def _system(t: dict) -> list[str]:
 
 def _equations(rows, out: list) -> None:
     """`_equation` of each row, appended to `out` (one loop, no list per row)."""
-    add = out.append
+    add = out.append  # one item per equation, its lines joined: the same text once joined
     for r in rows:
-        line = f"line {r.line}" if r.line else "scene"
         role = r.role
-        add(f"  ({r.index + 1}) {r.principle} ({line})" if role == "solved" else
-            f"  ({r.index + 1}) {r.principle} ({line}) [{role}]")
         sym, num = r.symbolic, r.numeric
-        add("      " + sym)
-        if num != sym:
-            add("      " + num)
+        tail = f"\n      {sym}\n      {num}" if num != sym else f"\n      {sym}"
+        if r.line:
+            add(f"  ({r.index + 1}) {r.principle} (line {r.line}){tail}" if role == "solved"
+                else f"  ({r.index + 1}) {r.principle} (line {r.line}) [{role}]{tail}")
+        else:
+            add(f"  ({r.index + 1}) {r.principle} (scene){tail}" if role == "solved" else
+                f"  ({r.index + 1}) {r.principle} (scene) [{role}]{tail}")
 
 
 def _equation(r) -> list[str]:
