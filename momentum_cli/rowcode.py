@@ -477,3 +477,79 @@ def affine(e, block, values, shaped=None):
 
 def _affine_of(k):
     return _affine_function(*k)
+
+
+# ---- many rows of one block at once ------------------------------------------------------
+MANY = 16  # equations of one shape from which a block's rows are evaluated on arrays
+
+
+def affine_many(exprs, block, values) -> list:
+    """[`affine(e, block, values)` for e in exprs]: the same (coef, const) to the bit,
+    dicts in the same order, where the rows of a large block share a few shapes. Each
+    shape's compiled walk runs once on numpy arrays (one entry per equation: the same
+    IEEE additions and multiplications, in the same order); a shape met fewer than MANY
+    times, or whose arrays cannot be formed, takes `affine` equation by equation (its
+    results and exceptions as they always are)."""
+    try:
+        return _many(exprs, block, values)
+    except Exception:  # noqa: BLE001 - the failure of the first row that fails, in order
+        return [affine(e, block, values) for e in exprs]
+
+
+def _many(exprs, block, values) -> list:
+    out: list = [None] * len(exprs)
+    groups: dict = {}
+    for q, e in enumerate(exprs):
+        sh = shape_of(e) if ENABLED else None
+        if sh is None:
+            groups.setdefault(None, []).append((q, None))
+            continue
+        key = (sh[0], tuple([nm in block for nm in sh[2]]))
+        groups.setdefault(key, []).append((q, sh))
+    for key, members in groups.items():
+        got = _affine_group(key, members, values) if key is not None and \
+            len(members) >= MANY else None
+        if got is not None:
+            for (q, _sh), row in zip(members, got):
+                out[q] = row
+            continue
+        for q, sh in members:  # in order: the first failure raises as `affine` does
+            out[q] = affine(exprs[q], block, values, shaped=sh)
+    return out
+
+
+def _affine_group(key, members, values):
+    """The rows of one shape's equations by its compiled walk on arrays, or None."""
+    import numpy as np
+
+    f = _AFF.get(key)
+    if f is None:
+        f = _affine_of(key)
+        if len(_AFF) >= LIMIT:
+            _AFF.clear()
+        _AFF[key] = f
+    inside = key[1]
+    nvars = len(inside)
+    try:
+        nums = np.array([sh[1] for _q, sh in members], dtype=float)
+        cols = [nums[:, i] for i in range(nums.shape[1])] if nums.ndim == 2 else []
+        vals: list = [None] * nvars
+        for j in range(nvars):
+            if not inside[j]:
+                got = [values[sh[2][j]] for _q, sh in members]
+                if not all([type(x) is float for x in got]):
+                    return None  # ints, rationals, traced numbers: their own arithmetic
+                vals[j] = np.array(got, dtype=float)
+        with np.errstate(all="ignore"):
+            coef, const = f(cols, range(nvars), vals)
+    except Exception:  # noqa: BLE001 - a missing value, NonLinear, ...: one by one
+        return None
+    m = len(members)
+    const = np.broadcast_to(np.asarray(const, dtype=float), (m,)).tolist()
+    slots = [(j, np.broadcast_to(np.asarray(v, dtype=float), (m,)).tolist())
+             for j, v in coef.items()]
+    rows = []
+    for r, (_q, sh) in enumerate(members):
+        names = sh[2]
+        rows.append(({names[j]: v[r] for j, v in slots}, const[r]))
+    return rows

@@ -1,0 +1,91 @@
+"""rowcode.affine_many (a large block's rows formed shape by shape on arrays) against
+rowcode.affine equation by equation: the same coefficients and constants to the bit, in
+the same dict order, and the same exceptions, on every example and on generated scenes."""
+from __future__ import annotations
+
+import glob
+import os
+import struct
+
+import pytest
+
+from momentum_cli import rowcode
+from momentum_cli.bench import chain_text
+from momentum_cli.diagnostics import ProblemError
+from momentum_cli.scene import build
+from momentum_cli.solve import solve_scene
+from momentum_cli.source import Source
+from momentum_cli.syntax import parse
+
+pytest.importorskip("numpy")
+
+
+def _bits(row):
+    coef, const = row
+    return [(k, struct.pack("d", v)) for k, v in coef.items()], struct.pack("d", const)
+
+
+def _outcome(f):
+    try:
+        return "ok", [_bits(r) for r in f()]
+    except Exception as exc:  # noqa: BLE001 - the comparison is of the exception too
+        return "raised", type(exc).__name__
+
+
+def _check_scene(text: str, name: str) -> int:
+    try:
+        sol = solve_scene(build(parse(Source(name, text))))
+    except ProblemError:
+        return 0
+    eqs = sol.system.equations
+    checked = 0
+    with rowcode.remembered():
+        for blk in sol.structure.blocks:
+            exprs = [eqs[k].residual for k in blk.equations]
+            bset = set(blk.unknowns)
+            want = _outcome(lambda: [rowcode.affine(e, bset, sol.values) for e in exprs])
+            got = _outcome(lambda: rowcode.affine_many(exprs, bset, sol.values))
+            assert got == want, (name, blk.unknowns)
+            checked += 1
+        # every equation against all its unknowns as one "block" (mixed shapes)
+        exprs = [e.residual for e in eqs]
+        every = set(sol.values)
+        assert _outcome(lambda: rowcode.affine_many(exprs, every, sol.values)) == \
+            _outcome(lambda: [rowcode.affine(e, every, sol.values) for e in exprs])
+    return checked
+
+
+EXAMPLES = sorted(p for p in glob.glob("examples/*.mom") + glob.glob("examples/hard/*.mom")
+                  if os.path.getsize(p) < 40_000)  # the generated 1000-ball files: below
+
+
+@pytest.mark.parametrize("path", EXAMPLES)
+def test_examples(path, monkeypatch):
+    monkeypatch.setattr(rowcode, "MANY", 1)  # every shape on arrays, even met once
+    with open(path, encoding="utf-8") as fh:
+        _check_scene(fh.read(), path)
+
+
+def test_generated_chain_and_cradle(monkeypatch):
+    import sys
+
+    sys.path.insert(0, "tests")
+    from test_hard import cradle_text
+
+    monkeypatch.setattr(rowcode, "MANY", 2)
+    assert _check_scene(chain_text(300), "chain.mom") > 0
+    assert _check_scene(cradle_text(40, "sequence"), "cradle.mom") > 0
+    assert _check_scene(cradle_text(40, "simultaneous"), "cradle.mom") > 0
+
+
+def test_missing_value_and_nonlinear_raise_as_one_by_one(monkeypatch):
+    from momentum_cli.expr import Const, Var, add, mul
+
+    monkeypatch.setattr(rowcode, "MANY", 1)
+    x, y = Var("x"), Var("y")
+    lin = [add(mul(Const(2.0), x), mul(Const(3.0), y)) for _ in range(4)]
+    nonlin = [mul(x, x) for _ in range(3)]
+    for exprs, vals in ((lin, {"y": 1.5}), (lin, {}), (lin + nonlin, {"y": 1.0}),
+                        (nonlin + lin, {})):
+        assert _outcome(lambda: rowcode.affine_many(exprs, {"x"}, vals)) == \
+            _outcome(lambda: [rowcode.affine(e, {"x"}, vals) for e in exprs])
