@@ -89,3 +89,60 @@ def test_missing_value_and_nonlinear_raise_as_one_by_one(monkeypatch):
                         (nonlin + lin, {})):
         assert _outcome(lambda: rowcode.affine_many(exprs, {"x"}, vals)) == \
             _outcome(lambda: [rowcode.affine(e, {"x"}, vals) for e in exprs])
+
+
+# ---- sums of many terms (a scene's energy): values, derivatives and sizes on arrays ----------
+def _walks(sol, exprs):
+    from momentum_cli.bounds import _grad_size
+
+    out = []
+    with rowcode.remembered():
+        for e in exprs:
+            try:
+                v = ("ok", struct.pack("d", rowcode.evaluate(e, sol.values)))
+            except Exception as exc:  # noqa: BLE001
+                v = ("raised", type(exc).__name__)
+            g = rowcode.grad_size_big(e, sol.values, _grad_size)
+            if g is not None:
+                d, z = g
+                g = ([(k, struct.pack("d", x)) for k, x in d.items()], struct.pack("d", z))
+            out.append((v, g))
+    return out
+
+
+def _big_exprs(sol):
+    from momentum_cli.expr import add_all
+
+    exprs = [f.expr for f in sol.system.finds] + \
+        [f.alt for f in sol.system.finds if f.alt is not None]
+    # a sum of every equation's residual: terms of many shapes, unknowns shared
+    exprs.append(add_all([e.residual for e in sol.system.equations]))
+    return exprs
+
+
+def _compare_sums(text: str, name: str, monkeypatch, many: int) -> None:
+    try:
+        sol = solve_scene(build(parse(Source(name, text))))
+    except ProblemError:
+        return
+    exprs = _big_exprs(sol)
+    monkeypatch.setattr(rowcode, "MANY", 10**9)
+    want = _walks(sol, exprs)
+    monkeypatch.setattr(rowcode, "MANY", many)
+    assert _walks(sol, exprs) == want, name
+
+
+@pytest.mark.parametrize("path", EXAMPLES)
+def test_sums_of_terms_on_arrays_examples(path, monkeypatch):
+    with open(path, encoding="utf-8") as fh:
+        _compare_sums(fh.read(), path, monkeypatch, 2)
+
+
+def test_sums_of_terms_on_arrays_generated(monkeypatch):
+    import sys
+
+    sys.path.insert(0, "tests")
+    from test_hard import cradle_text
+
+    for text in (chain_text(300), cradle_text(60, "sequence"), cradle_text(60, "simultaneous")):
+        _compare_sums(text, "big.mom", monkeypatch, 2)
