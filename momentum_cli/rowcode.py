@@ -303,7 +303,7 @@ def _evaluate_parts(e, values):
         return f(sh[1], sh[2], values) if f is not None else walk_value(e, values)
     t = type(e)
     if t is Add:
-        if len(e.terms) >= MANY:  # a scene's energy: its terms shape by shape on arrays
+        if len(e.terms) >= MANY and _NUMPY():  # a scene's energy: shape by shape
             got = _terms_values(e.terms, values)
             if got is not None:
                 return math.fsum(got)
@@ -375,7 +375,7 @@ def grad_size_big(e, values, walk):
                 walk(e, w, values, out)
         t = type(e)
         if t is Add:
-            if len(e.terms) >= MANY:  # a scene's energy: its terms shape by shape
+            if len(e.terms) >= MANY and _NUMPY():  # a scene's energy: shape by shape
                 got = _terms_grad_size(e.terms, values, out, w, gs)
                 if got is not None:
                     return sum(got)
@@ -489,6 +489,17 @@ def _affine_of(k):
 
 # ---- many rows of one block at once ------------------------------------------------------
 MANY = 16  # equations of one shape from which a block's rows are evaluated on arrays
+
+
+def _NUMPY() -> bool:
+    """Sums of terms go on arrays only where numpy is loaded already (a large block was
+    solved): importing it (~0.15 s) costs more than the terms of a small file save."""
+    import sys
+
+    return "numpy" in sys.modules or FORCE_ARRAYS
+
+
+FORCE_ARRAYS = False  # tests: the arrays even where numpy is not loaded yet
 
 
 def affine_many(exprs, block, values) -> list:

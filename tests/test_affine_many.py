@@ -129,6 +129,7 @@ def _compare_sums(text: str, name: str, monkeypatch, many: int) -> None:
     monkeypatch.setattr(rowcode, "MANY", 10**9)
     want = _walks(sol, exprs)
     monkeypatch.setattr(rowcode, "MANY", many)
+    monkeypatch.setattr(rowcode, "FORCE_ARRAYS", True)
     assert _walks(sol, exprs) == want, name
 
 
