@@ -241,12 +241,16 @@ def propagate(system, reports, values, exact: bool = False):
         scale, delta = [], []
         newton = rep.method == "newton"
         eqs, sget, eget = system.equations, size.get, err.get
+        pre = rowcode.derivatives_and_size_many([eqs[k].residual for k in rep.equations],
+                                                values) \
+            if FAST and len(rep.equations) >= ROWS_ON_ARRAYS else None
         for i, k in enumerate(rep.equations):
             f = eqs[k].residual
             if not FAST:
                 d = _row_plain(f, values, col, A, cols, i, size, err, scale)
             else:
-                d = _row(f, values, col, A[i], cols, i, sget, eget, scale)
+                d = _row(f, values, col, A[i], cols, i, sget, eget, scale,
+                         pre[i] if pre is not None else None)
             if not exact or newton:
                 d += ROUNDOFF * scale[-1]
             if newton:
@@ -337,13 +341,15 @@ def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
 
 
 FAST = True  # tests turn it off to compare the scalar steps with the general ones
+ROWS_ON_ARRAYS = 1000  # a block of this many rows takes their derivatives shape by shape
 
 
-def _row(f, values, col, Ai, cols, i, sget, eget, scale):
+def _row(f, values, col, Ai, cols, i, sget, eget, scale, got=None):
     """One row of `propagate`: its entries in the block (into Ai, cols), its scale (into
     scale), its data's error bound (returned). The unknowns from earlier blocks: sizes
-    and bounds summed in the derivatives' order from int 0, as `_row_plain` sums them."""
-    dv, mag = fast_derivatives_and_size(f, values)
+    and bounds summed in the derivatives' order from int 0, as `_row_plain` sums them.
+    `got`: the row's derivatives and size, if formed already (on arrays)."""
+    dv, mag = got if got is not None else fast_derivatives_and_size(f, values)
     sc = d = 0
     for v, s in dv.items():
         j = col.get(v)

@@ -750,3 +750,26 @@ def _terms_grad_size(terms, values, out: dict, w, gs):
         for nm, v in d:
             out[nm] = v
     return sizes
+
+
+def derivatives_and_size_many(exprs, values) -> list:
+    """[`derivatives_and_size(e, values)` for e in exprs] (a large block's rows in
+    `bounds.propagate`), groups of one shape on arrays: the same dicts, in the same order,
+    and sizes; None for a row its group cannot give (the caller walks it as before)."""
+    out: list = [None] * len(exprs)
+    if not ENABLED:
+        return out
+    groups: dict = {}
+    for q, e in enumerate(exprs):
+        sh = shape_of(e)
+        if sh is not None:
+            groups.setdefault(sh[0], []).append((q, sh))
+    for members in groups.values():
+        if len(members) < MANY:
+            continue
+        got = grad_size_group([sh for _q, sh in members], values)
+        if got is None:
+            continue
+        for (q, _sh), (d, z) in zip(members, got):
+            out[q] = (dict(d), z)
+    return out

@@ -147,3 +147,43 @@ def test_sums_of_terms_on_arrays_generated(monkeypatch):
 
     for text in (chain_text(300), cradle_text(60, "sequence"), cradle_text(60, "simultaneous")):
         _compare_sums(text, "big.mom", monkeypatch, 2)
+
+
+# ---- bounds.propagate with a large block's rows on arrays ---------------------------------
+def _propagate_bits(sol):
+    from momentum_cli.bounds import propagate
+
+    with rowcode.remembered():
+        size, err = propagate(sol.system, sol.blocks, sol.values)
+    return [(k, struct.pack("d", v)) for k, v in size.items()], \
+        [(k, struct.pack("d", v)) for k, v in err.items()]
+
+
+def _compare_propagate(text: str, name: str, monkeypatch) -> None:
+    from momentum_cli import bounds
+
+    try:
+        sol = solve_scene(build(parse(Source(name, text))))
+    except ProblemError:
+        return
+    monkeypatch.setattr(bounds, "ROWS_ON_ARRAYS", 10**9)
+    want = _propagate_bits(sol)
+    monkeypatch.setattr(bounds, "ROWS_ON_ARRAYS", 2)
+    monkeypatch.setattr(rowcode, "MANY", 2)
+    assert _propagate_bits(sol) == want, name
+
+
+@pytest.mark.parametrize("path", EXAMPLES)
+def test_propagate_rows_on_arrays_examples(path, monkeypatch):
+    with open(path, encoding="utf-8") as fh:
+        _compare_propagate(fh.read(), path, monkeypatch)
+
+
+def test_propagate_rows_on_arrays_generated(monkeypatch):
+    import sys
+
+    sys.path.insert(0, "tests")
+    from test_hard import cradle_text
+
+    for text in (chain_text(300), cradle_text(60, "simultaneous")):
+        _compare_propagate(text, "big.mom", monkeypatch)
