@@ -224,6 +224,7 @@ def propagate(system, reports, values, exact: bool = False):
     """
     size: dict[str, float] = {}
     err: dict[str, float] = {}
+    pre = _rows_on_arrays(system, reports, values) if FAST else {}
     for rep in reports:
         names = rep.unknowns
         if rep.method == "integrated":  # its rows are placeholders: the integrator's rtol
@@ -232,7 +233,7 @@ def propagate(system, reports, values, exact: bool = False):
                 size[name], err[name] = x, 10 * rep.residual * x
             continue
         if FAST and len(names) == 1 and len(rep.equations) == 1:
-            _one(system, rep, values, exact, size, err)
+            _one(system, rep, values, exact, size, err, pre.get(rep.equations[0]))
             continue
         col = {n: j for j, n in enumerate(names)}
         n = len(names)
@@ -241,16 +242,12 @@ def propagate(system, reports, values, exact: bool = False):
         scale, delta = [], []
         newton = rep.method == "newton"
         eqs, sget, eget = system.equations, size.get, err.get
-        pre = rowcode.derivatives_and_size_many([eqs[k].residual for k in rep.equations],
-                                                values) \
-            if FAST and len(rep.equations) >= ROWS_ON_ARRAYS else None
         for i, k in enumerate(rep.equations):
             f = eqs[k].residual
             if not FAST:
                 d = _row_plain(f, values, col, A, cols, i, size, err, scale)
             else:
-                d = _row(f, values, col, A[i], cols, i, sget, eget, scale,
-                         pre[i] if pre is not None else None)
+                d = _row(f, values, col, A[i], cols, i, sget, eget, scale, pre.get(k))
             if not exact or newton:
                 d += ROUNDOFF * scale[-1]
             if newton:
@@ -289,14 +286,29 @@ def propagate(system, reports, values, exact: bool = False):
     return size, err
 
 
-def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
+def _rows_on_arrays(system, reports, values) -> dict:
+    """{equation: (derivatives, size)} of every solved row, formed shape by shape on
+    arrays (the values are all known here: rows need not wait for their blocks), where
+    the rows are many; {} otherwise. Rows a group cannot give are left to `_row`/`_one`."""
+    import sys
+
+    ks = [k for rep in reports if rep.method != "integrated" for k in rep.equations]
+    if len(ks) < ROWS_ON_ARRAYS or ("numpy" not in sys.modules and len(ks) < ROWS_IMPORT):
+        return {}
+    eqs = system.equations
+    got = rowcode.derivatives_and_size_many([eqs[k].residual for k in ks], values)
+    return {k: g for k, g in zip(ks, got) if g is not None}
+
+
+def _one(system, rep, values, exact: bool, size: dict, err: dict, got=None) -> None:
     """`propagate`'s general step for a block of one unknown and one equation (most
     blocks of a large scene), the same operations on scalars, in the same order
-    (tests/test_rowcode.py compares the two on every example)."""
+    (tests/test_rowcode.py compares the two on every example). `got`: the row's
+    derivatives and size, if formed already (on arrays)."""
     name = rep.unknowns[0]
     newton = rep.method == "newton"
     f = system.equations[rep.equations[0]].residual
-    dv, mag = fast_derivatives_and_size(f, values)
+    dv, mag = got if got is not None else fast_derivatives_and_size(f, values)
     a = None  # A[0][0]: the derivative by the block's unknown, where nonzero
     sc = d = 0  # the sizes and bounds of the unknowns used, summed from int 0 as sum() does
     sget, eget = size.get, err.get
@@ -341,7 +353,8 @@ def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
 
 
 FAST = True  # tests turn it off to compare the scalar steps with the general ones
-ROWS_ON_ARRAYS = 1000  # a block of this many rows takes their derivatives shape by shape
+ROWS_ON_ARRAYS = 1000  # this many solved rows take their derivatives shape by shape
+ROWS_IMPORT = 20000  # ... and import numpy for it (~0.15 s) from this many
 
 
 def _row(f, values, col, Ai, cols, i, sget, eget, scale, got=None):

@@ -185,5 +185,6 @@ def test_propagate_rows_on_arrays_generated(monkeypatch):
     sys.path.insert(0, "tests")
     from test_hard import cradle_text
 
-    for text in (chain_text(300), cradle_text(60, "simultaneous")):
+    for text in (chain_text(300), cradle_text(60, "simultaneous"),
+                 cradle_text(60, "sequence")):
         _compare_propagate(text, "big.mom", monkeypatch)
