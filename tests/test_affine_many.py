@@ -188,3 +188,36 @@ def test_propagate_rows_on_arrays_generated(monkeypatch):
     for text in (chain_text(300), cradle_text(60, "simultaneous"),
                  cradle_text(60, "sequence")):
         _compare_propagate(text, "big.mom", monkeypatch)
+
+
+def test_variables_by_shapes_is_variables():
+    """rowcode.variables_into names what expr.variables names, on every example's
+    equations and energies summed, zero products and all."""
+    from momentum_cli.expr import add_all, variables
+
+    for path in EXAMPLES + ["chain"]:
+        text = chain_text(40) if path == "chain" else open(path, encoding="utf-8").read()
+        try:
+            sol = solve_scene(build(parse(Source(path, text))))
+        except ProblemError:
+            continue
+        exprs = [e.residual for e in sol.system.equations]
+        exprs += [T for t in sol.system.transitions if t.energy is not None for T in t.energy]
+        for e in exprs + [add_all(exprs)]:
+            got: set = set()
+            with rowcode.remembered():
+                rowcode.variables_into(e, got, variables)
+            assert got == variables(e), path
+
+
+def test_variables_by_shapes_of_a_difference_of_sums():
+    from momentum_cli.expr import Const, Known, Var, add_all, mul, neg, variables
+
+    a = add_all([mul(Known("m", 2.0), mul(Var(f"v{i}"), Var(f"v{i}"))) for i in range(40)])
+    b = add_all([mul(Known("m", 0.0), Var(f"w{i}")) for i in range(20)] +
+                [mul(Const(3.0), Var(f"u{i}")) for i in range(30)])
+    for e in (add_all([a, neg(b)]), add_all([neg(a), b, mul(Const(0.0), a)])):
+        got: set = set()
+        with rowcode.remembered():
+            rowcode.variables_into(e, got, variables)
+        assert got == variables(e)
