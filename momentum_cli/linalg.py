@@ -6,7 +6,9 @@ and solved in one of three precisions:
 
 - `float`: float64. Blocks of up to SMALL unknowns by plain-Python Gauss-Jordan
   (importing numpy costs ~140 ms, more than such a solve), larger dense ones by
-  LAPACK, large sparse ones (ball chains) by our sparse elimination, O(n) on chains.
+  LAPACK, sparse ones by our sparse elimination, O(n) on chains; from BIG unknowns
+  (ball chains of 10^4 and more) by LAPACK's banded LU where they order into a narrow
+  band (banded.py), on arrays.
 - `refine`: the float solution, then iterative refinement with residuals computed
   exactly (error-free products summed by `math.fsum`), until the correction stops
   shrinking.
