@@ -47,9 +47,14 @@ def _flapack():
 
 def _walk(A, col_rows, start: int, seen_r, seen_c, rows_out, cols_out) -> int:
     """Breadth-first over rows and columns from row `start`; appends the visit order,
-    returns the last row reached (a far end of the component)."""
+    returns the last row reached (a far end of the component). `seen_r`, `seen_c`:
+    lists of flags, or sets (a probe that must not mark the others)."""
+    flags = isinstance(seen_r, list)
     queue = [start]
-    seen_r[start] = True
+    if flags:
+        seen_r[start] = True
+    else:
+        seen_r.add(start)
     last = start
     k = 0
     while k < len(queue):
@@ -58,13 +63,21 @@ def _walk(A, col_rows, start: int, seen_r, seen_c, rows_out, cols_out) -> int:
         last = i
         rows_out.append(i)
         for j in A[i]:
-            if not seen_c[j]:
+            if (seen_c[j]) if flags else (j in seen_c):
+                continue
+            if flags:
                 seen_c[j] = True
-                cols_out.append(j)
-                for r in col_rows[j]:
-                    if not seen_r[r]:
-                        seen_r[r] = True
-                        queue.append(r)
+            else:
+                seen_c.add(j)
+            cols_out.append(j)
+            for r in col_rows[j]:
+                if (seen_r[r]) if flags else (r in seen_r):
+                    continue
+                if flags:
+                    seen_r[r] = True
+                else:
+                    seen_r.add(r)
+                queue.append(r)
     return last
 
 
@@ -88,8 +101,7 @@ def order(A, n: int):
             continue
         # from the far end of this component (a chain walked from its middle is
         # twice as wide): walk once to find it, then again from there
-        probe_r, probe_c = seen_r[:], seen_c[:]
-        far = _walk(A, col_rows, s, probe_r, probe_c, [], [])
+        far = _walk(A, col_rows, s, set(), set(), [], [])
         _walk(A, col_rows, far, seen_r, seen_c, rows_out, cols_out)
     return rows_out, cols_out
 
