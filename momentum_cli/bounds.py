@@ -224,7 +224,6 @@ def propagate(system, reports, values, exact: bool = False):
     """
     size: dict[str, float] = {}
     err: dict[str, float] = {}
-    pre = _rows_on_arrays(system, reports, values) if FAST else {}
     for rep in reports:
         names = rep.unknowns
         if rep.method == "integrated":  # its rows are placeholders: the integrator's rtol
@@ -233,7 +232,7 @@ def propagate(system, reports, values, exact: bool = False):
                 size[name], err[name] = x, 10 * rep.residual * x
             continue
         if FAST and len(names) == 1 and len(rep.equations) == 1:
-            _one(system, rep, values, exact, size, err, pre.get(rep.equations[0]))
+            _one(system, rep, values, exact, size, err)
             continue
         col = {n: j for j, n in enumerate(names)}
         n = len(names)
@@ -247,7 +246,7 @@ def propagate(system, reports, values, exact: bool = False):
             if not FAST:
                 d = _row_plain(f, values, col, A, cols, i, size, err, scale)
             else:
-                d = _row(f, values, col, A[i], cols, i, sget, eget, scale, pre.get(k))
+                d = _row(f, values, col, A[i], cols, i, sget, eget, scale)
             if not exact or newton:
                 d += ROUNDOFF * scale[-1]
             if newton:
@@ -286,29 +285,14 @@ def propagate(system, reports, values, exact: bool = False):
     return size, err
 
 
-def _rows_on_arrays(system, reports, values) -> dict:
-    """{equation: (derivatives, size)} of every solved row, formed shape by shape on
-    arrays (the values are all known here: rows need not wait for their blocks), where
-    the rows are many; {} otherwise. Rows a group cannot give are left to `_row`/`_one`."""
-    import sys
-
-    ks = [k for rep in reports if rep.method != "integrated" for k in rep.equations]
-    if len(ks) < ROWS_ON_ARRAYS or ("numpy" not in sys.modules and len(ks) < ROWS_IMPORT):
-        return {}
-    eqs = system.equations
-    got = rowcode.derivatives_and_size_many([eqs[k].residual for k in ks], values)
-    return {k: g for k, g in zip(ks, got) if g is not None}
-
-
-def _one(system, rep, values, exact: bool, size: dict, err: dict, got=None) -> None:
+def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
     """`propagate`'s general step for a block of one unknown and one equation (most
     blocks of a large scene), the same operations on scalars, in the same order
-    (tests/test_rowcode.py compares the two on every example). `got`: the row's
-    derivatives and size, if formed already (on arrays)."""
+    (tests/test_rowcode.py compares the two on every example)."""
     name = rep.unknowns[0]
     newton = rep.method == "newton"
     f = system.equations[rep.equations[0]].residual
-    dv, mag = got if got is not None else fast_derivatives_and_size(f, values)
+    dv, mag = fast_derivatives_and_size(f, values)
     a = None  # A[0][0]: the derivative by the block's unknown, where nonzero
     sc = d = 0  # the sizes and bounds of the unknowns used, summed from int 0 as sum() does
     sget, eget = size.get, err.get
@@ -353,16 +337,13 @@ def _one(system, rep, values, exact: bool, size: dict, err: dict, got=None) -> N
 
 
 FAST = True  # tests turn it off to compare the scalar steps with the general ones
-ROWS_ON_ARRAYS = 1000  # this many solved rows take their derivatives shape by shape
-ROWS_IMPORT = 200_000  # ... and import numpy for it (~0.15 s, +30 MB) from this many
 
 
-def _row(f, values, col, Ai, cols, i, sget, eget, scale, got=None):
+def _row(f, values, col, Ai, cols, i, sget, eget, scale):
     """One row of `propagate`: its entries in the block (into Ai, cols), its scale (into
     scale), its data's error bound (returned). The unknowns from earlier blocks: sizes
-    and bounds summed in the derivatives' order from int 0, as `_row_plain` sums them.
-    `got`: the row's derivatives and size, if formed already (on arrays)."""
-    dv, mag = got if got is not None else fast_derivatives_and_size(f, values)
+    and bounds summed in the derivatives' order from int 0, as `_row_plain` sums them."""
+    dv, mag = fast_derivatives_and_size(f, values)
     sc = d = 0
     for v, s in dv.items():
         j = col.get(v)

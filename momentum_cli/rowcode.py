@@ -303,10 +303,6 @@ def _evaluate_parts(e, values):
         return f(sh[1], sh[2], values) if f is not None else walk_value(e, values)
     t = type(e)
     if t is Add:
-        if len(e.terms) >= MANY and _NUMPY():  # a scene's energy: shape by shape
-            got = _terms_values(e.terms, values)
-            if got is not None:
-                return math.fsum(got)
         return math.fsum([_evaluate_parts(x, values) for x in e.terms])
     if t is Mul:
         fs = e.factors
@@ -367,7 +363,7 @@ def grad_size_big(e, values, walk):
         return None
     out: dict = {}
 
-    def gs(e, w, out):
+    def gs(e, w):
         sh = shape_of(e)
         if sh is not None:
             f = _gs_of(sh[0])
@@ -375,11 +371,7 @@ def grad_size_big(e, values, walk):
                 walk(e, w, values, out)
         t = type(e)
         if t is Add:
-            if len(e.terms) >= MANY and _NUMPY():  # a scene's energy: shape by shape
-                got = _terms_grad_size(e.terms, values, out, w, gs)
-                if got is not None:
-                    return sum(got)
-            return sum([gs(x, w, out) for x in e.terms])
+            return sum([gs(x, w) for x in e.terms])
         if t is Mul:
             fs = e.factors
             for f in fs:
@@ -397,12 +389,12 @@ def grad_size_big(e, values, walk):
                 for j, v in enumerate(vals):
                     if j != i:
                         k *= v
-                r *= gs(f, k, out)
+                r *= gs(f, k)
             return r
         raise _No  # powers and functions of large trees: the plain walk
 
     try:
-        return out, gs(e, 1.0, out)
+        return out, gs(e, 1.0)
     except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
         return None
     finally:  # gs refers to itself: without this the cycle keeps `values` and `out`
@@ -487,292 +479,7 @@ def _affine_of(k):
     return _affine_function(*k)
 
 
-# ---- many rows of one block at once ------------------------------------------------------
-MANY = 16  # equations of one shape from which a block's rows are evaluated on arrays
-
-
-def _NUMPY() -> bool:
-    """Sums of terms go on arrays only where numpy is loaded already (a large block was
-    solved): importing it (~0.15 s) costs more than the terms of a small file save."""
-    import sys
-
-    return "numpy" in sys.modules or FORCE_ARRAYS
-
-
-FORCE_ARRAYS = False  # tests: the arrays even where numpy is not loaded yet
-
-
-def affine_many(exprs, block, values) -> list:
-    """[`affine(e, block, values)` for e in exprs]: the same (coef, const) to the bit,
-    dicts in the same order, where the rows of a large block share a few shapes. Each
-    shape's compiled walk runs once on numpy arrays (one entry per equation: the same
-    IEEE additions and multiplications, in the same order); a shape met fewer than MANY
-    times, or whose arrays cannot be formed, takes `affine` equation by equation (its
-    results and exceptions as they always are)."""
-    try:
-        return _many(exprs, block, values)
-    except Exception:  # noqa: BLE001 - the failure of the first row that fails, in order
-        return [affine(e, block, values) for e in exprs]
-
-
-def _many(exprs, block, values) -> list:
-    out: list = [None] * len(exprs)
-    groups: dict = {}
-    for q, e in enumerate(exprs):
-        sh = shape_of(e) if ENABLED else None
-        if sh is None:
-            groups.setdefault(None, []).append((q, None))
-            continue
-        key = (sh[0], tuple([nm in block for nm in sh[2]]))
-        groups.setdefault(key, []).append((q, sh))
-    for key, members in groups.items():
-        got = _affine_group(key, members, values) if key is not None and \
-            len(members) >= MANY else None
-        if got is not None:
-            for (q, _sh), row in zip(members, got):
-                out[q] = row
-            continue
-        for q, sh in members:  # in order: the first failure raises as `affine` does
-            out[q] = affine(exprs[q], block, values, shaped=sh)
-    return out
-
-
-def _affine_group(key, members, values):
-    """The rows of one shape's equations by its compiled walk on arrays, or None."""
-    import numpy as np
-
-    f = _AFF.get(key)
-    if f is None:
-        f = _affine_of(key)
-        if len(_AFF) >= LIMIT:
-            _AFF.clear()
-        _AFF[key] = f
-    inside = key[1]
-    nvars = len(inside)
-    try:
-        nums = np.array([sh[1] for _q, sh in members], dtype=float)
-        cols = [nums[:, i] for i in range(nums.shape[1])] if nums.ndim == 2 else []
-        vals: list = [None] * nvars
-        for j in range(nvars):
-            if not inside[j]:
-                got = [values[sh[2][j]] for _q, sh in members]
-                if not all([type(x) is float for x in got]):
-                    return None  # ints, rationals, traced numbers: their own arithmetic
-                vals[j] = np.array(got, dtype=float)
-        with np.errstate(all="ignore"):
-            coef, const = f(cols, range(nvars), vals)
-    except Exception:  # noqa: BLE001 - a missing value, NonLinear, ...: one by one
-        return None
-    m = len(members)
-    const = np.broadcast_to(np.asarray(const, dtype=float), (m,)).tolist()
-    slots = [(j, np.broadcast_to(np.asarray(v, dtype=float), (m,)).tolist())
-             for j, v in coef.items()]
-    rows = []
-    for r, (_q, sh) in enumerate(members):
-        names = sh[2]
-        rows.append(({names[j]: v[r] for j, v in slots}, const[r]))
-    return rows
-
-
-# ---- many terms or rows of one shape: the compiled walks on arrays -----------------------
-def _vfsum(parts):
-    """`math.fsum` of each position of `parts` (arrays or floats): two numbers by one IEEE
-    addition (fsum rounds their exact sum once, as + does; its zero is +0.0), more
-    position by position by fsum itself. Not finite anywhere: _No (fsum raises there or
-    differs from +; the caller takes the walks)."""
-    import numpy as np
-
-    if len(parts) == 2:
-        r = (parts[0] + parts[1]) + 0.0
-    elif len(parts) < 2:
-        r = (parts[0] + 0.0) if parts else 0.0
-    else:
-        m = max(np.size(p) for p in parts)
-        cols = [np.broadcast_to(np.asarray(p, dtype=float), (m,)).tolist() for p in parts]
-        r = np.array([math.fsum(t) for t in zip(*cols)])
-    if not np.all(np.isfinite(r)):
-        raise _No
-    return r
-
-
-_VEC: dict = {}  # id(scalar function) -> (it, the same code with fsum on arrays)
-
-
-def _on_arrays(f):
-    import types
-
-    hit = _VEC.get(id(f))
-    if hit is None or hit[0] is not f:
-        if len(_VEC) >= LIMIT:
-            _VEC.clear()
-        g = types.FunctionType(f.__code__, {**f.__globals__, "fsum": _vfsum})
-        hit = _VEC[id(f)] = (f, g)
-    return hit[1]
-
-
-def _group_inputs(key, members, values):
-    """(numbers by position, unknown index by position, values by index) as arrays for
-    the shapes `members` [(key, nums, names)] of one key; None if a value is not a float."""
-    import numpy as np
-
-    names0 = members[0][2]
-    first: dict = {}
-    same = [first.setdefault(nm, i) for i, nm in enumerate(names0)]
-    nums = np.array([sh[1] for sh in members], dtype=float)
-    cols = [nums[:, i] for i in range(nums.shape[1])] if nums.ndim == 2 else []
-    vals: list = [None] * len(names0)
-    for j in set(same):
-        got = [values[sh[2][j]] for sh in members]  # KeyError as the walk raises it
-        if not all([type(x) is float for x in got]):
-            return None
-        vals[j] = np.array(got, dtype=float)
-    return cols, same, vals
-
-
-def grad_size_group(members, values, w=1.0):
-    """`derivatives_and_size` of each of `members` (shapes of one key) with weight w: a
-    list of ([(name, derivative)] in the walk's order, size), the same floats; None where
-    the compiled walk does not run on arrays (a value missing or not a float, anything
-    not finite)."""
-    import numpy as np
-
-    key = members[0][0]
-    f = _GS.get(key)
-    if f is None:
-        f = _gs_function(key)
-        if len(_GS) >= LIMIT:
-            _GS.clear()
-        _GS[key] = f
-    try:
-        got = _group_inputs(key, members, values)
-        if got is None:
-            return None
-        cols, same, vals = got
-        out: dict = {}
-        with np.errstate(all="ignore"):
-            size = _on_arrays(f)(cols, same, vals, out, w)
-    except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError):
-        return None
-    m = len(members)
-    size = np.broadcast_to(np.asarray(size, dtype=float), (m,))
-    derivs = [(j, np.broadcast_to(np.asarray(v, dtype=float), (m,))) for j, v in out.items()]
-    if not np.all(np.isfinite(size)) or not all(np.all(np.isfinite(v)) for _j, v in derivs):
-        return None
-    sizes = size.tolist()
-    lists = [(j, v.tolist()) for j, v in derivs]
-    return [([(sh[2][j], v[r]) for j, v in lists], sizes[r]) for r, sh in enumerate(members)]
-
-
-def value_group(members, values):
-    """`expr.evaluate` of each of `members` (shapes of one key): a list of floats, the
-    same as the compiled walk gives each; None where it does not run on arrays."""
-    import numpy as np
-
-    key = members[0][0]
-    f = _VAL.get(key)
-    if f is None:
-        f = _val_function(key)
-        if len(_VAL) >= LIMIT:
-            _VAL.clear()
-        _VAL[key] = f
-    try:
-        got = _group_inputs(key, members, values)
-        if got is None:
-            return None
-        cols, same, vals = got
-        with np.errstate(all="ignore"):
-            v = _on_arrays(f)(cols, same, vals)
-    except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError):
-        return None
-    v = np.broadcast_to(np.asarray(v, dtype=float), (len(members),))
-    if not np.all(np.isfinite(v)):
-        return None
-    return v.tolist()
-
-
-def _term_groups(terms):
-    """({key: [(position, shape)]}, [positions of terms that are not shapes])."""
-    groups: dict = {}
-    rest: list = []
-    for q, x in enumerate(terms):
-        sh = shape_of(x)
-        if sh is None:
-            rest.append(q)
-        else:
-            groups.setdefault(sh[0], []).append((q, sh))
-    return groups, rest
-
-
-def _terms_values(terms, values):
-    """The compiled value of each term (a list in order), groups of one shape on arrays,
-    the others by `_evaluate_parts`; None where a group does not run on arrays."""
-    groups, rest = _term_groups(terms)
-    out: list = [None] * len(terms)
-    for members in groups.values():
-        got = value_group([sh for _q, sh in members], values)
-        if got is None:
-            return None
-        for (q, _sh), v in zip(members, got):
-            out[q] = v
-    for q in rest:
-        out[q] = _evaluate_parts(terms[q], values)
-    return out
-
-
-def _terms_grad_size(terms, values, out: dict, w, gs):
-    """`grad_size_big`'s sum of terms: each term's size (a list in order) and its
-    derivatives into `out` in the walk's order (groups of one shape on arrays, the other
-    terms by `gs` into a dict of their own). Only where no unknown is shared between
-    terms or already in `out` (each derivative is then its term's own sum, as the walk
-    forms it); None otherwise, with `out` untouched."""
-    groups, rest = _term_groups(terms)
-    sizes: list = [None] * len(terms)
-    derivs: list = [None] * len(terms)
-    for members in groups.values():
-        got = grad_size_group([sh for _q, sh in members], values, w)
-        if got is None:
-            return None
-        for (q, _sh), (d, z) in zip(members, got):
-            derivs[q] = d
-            sizes[q] = z
-    for q in rest:
-        own: dict = {}
-        sizes[q] = gs(terms[q], w, own)
-        derivs[q] = list(own.items())
-    seen = set(out)
-    count = len(seen)
-    for d in derivs:
-        seen.update([nm for nm, _v in d])
-        count += len(d)
-    if len(seen) != count:
-        return None  # an unknown in two terms: the walk's sums in its order
-    for d in derivs:
-        for nm, v in d:
-            out[nm] = v
-    return sizes
-
-
-def derivatives_and_size_many(exprs, values) -> list:
-    """[`derivatives_and_size(e, values)` for e in exprs] (a large block's rows in
-    `bounds.propagate`), groups of one shape on arrays: the same dicts, in the same order,
-    and sizes; None for a row its group cannot give (the caller walks it as before)."""
-    out: list = [None] * len(exprs)
-    if not ENABLED:
-        return out
-    groups: dict = {}
-    for q, e in enumerate(exprs):
-        sh = shape_of(e)
-        if sh is not None:
-            groups.setdefault(sh[0], []).append((q, sh))
-    for members in groups.values():
-        if len(members) < MANY:
-            continue
-        got = grad_size_group([sh for _q, sh in members], values)
-        if got is None:
-            continue
-        for (q, _sh), (d, z) in zip(members, got):
-            out[q] = (dict(d), z)
-    return out
+MANY = 16  # a sum of this many terms is named from its terms' shapes
 
 
 def variables_into(e, into: set, walk) -> None:

@@ -37,7 +37,6 @@ from .records import record
 from .scene import Scene
 
 REL_TOL = 1e-9  # residual tolerance relative to the size of an equation's terms
-BIG_ROWS = 1000  # a block of this many rows forms them shape by shape, on arrays
 
 
 @record
@@ -834,11 +833,7 @@ def _solve_block(system: System, structure: Structure, block, values,
     col = {n: j for j, n in enumerate(names)}
     rows, rhs = [], []
     try:
-        if exact is None and len(eqs) >= BIG_ROWS:  # a large block's rows, shape by shape
-            for coef, const in rowcode.affine_many([e.residual for e in eqs], bset, values):
-                rows.append({col[n]: v for n, v in coef.items() if v != 0.0})
-                rhs.append(-const)
-        for e in eqs if not rows else ():
+        for e in eqs:
             # exact mode forms the rows in rationals too (no cancellation in the rhs)
             coef, const = rowcode.affine(e.residual, bset, values) if exact is None else \
                 affine_exact(e.residual, bset, ChainMap(exact, values))
