@@ -6,7 +6,9 @@ and solved in one of three precisions:
 
 - `float`: float64. Blocks of up to SMALL unknowns by plain-Python Gauss-Jordan
   (importing numpy costs ~140 ms, more than such a solve), larger dense ones by
-  LAPACK, large sparse ones (ball chains) by our sparse elimination, O(n) on chains.
+  LAPACK, sparse ones by our sparse elimination, O(n) on chains; from BIG unknowns
+  (ball chains of 10^4 and more) by LAPACK's banded LU where they order into a narrow
+  band (banded.py), on arrays.
 - `refine`: the float solution, then iterative refinement with residuals computed
   exactly (error-free products summed by `math.fsum`), until the correction stops
   shrinking.
@@ -26,6 +28,7 @@ from fractions import Fraction
 from .records import record
 
 SMALL = 12  # blocks up to this size are solved without numpy
+BIG = 1000  # square sparse blocks from this size: LAPACK's banded LU (banded.py)
 EPS = 2.0**-53
 SINGULAR_COND = 1e15  # equilibrated condition numbers beyond this are numerically singular
 
@@ -96,6 +99,10 @@ def solve_rows(rows: Rows, b: list[float], n: int, precision: str = "float"):
                         [float(v) for v in b], n)[0]
         return [float(v) for v in q], Quality("exact", "exact", _cond(A, n), 0.0, 0.0, 0,
                                               [0.0] * n, q)
+    if precision == "float" and n >= BIG and len(rows) == n:
+        got = _big_float(rows, b, n)
+        if got is not None:
+            return got
     A, bs, r, c = equilibrate(rows, b, n)
     y, cond, method = _float_solve(A, bs, n)
     if precision == "float":
@@ -171,6 +178,10 @@ def _float_solve(A: Rows, b: list[float], n: int):
     nnz = sum(len(row) for row in A)
     if nnz > 0.2 * n * n or n < 60:
         return (*_lapack(A, b, n), "lapack")
+    if n >= BIG:
+        got = _banded(A, b, n)
+        if got is not None:
+            return (*got, "banded-lu")
     return (*_sparse_lu(A, b, n), "sparse-lu")
 
 
@@ -230,6 +241,43 @@ def _sparse_lu(A: Rows, b: list[float], n: int):
     lu = SparseLU(A, n, exact=False)
     y = lu.solve(b)
     cond = lu.norm1 * lu.inverse_norm1_estimate()
+    if not math.isfinite(cond) or cond > SINGULAR_COND or not all(map(math.isfinite, y)):
+        raise SingularError(cond)
+    return y, cond
+
+
+# |A^-1|_1 is estimated from solves with these right-hand sides (LINPACK style)
+PATTERNS = (lambda k, n: 1.0, lambda k, n: (-1.0) ** k, lambda k, n: (-1.0) ** (k // 2),
+            lambda k, n: 1.0 + k / n)
+
+
+def _big_float(rows: Rows, b: list[float], n: int):
+    """`solve_rows` in float of a large block that orders into a narrow band, on arrays
+    (banded.solve_float), or None to take the general path."""
+    from . import banded
+
+    if sum(len(row) for row in rows) > 0.2 * n * n:
+        return None  # dense: LAPACK's general solve, as _float_solve chooses
+    got = banded.solve_float(rows, b, n, PATTERNS, EPS)
+    if got is None:
+        return None
+    x, cond, back, comps = got
+    if not math.isfinite(cond) or cond > SINGULAR_COND:
+        raise SingularError(cond)
+    normwise = cond * max(back, EPS)
+    return x, Quality("banded-lu", "float", cond, back, max(comps, default=normwise), 0, comps)
+
+
+def _banded(A: Rows, b: list[float], n: int):
+    """`_sparse_lu` by LAPACK's banded LU where the block orders into a narrow band (the
+    same condition estimate, from the same patterns); None otherwise."""
+    from . import banded
+
+    got = banded.solve(A, b, n, PATTERNS)
+    if got is None:
+        return None
+    y, inv = got
+    cond = _norm1(A, n) * inv
     if not math.isfinite(cond) or cond > SINGULAR_COND or not all(map(math.isfinite, y)):
         raise SingularError(cond)
     return y, cond
@@ -413,9 +461,8 @@ class SparseLU:
         """A lower estimate of |A^-1|_1 from a few solves (LINPACK style)."""
         best = 0.0
         n = self.n
-        for pattern in (lambda k: 1.0, lambda k: (-1.0) ** k, lambda k: (-1.0) ** (k // 2),
-                        lambda k: 1.0 + k / n):
-            b = [pattern(k) for k in range(n)]
+        for pattern in PATTERNS:
+            b = [pattern(k, n) for k in range(n)]
             x = self.solve(b)
             best = max(best, sum(abs(v) for v in x) / sum(abs(v) for v in b))
         return best

@@ -477,3 +477,27 @@ def affine(e, block, values, shaped=None):
 
 def _affine_of(k):
     return _affine_function(*k)
+
+
+MANY = 16  # a sum of this many terms is named from its terms' shapes
+
+
+def variables_into(e, into: set, walk) -> None:
+    """`walk(e, into)` (expr.variables): a sum of many terms by its terms' shapes (kept
+    for the solve's later walks of the same terms: an answer's energy shares them). A
+    shape names the unknowns `variables` finds: both leave out a product with a zero
+    number, and a shape holds nothing else; `walk` for the terms that are no shape."""
+    if ENABLED and _ON[0] and type(e) is Add and len(e.terms) >= MANY:
+        for x in e.terms:
+            sh = shape_of(x)
+            if sh is not None:
+                into.update(sh[2])
+            elif type(x) is Mul:  # -(a sum of many terms), as `variables` walks it
+                if not any((type(f) is Const or type(f) is Known) and f.value == 0.0
+                           for f in x.factors):
+                    for f in x.factors:
+                        variables_into(f, into, walk)
+            else:
+                walk(x, into)
+        return
+    walk(e, into)

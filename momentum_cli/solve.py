@@ -268,7 +268,7 @@ def _needed_set(system: System, structure: Structure, find_vars: set | None) -> 
     for t in system.transitions:
         if t.kind == "impact" and t.energy is not None:
             for T in t.energy:
-                variables(T, names)
+                rowcode.variables_into(T, names, variables)
     return [n for n in names if n not in structure.under]
 
 
@@ -286,7 +286,7 @@ def _solve_rounds(system: System, structure: Structure, solve_all: bool,
     values: dict[str, float] = {}
     find_vars: set[str] = set()
     for f in system.finds:
-        variables(f.expr, find_vars)
+        rowcode.variables_into(f.expr, find_vars, variables)
     wanted = sorted(find_vars) if system.finds and not solve_all else []
     reports: list[BlockReport] = []
     bounds: dict[str, float] = {}
