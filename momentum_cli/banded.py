@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import math
 
+from .linalg import _two_product  # the same IEEE operations on arrays as on floats
+
 MAX_WIDTH = 64  # kl + ku beyond this: the band costs more than the Python elimination
 _LAPACK: list = []
 
@@ -206,20 +208,6 @@ def _pow2(x):
     out = np.ldexp(1.0, e - 1)
     out[(x == 0.0) | ~np.isfinite(x)] = 1.0
     return out
-
-
-def _two_product(a, b):
-    """linalg._two_product on arrays (the same IEEE operations: p + e == a * b)."""
-    split = 134217729.0
-    p = a * b
-    t = split * a
-    ah = t - (t - a)
-    al = a - ah
-    t = split * b
-    bh = t - (t - b)
-    bl = b - bh
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-    return p, e
 
 
 def _two_sum_into(s, comp, rows, t) -> None:

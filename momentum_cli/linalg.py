@@ -298,7 +298,8 @@ _SPLIT = 134217729.0  # 2^27 + 1, Veltkamp's splitter for float64
 
 
 def _two_product(a: float, b: float) -> tuple[float, float]:
-    """p + e == a * b exactly (Dekker); assumes no overflow."""
+    """p + e == a * b exactly (Dekker); assumes no overflow. Elementwise on numpy arrays
+    too (banded.py's residuals)."""
     p = a * b
     t = _SPLIT * a
     ah = t - (t - a)
