@@ -26,6 +26,13 @@ from momentum_cli.syntax import parse
 pytest.importorskip("scipy")
 
 
+@pytest.fixture(autouse=True)
+def _banded_from_1000(monkeypatch):
+    """The banded path from 1,000 unknowns here (linalg.BIG is higher, where it pays for
+    its imports), so that chains of a few hundred balls keep these tests fast."""
+    monkeypatch.setattr(L, "BIG", 1000)
+
+
 def _solve(text: str, precision: str = "float"):
     return solve_scene(build(parse(Source("chain.mom", text))), precision=precision)
 
