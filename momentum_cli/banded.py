@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from .linalg import _two_product  # the same IEEE operations on arrays as on floats
+from .two_product import two_product as _two_product
 
 MAX_WIDTH = 64  # kl + ku beyond this: the band costs more than the Python elimination
 _LAPACK: list = []

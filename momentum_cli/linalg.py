@@ -26,6 +26,7 @@ import math
 from fractions import Fraction
 
 from .records import record
+from .two_product import two_product as _two_product
 
 SMALL = 12  # blocks up to this size are solved without numpy
 BIG = 5000  # square sparse blocks from this size: LAPACK's banded LU (banded.py); below it
@@ -296,21 +297,6 @@ def _cond(A: Rows, n: int) -> float:
 
 
 # ---- exact residuals -------------------------------------------------------------------------
-_SPLIT = 134217729.0  # 2^27 + 1, Veltkamp's splitter for float64
-
-
-def _two_product(a: float, b: float) -> tuple[float, float]:
-    """p + e == a * b exactly (Dekker); assumes no overflow. Elementwise on numpy arrays
-    too (banded.py's residuals)."""
-    p = a * b
-    t = _SPLIT * a
-    ah = t - (t - a)
-    al = a - ah
-    t = _SPLIT * b
-    bh = t - (t - b)
-    bl = b - bh
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-    return p, e
 
 
 def residual(A: Rows, b: list[float], x: list[float]) -> list[float]:
