@@ -44,7 +44,7 @@ from .expr import (
     rotate_v2,
     to_text,
 )
-from .principles import PrinciplesMixin
+from .principles import PrinciplesMixin, external
 from .records import field, record
 from .references import FindSpec, ReferencesMixin
 from .scene import (
@@ -930,13 +930,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         shown = bodies if len(bodies) <= 6 else bodies[:3] + ["..."] + bodies[-2:]
         label = f"{{{', '.join(shown)}}}" + (f" ({len(bodies)} bodies)" if len(bodies) > 6
                                                else "")
-        # external to a group: one side in it and the other not (_acts_on, not _internal)
-        ends = [(s, s.bodies[0], s.bodies[1]) for s in sources]
-        ext = [s for s, a, b in ends if (a in system) is not (b in system)]
+        ext = [s for s in sources if external(s, system)]
         out.append(self._linear_why(label, ext) + "; " + self._angular_why(label, ext))
         if 1 < len(bodies) <= 6:
             for body in bodies:
-                ext = [s for s, a, b in ends if (a == body) is not (b == body)]
+                ext = [s for s in sources if external(s, {body})]
                 out.append(self._linear_why(body, ext) + "; " + self._angular_why(body, ext))
         return out
 

@@ -14,12 +14,9 @@ from .scene import PointOn, StatedAngular, StatedMomentum, StatedRestitution
 from .source import Span
 
 
-def _acts_on(s, members: set) -> bool:
-    return s.bodies[0] in members or s.bodies[1] in members
-
-
-def _internal(s, members: set) -> bool:
-    return s.bodies[0] in members and s.bodies[1] in members
+def external(s, members: set) -> bool:
+    """An impulse source external to a group of bodies: one side in it, the other not."""
+    return (s.bodies[0] in members) is not (s.bodies[1] in members)
 
 
 class PrinciplesMixin:
@@ -38,8 +35,8 @@ class PrinciplesMixin:
             principle = f"conservation of linear momentum along {s.axis_text} of " \
                         f"{{{', '.join(s.bodies)}}} (stated)"
             if sources is not None:
-                bad = [x for x in sources if _acts_on(x, set(s.bodies)) and
-                       not _internal(x, set(s.bodies)) and not x.torque_only and
+                members = set(s.bodies)
+                bad = [x for x in sources if external(x, members) and not x.torque_only and
                        (x.direction is None or
                         abs(x.direction[0] * s.direction[0] + x.direction[1] * s.direction[1])
                         > 1e-12)]
@@ -54,7 +51,7 @@ class PrinciplesMixin:
             rhs = self._angular_momentum(s.bodies, s.about, s.after)
             if sources is not None:
                 members = set(s.bodies)
-                bad = [x for x in sources if _acts_on(x, members) and not _internal(x, members)
+                bad = [x for x in sources if external(x, members)
                        and (x.torque_only or x.point != s.about.name)]
                 if bad:
                     self._invalid(s.span, f"angular momentum of {{{', '.join(s.bodies)}}} about "
