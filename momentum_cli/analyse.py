@@ -7,6 +7,7 @@ matched graph give the block-lower-triangular order in which the rest is solved.
 """
 from __future__ import annotations
 
+from . import rowcode
 from .compile import System
 from .expr import variables
 from .records import record
@@ -80,7 +81,7 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
     """
     eqs = system.equations
     known = known or {}
-    full = [variables(e.residual) for e in eqs]
+    full = _incidence(eqs)
     incidence = [{v for v in inc if v not in known} for inc in full] if known else full
     rank = {n: i for i, n in enumerate(system.unknowns)}
     col_name = list(rank)
@@ -192,6 +193,21 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
     block_of_var = {col_name[meq[k]]: block_of_eq[k] for k in det}
     return Structure(full, match_eq, match_var, under, under_eqs, redundant, blocks,
                      block_of_var, constant)
+
+
+def _incidence(eqs) -> list[set[str]]:
+    """Each equation's unknowns (`expr.variables`). Within a solve (`rowcode.remembered`
+    open) from each residual's shape, which the solve then reads again instead of walking
+    the tree a second time: a shape names exactly the unknowns `variables` finds."""
+    if not (rowcode.ENABLED and rowcode._ON[0]):
+        return [variables(e.residual) for e in eqs]
+    shape_of = rowcode.shape_of
+    out = []
+    for e in eqs:
+        r = e.residual
+        sh = shape_of(r)
+        out.append(set(sh[2]) if sh is not None else variables(r))
+    return out
 
 
 def _augment(order: list[int], incidence: list[list[int]], meq: list[int], mvar: list[int],

@@ -143,21 +143,22 @@ def _solve_regimes(scene: Scene, regimes: dict, solve_all: bool, precision: str)
     results: dict = {}
     while True:
         system = compile_scene(scene, regimes, impulses)
-        structure = analyse(system)
-        pending = [s for s in system.path_laws if s.key not in impulses]
-        if not pending:
-            break
-        # an impulse path starts from the state before its impact: solve only that
-        # (the first pass's Newton rows for the contact decide nothing that is used),
-        # one contact at a time, in the order the impacts happen
-        from .contact_laws import next_site, resolve_site
+        with rowcode.remembered():  # each residual's shape: taken by analyse, read by solve
+            structure = analyse(system)
+            pending = [s for s in system.path_laws if s.key not in impulses]
+            if not pending:
+                sol = _solve(system, structure, solve_all, precision,
+                             defer=bool(system.friction))
+                return sol, results
+            # an impulse path starts from the state before its impact: solve only that
+            # (the first pass's Newton rows for the contact decide nothing that is used),
+            # one contact at a time, in the order the impacts happen
+            from .contact_laws import next_site, resolve_site
 
-        site, need, after = next_site(system, pending)
-        values = _solve_only(system, structure, need, after, precision)
-        results[site.key] = resolve_site(system, values, site, precision)
-        impulses[site.key] = results[site.key].impulse
-    sol = _solve(system, structure, solve_all, precision, defer=bool(system.friction))
-    return sol, results
+            site, need, after = next_site(system, pending)
+            values = _solve_only(system, structure, need, after, precision)
+            results[site.key] = resolve_site(system, values, site, precision)
+            impulses[site.key] = results[site.key].impulse
 
 
 def _finite_answers(sol: Solution) -> None:

@@ -107,7 +107,16 @@ def snapshot(sol) -> list:
         [[d.severity, d.code, d.message] for d in sol.diagnostics],
         [[b.index, b.unknowns, b.equations, b.method, b.cond, b.iterations, b.residual,
           b.matrix, b.rhs, b.quality, b.rejected, b.unphysical] for b in sol.blocks],
+        _structure(sol.structure),
     ])
+
+
+def _structure(st) -> list:
+    """The analysis, comparable exactly (analyse takes the incidence from the shapes the
+    solve reads when rowcode is on, from `expr.variables` when off)."""
+    return [st.incidence, st.match_eq, st.match_var, st.under, st.under_eqs, st.redundant,
+            [[b.index, b.equations, b.unknowns, b.depends] for b in st.blocks],
+            st.block_of_var, st.constant_eqs]
 
 
 def solved(text: str, name: str, fast: bool, precision: str = "float"):
