@@ -4,20 +4,24 @@ In: a block's sparse rows and right-hand side (float64 only). Out: what `linalg.
 (or `bounds._abs_inverse`) returned for the same data, bit for bit: the key holds every
 coefficient's bits and the rows' column order, so -0.0 and 0.0 differ and a sum in
 another order is another key. A sequence of N identical impacts solves its few kinds of
-blocks once each instead of N times (a 1x1 block costs less to solve than to key).
-Bounded: the table is emptied when full.
+blocks once each instead of N times (a 1x1 block costs less to solve than to key);
+blocks of one kind (the same matrix, another right-hand side) share its factorization.
+Bounded: the tables are emptied when full.
 """
 from __future__ import annotations
 
 from struct import pack
 
-from .linalg import Quality, solve as linalg_solve
+from .linalg import Quality, SingularError, factor_small, solve_factored
+from .linalg import solve as linalg_solve
 
 LIMIT = 4096  # entries per table; the blocks of a scene repeat in a few kinds
 SMALL = 12  # larger blocks are rarely identical and cost more to key than to look up
 
 _solves: dict = {}
 _inverses: dict = {}
+KINDS = True  # tests turn it off: every block eliminated afresh
+_factors: dict = {}  # a float block's matrix (its key without the rhs) -> Factored or cond
 
 
 def block_key(rows, rhs=()) -> tuple | None:
@@ -40,7 +44,10 @@ def solve(rows, rhs, n: int, precision: str = "float"):
     key = (n, precision) + key
     hit = _solves.get(key)
     if hit is None:
-        hit = linalg_solve(rows, rhs, n, precision)  # a singular block raises: not kept
+        if KINDS and precision == "float" and len(rows) == n and len(rhs) == n:
+            hit = _by_kind(rows, rhs, n, key[2:4])
+        else:
+            hit = linalg_solve(rows, rhs, n, precision)  # a singular block raises: not kept
         if len(_solves) >= LIMIT:
             _solves.clear()
         _solves[key] = hit
@@ -48,6 +55,26 @@ def solve(rows, rhs, n: int, precision: str = "float"):
     return list(x), Quality(q.method, q.precision, q.cond, q.backward, q.bound, q.iterations,
                             list(q.components) if q.components is not None else None,
                             list(q.exact) if q.exact is not None else None)
+
+
+def _by_kind(rows, rhs, n: int, akey):
+    """`linalg.solve` of a float block by its matrix's factorization, made once per
+    matrix (`akey`: the rows' columns and the bits of their coefficients) and replayed
+    for each right-hand side: a sequence of impacts of one kind (the same masses and
+    restitution, other velocities) eliminates its matrix once, not once per impact."""
+    akey = (n, akey[0], akey[1][:8 * sum(len(row) for row in rows)])
+    F = _factors.get(akey)
+    if F is None:
+        try:
+            F = factor_small(rows, n)
+        except SingularError as exc:
+            F = exc.cond  # singular: raised again, the same way, for every rhs
+        if len(_factors) >= LIMIT:
+            _factors.clear()
+        _factors[akey] = F
+    if type(F) is float:
+        raise SingularError(F)
+    return solve_factored(F, rhs)
 
 
 def abs_inverse(A, compute):

@@ -26,7 +26,7 @@ import math
 from fractions import Fraction
 
 from .records import record
-from .two_product import two_product as _two_product
+from .two_product import _SPLIT, two_product as _two_product
 
 SMALL = 12  # blocks up to this size are solved without numpy
 BIG = 5000  # square sparse blocks from this size: LAPACK's banded LU (banded.py); below it
@@ -147,6 +147,105 @@ def solve_one(a: float, b: float):
     normwise = cond * max(back, EPS)
     comp = normwise * abs(y) / abs(y) if y != 0.0 else normwise  # _componentwise
     return [y / c], Quality("python", "float", cond, back, comp, 0, [comp])
+
+
+class Factored:
+    """A small float block's matrix, equilibrated and eliminated once (`factor_small`):
+    the scalings, the Gauss-Jordan steps as they act on the right-hand side, and the
+    condition number. Blocks of one kind (the same matrix, another right-hand side: each
+    impact of a sequence) replay it (`solve_factored`) instead of eliminating again."""
+
+    __slots__ = ("n", "r", "c", "A", "steps", "cond", "split", "norm_a")
+
+    def __init__(self, n, r, c, A, steps, cond):
+        self.n, self.r, self.c, self.A, self.steps, self.cond = n, r, c, A, steps, cond
+        # `_backward`'s matrix-only parts: each entry's Veltkamp split, the row-sum norm
+        self.split = [[(j, v, *_halves(v)) for j, v in row.items()] for row in A]
+        self.norm_a = max((sum(abs(v) for v in row.values()) for row in A), default=0.0)
+
+
+def _halves(a: float):
+    """(ah, al): `two_product`'s split of one factor (the same operations)."""
+    t = _SPLIT * a
+    ah = t - (t - a)
+    return ah, a - ah
+
+
+def factor_small(rows: Rows, n: int) -> Factored:
+    """`equilibrate` and `_gauss_jordan` of a square block of 2..SMALL unknowns, recorded:
+    the pivots and every row operation depend on the matrix alone, so the right-hand
+    side's column can be replayed (raises SingularError as `_gauss_jordan` does)."""
+    A, _, r, c = equilibrate(rows, [], n)
+    norm1 = max((sum(abs(A[i].get(j, 0.0)) for i in range(n)) for j in range(n)), default=0.0)
+    M = [[A[i].get(j, 0.0) for j in range(n)] + [1.0 if k == i else 0.0 for k in range(n)]
+         for i in range(n)]
+    width = 2 * n
+    steps = []
+    for col in range(n):
+        piv = max(range(col, n), key=lambda i: abs(M[i][col]))
+        if M[piv][col] == 0.0:
+            raise SingularError(math.inf)
+        M[col], M[piv] = M[piv], M[col]
+        p = M[col][col]
+        rowp = [x / p for x in M[col]]
+        M[col] = rowp
+        ops = []
+        for i in range(n):
+            if i != col:
+                f = M[i][col]
+                if f != 0.0:
+                    ops.append((i, f))
+                    Mi = M[i]
+                    M[i] = [Mi[k] - f * rowp[k] for k in range(width)]
+        steps.append((col, piv, p, tuple(ops)))
+    inv_norm1 = max(sum(abs(M[i][n + j]) for i in range(n)) for j in range(n))
+    cond = norm1 * inv_norm1
+    if not math.isfinite(cond) or cond > SINGULAR_COND:
+        raise SingularError(cond)
+    return Factored(n, r, c, A, tuple(steps), cond)
+
+
+def solve_factored(F: Factored, b: list[float]):
+    """`solve_rows(rows, b, n, "float")` of a block `F` was factored from: the same floats,
+    the same Quality (the right-hand side's column takes the elimination's very
+    operations in their order; the rest is the general path's own code)."""
+    n, r, c, A = F.n, F.r, F.c, F.A
+    bs = [b[i] / r[i] for i in range(len(b))]
+    v = list(bs)
+    for col, piv, p, ops in F.steps:
+        v[col], v[piv] = v[piv], v[col]
+        t = v[col] = v[col] / p
+        for i, f in ops:
+            v[i] = v[i] - f * t
+    y = snap_roundoff(A, bs, v)
+    back = _backward_factored(F, bs, y)
+    cond = F.cond
+    normwise = cond * max(back, EPS)
+    comps = _componentwise(y, normwise)
+    x = [y[j] / c[j] for j in range(n)]
+    return x, Quality("python", "float", cond, back, max(comps, default=normwise), 0, comps)
+
+
+def _backward_factored(F: Factored, b: list[float], x: list[float]) -> float:
+    """`_backward(F.A, b, x)` with the matrix's parts taken from F: `residual`'s
+    `two_product`s split each coefficient once per kind, each x once per solve (the
+    same operations on the same numbers: the same residual to the last bit)."""
+    halves = [_halves(v) for v in x]
+    r = []
+    fsum = math.fsum
+    for i, row in enumerate(F.split):
+        terms = [b[i]]
+        for j, a, ah, al in row:
+            xj = x[j]
+            bh, bl = halves[j]
+            p = a * xj
+            terms.append(-p)
+            terms.append(-(((ah * bh - p) + ah * bl + al * bh) + al * bl))
+        r.append(fsum(terms))
+    denom = F.norm_a * max((abs(v) for v in x), default=0.0) + max((abs(v) for v in b),
+                                                                    default=0.0)
+    num = max((abs(v) for v in r), default=0.0)
+    return num / denom if denom > 0 else num
 
 
 def snap_roundoff(A: Rows, b: list[float], y: list[float]) -> list[float]:
