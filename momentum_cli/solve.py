@@ -237,9 +237,11 @@ def _needed(system: System, structure: Structure, solve_all: bool,
     return sorted(_needed_set(system, structure, find_vars))
 
 
-def _needed_set(system: System, structure: Structure, find_vars: set | None) -> list[str]:
+def _needed_set(system: System, structure: Structure, find_vars: set | None,
+                energies: bool = True) -> list[str]:
     """`_needed`'s unknowns in no particular order (what `needed_blocks` takes: sorting
-    10^5 keys costs more than finding their blocks)."""
+    10^5 keys costs more than finding their blocks); without the impacts' energies'
+    unknowns when `energies` is False (`_energy_names`)."""
     names: set[str] = set(find_vars) if find_vars is not None else set()
     if find_vars is None:
         for f in system.finds:
@@ -265,12 +267,18 @@ def _needed_set(system: System, structure: Structure, find_vars: set | None) -> 
     for name, u in system.unknowns.items():
         if u.kind in ("impulse", "angular-impulse"):
             names.add(name)
-    # the report's energy check for each impact needs the velocities on both sides
+    if energies:
+        _energy_names(system, names)
+    return [n for n in names if n not in structure.under]
+
+
+def _energy_names(system: System, names: set) -> set:
+    """The report's energy check for each impact needs the velocities on both sides."""
     for t in system.transitions:
         if t.kind == "impact" and t.energy is not None:
             for T in t.energy:
                 rowcode.variables_into(T, names, variables)
-    return [n for n in names if n not in structure.under]
+    return names
 
 
 def _solve(system: System, structure: Structure, solve_all: bool,
@@ -399,9 +407,9 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
     part determined some unknowns numerically."""
     from .numeric_rank import dependent_rows, inconsistent_rows
 
-    needed = _needed(system, structure, solve_all, state.find_vars) \
-        if solve_all or not system.finds or not rowcode.ENABLED else \
-        _needed_set(system, structure, state.find_vars)
+    plain = solve_all or not system.finds or not rowcode.ENABLED
+    needed = _needed(system, structure, solve_all, state.find_vars) if plain else \
+        _needed_set(system, structure, state.find_vars, energies=False)
     names = [n for n in needed if n not in structure.under]
     # the under-determined part matters when an answer needs it (or everything is asked)
     split = bool(structure.under) and (not wanted or bool(structure.undetermined_for(wanted)))
@@ -409,12 +417,18 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
         for k in _under_rows(structure):
             names.extend(v for v in structure.incidence[k]
                          if v not in structure.under and v not in values)
+    order = structure.needed_blocks(names)
+    if not plain and len(order) < len(structure.blocks):
+        # the impacts' energies' velocities, walked only where they can add a block
+        # (a scene whose answers and impulses need every block needs no walk of them)
+        names.extend(n for n in _energy_names(system, set()) if n not in structure.under)
+        order = structure.needed_blocks(names)
     # blocks of one unknown in one equation, in float (most blocks of a large scene):
     # `_solve_block`'s first step and `_add_bounds` in line; None goes the general way
     lane = rowcode.ENABLED and not system.integrations and exact is None and \
         precision == "float"
     blocks, used = structure.blocks, state.used
-    for b in structure.needed_blocks(names):
+    for b in order:
         block = blocks[b]
         if lane and len(block.unknowns) == 1 and len(block.equations) == 1:
             rep = _solve_one(system, block, values)
