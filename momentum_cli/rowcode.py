@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+from . import expr as _expr
 from .expr import Add, Const, Known, Mul, NonLinear, Var
 from .expr import evaluate as walk_value
 
@@ -322,14 +323,12 @@ def _evaluate_parts(e, values):
 def evaluate(e, values):
     """`expr.evaluate(e, values)`, a large tree by its compiled parts (any failure, and
     anything else, by `expr.evaluate` itself: the same value or the same exception)."""
-    from .expr import evaluate as walk
-
     if ENABLED:
         try:
             return _evaluate_parts(e, values)
         except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
             pass
-    return walk(e, values)
+    return _expr.evaluate(e, values)
 
 
 def derivatives_and_size(e, values, shaped=None):
@@ -462,8 +461,7 @@ class _Stop(Exception):
 
 def affine(e, block, values, shaped=None):
     """`expr.affine(e, block, values)` by the shape's compiled walk where it has one."""
-    from .expr import affine as walk
-
+    walk = _expr.affine  # read at the call, as the import here did (tests patch it)
     sh = (shape_of(e) if shaped is None else shaped) if ENABLED else None
     if sh is None:
         return walk(e, block, values)
