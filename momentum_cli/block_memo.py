@@ -20,7 +20,7 @@ SMALL = 12  # larger blocks are rarely identical and cost more to key than to lo
 
 _solves: dict = {}
 _inverses: dict = {}
-KINDS = True  # tests turn it off: every block eliminated afresh
+KINDS = True  # tests turn it off: every block eliminated and inverted afresh
 _factors: dict = {}  # a float block's matrix (its key without the rhs) -> Factored or cond
 
 
@@ -75,6 +75,24 @@ def _by_kind(rows, rhs, n: int, akey):
     if type(F) is float:
         raise SingularError(F)
     return solve_factored(F, rhs)
+
+
+_kinds: dict = {}
+
+
+def kind_of(A, make):
+    """`make(A)` (what depends on a matrix alone), remembered by A's exact data for
+    blocks of 2..SMALL rows and shared: the caller only reads it."""
+    key = block_key(A) if KINDS and 1 < len(A) <= SMALL else None
+    if key is None:
+        return make(A)
+    hit = _kinds.get(key, _kinds)
+    if hit is _kinds:
+        hit = make(A)
+        if len(_kinds) >= LIMIT:
+            _kinds.clear()
+        _kinds[key] = hit
+    return hit
 
 
 def abs_inverse(A, compute):

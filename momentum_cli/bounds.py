@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 from . import rowcode
-from .block_memo import abs_inverse
+from .block_memo import kind_of
 from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, is_zero, keeps, variables
 
 ROUNDOFF = 64 * 2.0**-53  # forming a term or a residual from exact values: a few ulps each
@@ -258,11 +258,12 @@ def propagate(system, reports, values, exact: bool = False):
         # the block's largest quantity in each unknown's units (columns scaled as the
         # solver equilibrates them): a value far below it is round-off, not a result
         # (lists, not generators, for max/min/sum: the same values in the same order)
-        rmax = [max([abs(v) for v in row.values()]) if row else 0.0 for row in A]
-        unit = []
-        for cj in cols:
-            us = [a / rmax[i] for i, a in cj if rmax[i] > 0]
-            unit.append(max(us) if us else 0.0)
+        # (the parts that depend on the matrix alone, once per kind of block: a sequence
+        # of impacts repeats one matrix; shared, only read)
+        if n <= DENSE and len(A) == n:
+            rmax, unit, inv = kind_of(A, lambda A: _matrix_parts(A, cols, True))
+        else:
+            rmax, unit, inv = _matrix_parts(A, cols, False)
         xs = [abs(values.get(nm, 0.0)) for nm in names]
         big = max([x * u for x, u in zip(xs, unit)]) if names else 0.0
         for j, name in enumerate(names):
@@ -270,19 +271,29 @@ def propagate(system, reports, values, exact: bool = False):
             cands = [scale[i] / a for i, a in cols[j]]
             uj = unit[j]
             size[name] = max(x, min(cands) if cands else x, big / uj if uj > 0 else 0.0)
-        inv = abs_inverse(A, _abs_inverse) if n <= DENSE and len(A) == n else None
         q = rep.quality
         comps = q.components if q is not None and q.components else [0.0] * n
+        cond = rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0
+        solved = not exact or newton
         for j, name in enumerate(names):
             if inv is not None:
                 e = sum([a * b for a, b in zip(inv[j], delta)])
             else:
-                cond = rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0
-                e = cond * max((delta[i] / a for i, a in cols[j]),
-                               default=0.0)
-            solver = 0.0 if exact and not newton else comps[j] * abs(values.get(name, 0.0))
+                e = cond * max([delta[i] / a for i, a in cols[j]], default=0.0)
+            solver = comps[j] * abs(values.get(name, 0.0)) if solved else 0.0
             err[name] = e + solver if math.isfinite(e) else math.inf
     return size, err
+
+
+def _matrix_parts(A, cols, square: bool):
+    """(each row's largest entry, each column's largest scaled entry, |A^-1| or None):
+    `propagate`'s parts of a block that depend on its matrix alone."""
+    rmax = [max([abs(v) for v in row.values()]) if row else 0.0 for row in A]
+    unit = []
+    for cj in cols:
+        us = [a / rmax[i] for i, a in cj if rmax[i] > 0]
+        unit.append(max(us) if us else 0.0)
+    return rmax, unit, _abs_inverse(A) if square else None
 
 
 def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:

@@ -1,4 +1,5 @@
-"""Blocks of one kind share a factorization (block_memo): whole solves with it equal the
+"""Blocks of one kind share a factorization and their bounds' matrix parts (block_memo,
+bounds.propagate): whole solves with it equal the
 same solves with every block eliminated afresh, bit for bit, on every example and on
 generated sequences whose impacts repeat one matrix with other right-hand sides."""
 from __future__ import annotations
@@ -20,7 +21,7 @@ from momentum_cli.syntax import parse
 def solved(text: str, name: str, kinds: bool, precision: str = "float"):
     saved = block_memo.KINDS
     block_memo.KINDS = kinds
-    block_memo._solves.clear(), block_memo._factors.clear()
+    block_memo._solves.clear(), block_memo._factors.clear(), block_memo._kinds.clear()
     try:
         return snapshot(solve_scene(build(parse(Source(name, text))), precision=precision))
     except ProblemError as exc:
