@@ -325,24 +325,26 @@ def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
         except (KeyError, ValueError, ZeroDivisionError, OverflowError):
             d = math.inf
     x = abs(values.get(name, 0.0))
+    # the general step's one-element maxima and minima are their elements, and its
+    # |A^-1| of [[a]] is |1/float(a)| (None where a is 0 or not finite)
     if a is None:
-        unit = 0.0
         size[name] = max(x, x, 0.0)
-        inv = _abs_inverse([{}])
+        inv = None
     else:
         aa = abs(a)
-        rmax = max([abs(a)])
-        unit = max([aa / rmax] if rmax > 0 else [], default=0.0)
-        big = max([x * unit], default=0.0)
-        size[name] = max(x, min([scale / aa], default=x), big / unit if unit > 0 else 0.0)
-        inv = _abs_inverse([{0: a}])
+        rmax = abs(a)
+        unit = aa / rmax if rmax > 0 else 0.0
+        big = x * unit
+        size[name] = max(x, scale / aa, big / unit if unit > 0 else 0.0)
+        af = float(a)
+        inv = None if af == 0.0 or not math.isfinite(af) else abs(1.0 / af)
     q = rep.quality
     comp = q.components[0] if q is not None and q.components else 0.0
     if inv is not None:
-        e = 0 + inv[0][0] * d
+        e = 0 + inv * d
     else:
         cond = rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0
-        e = cond * max([d / aa] if a is not None else [], default=0.0)
+        e = cond * (d / aa) if a is not None else cond * 0.0
     solver = 0.0 if exact and not newton else comp * abs(values.get(name, 0.0))
     err[name] = e + solver if math.isfinite(e) else math.inf
 
