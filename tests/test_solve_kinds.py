@@ -51,3 +51,23 @@ def test_a_sequence_of_one_kind_is_factored_once():
     block_memo._solves.clear(), block_memo._factors.clear()
     solve_scene(build(parse(Source("c.mom", text))))
     assert len(block_memo._factors) == 1  # 19 impacts, one matrix, 19 right-hand sides
+
+
+def test_generated_scenes_solve_the_same_every_way():
+    """Random impact scenes (rigid bodies, friction, pins, welds, links: tests/scenegen.py):
+    shared factorizations against fresh solves, and the whole fast solve (shapes taken by
+    the analysis, compiled rows) against the plain walks."""
+    import scenegen as g
+    from test_rowcode import solved as solved_rowcode
+
+    done = 0
+    for seed in range(40):
+        sc = g.generate(seed)
+        if sc is None:
+            continue
+        text = g.render(sc)
+        name = f"generated {seed}"
+        assert solved(text, name, True) == solved(text, name, False), seed
+        assert solved_rowcode(text, name, True) == solved_rowcode(text, name, False), seed
+        done += 1
+    assert done >= 30
