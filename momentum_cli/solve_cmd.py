@@ -499,6 +499,8 @@ def _text_renderer(mode: str, quiet: bool, digits: int, detail: str, jsonl: bool
 
     if quiet:
         return partial(text.render_quiet, sig=digits)
+    if detail == "full":  # in pieces, joined by solve_many once the report is freed
+        return partial(text.render_parts, sig=digits)
     return partial(text.render, sig=digits, detail=detail)
 
 

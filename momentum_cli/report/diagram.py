@@ -218,6 +218,53 @@ def build_diagrams(sol, reader: Reader | None = None) -> list[ImpulseDiagram]:
     return out
 
 
+class LazyDiagrams:
+    """`build_diagrams`, each diagram made when it is read (iterated, or `of` the
+    transition being rendered) and not kept: a report streamed into its text holds one
+    transition's diagram at a time. A copy (`list`, pickle) is a plain list."""
+
+    __slots__ = ("sol", "reader", "shared", "ts")
+
+    def __init__(self, sol, reader: Reader | None):
+        self.sol, self.reader, self.shared = sol, reader or Reader(), None
+        self.ts = {}  # (kind, key) -> the first transition of it, as an index finds it
+        for t in sol.system.transitions:
+            if t.kind in ("impact", "interval"):
+                self.ts.setdefault((t.kind, t.key), t)
+
+    def _build(self, t) -> ImpulseDiagram:
+        if self.shared is None:
+            self.shared = _Shared(self.sol)
+        d = _Builder(self.shared, t, self.reader).build()
+        d.reader = self.reader
+        return d
+
+    def of(self, kind: str, key: str):
+        t = self.ts.get((kind, key))
+        return None if t is None else self._build(t)
+
+    def __iter__(self):
+        for t in self.sol.system.transitions:
+            if t.kind in ("impact", "interval"):
+                yield self._build(t)
+
+    def __len__(self) -> int:
+        return sum(1 for t in self.sol.system.transitions if t.kind in ("impact", "interval"))
+
+    def __bool__(self) -> bool:
+        return bool(self.ts)
+
+    def __getitem__(self, i):
+        return list(self)[i]
+
+    def __reduce__(self):
+        return (list, (list(self),))
+
+
+def lazy_diagrams(sol, reader: Reader | None = None) -> LazyDiagrams:
+    return LazyDiagrams(sol, reader)
+
+
 class _Shared:
     """What every diagram of one solution looks up: transitions by key, the states an
     impact ties (positions unchanged), a schematic length; computed once."""
