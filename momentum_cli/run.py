@@ -271,10 +271,12 @@ class Rendered:
     with the report's checks (--strict reads them). A worker ships this instead of the
     report: a fifth of the bytes, and the parent neither rebuilds nor renders it.
     `fields`: for --json, the report's part of the result as JSON text
-    (json_out.encoded_fields) instead of `text`."""
+    (json_out.encoded_fields) instead of `text`. `parts`: the text as pieces to join
+    with newlines (text.render_parts), written one by one, never joined whole."""
     text: str
     checks: list
     fields: dict | None = None
+    parts: list | None = None
 
 
 def _solve_job(job):
@@ -288,10 +290,8 @@ def _solve_job(job):
             if render is not None and res.report is not None:
                 made = render(res.report)
                 checks = list(res.report.checks)
-                if isinstance(made, list):  # text.render_parts: joined once the report
-                    res.report = None  # (and a lazy one's solution) is freed
-                    made = "\n".join(made)
                 res.report = Rendered(made, checks) if isinstance(made, str) else \
+                    Rendered("", checks, None, made) if isinstance(made, list) else \
                     Rendered("", checks, made)
                 from .report.model import forget_diagram_index
 
