@@ -237,7 +237,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
             yield dict(kind=t.kind, key=t.key, before=t.before, after=t.after,
                        line=t.span.line, why=list(t.why),
                        equations=group_rows(by_group.get(group, ())),
-                       system=statements(t, values, system, reader, sig))
+                       system=statements(t, values, system, reader, sig, shown))
 
     other: dict[str, list[EquationRow]] = {}
     for group, ks in by_group.items():

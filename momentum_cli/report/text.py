@@ -124,7 +124,7 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))
             _equations(t["equations"], out)
-            whole.append("\n".join(out))
+            whole += out  # its pieces (an equation's lines are one), not joined again
         out = whole
         for group, rows in rep.other_equations.items():
             out.append("")
