@@ -3,7 +3,9 @@
 
 A benchmark, not a test. Stages: parse, build (the scene), compile, analyse, solve
 (`solve._solve`: the blocks, bounds and answers), rest (the rest of `solve_scene`:
-regimes, checks), report (`build_report`), render (plain text). CPU seconds
+regimes, checks), report (`build_report` as `solve --plain` makes it: streamed, its
+checks now, its transitions, blocks and unknowns as they are read), render (plain text,
+`text.render_parts`, with what of the report it reads). CPU seconds
 (process time: robust against a busy machine), the minimum over --reps runs of
 build and solve (the parse and report run once); cyclic GC off, as `solve` runs.
 
@@ -29,7 +31,7 @@ def stages(name: str, text: str, reps: int = 1) -> dict[str, float]:
     """CPU seconds per stage of solving `text` (minimum over `reps` for build..rest)."""
     import momentum_cli.solve as S
     from momentum_cli.report.model import build_report
-    from momentum_cli.report.text import render
+    from momentum_cli.report.text import render_parts
     from momentum_cli.scene import build
     from momentum_cli.source import Source
     from momentum_cli.syntax import parse
@@ -72,9 +74,9 @@ def stages(name: str, text: str, reps: int = 1) -> dict[str, float]:
         for k, f in saved.items():
             setattr(S, k, f)
         t0 = time.process_time()
-        rep = build_report(name, sol, 6, "file")
+        rep = build_report(name, sol, 6, "file", lazy=True)
         t1 = time.process_time()
-        render(rep, 6)
+        render_parts(rep, 6)
         keep("report", t1 - t0)
         keep("render", time.process_time() - t1)
     finally:

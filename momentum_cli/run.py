@@ -118,10 +118,11 @@ def _build_scene(source: Source, overrides=()):
 
 def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
                  precision: str = "float", overrides=(), units: str = "file",
-                 sensitivity: bool = False) -> FileResult:
+                 sensitivity: bool = False, lazy: bool = False) -> FileResult:
     """Solve one file; `overrides` are `--set` (name, value text) pairs for its `let`s.
     Its `expect` lines are checked (`FileResult.expects`), also when it does not solve.
-    `sensitivity`: the report gets d answer / d given number (`--sensitivity`)."""
+    `sensitivity`: the report gets d answer / d given number (`--sensitivity`); `lazy`:
+    its big lists made as they are read (model.Lazy: for a report rendered at once)."""
     from .report.model import build_report
     from .solve import solve_scene
 
@@ -131,7 +132,7 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
             sol = solve_scene(scene, solve_all, precision=precision)
             _shed(sol)
             _instant_phases(sol)
-            rep = build_report(source.name, sol, sig, units)
+            rep = build_report(source.name, sol, sig, units, lazy=lazy)
             if sensitivity:
                 rep.sensitivities = _sensitivities(source, overrides, sol)
             checks = []
@@ -270,10 +271,12 @@ class Rendered:
     with the report's checks (--strict reads them). A worker ships this instead of the
     report: a fifth of the bytes, and the parent neither rebuilds nor renders it.
     `fields`: for --json, the report's part of the result as JSON text
-    (json_out.encoded_fields) instead of `text`."""
+    (json_out.encoded_fields) instead of `text`. `parts`: the text as pieces to join
+    with newlines (text.render_parts), written one by one, never joined whole."""
     text: str
     checks: list
     fields: dict | None = None
+    parts: list | None = None
 
 
 def _solve_job(job):
@@ -283,11 +286,12 @@ def _solve_job(job):
     try:
         with _NoCyclicGC():  # the report's text too: collected once it is all freed
             res = solve_source(source, solve_all, sig, precision, overrides, units,
-                               sensitivity)
+                               sensitivity, lazy=render is not None)
             if render is not None and res.report is not None:
                 made = render(res.report)
                 checks = list(res.report.checks)
                 res.report = Rendered(made, checks) if isinstance(made, str) else \
+                    Rendered("", checks, None, made) if isinstance(made, list) else \
                     Rendered("", checks, made)
                 from .report.model import forget_diagram_index
 

@@ -282,9 +282,16 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
 WRITE_CHUNK = 1 << 20  # characters
 
 
-def _write_text(out, text: str) -> None:
+def _write_text(out, text) -> None:
     """Write `text` in pieces of WRITE_CHUNK characters: a text stream encodes what it is
-    given at once, so a 100 MB report written whole costs another 100 MB of bytes."""
+    given at once, so a 100 MB report written whole costs another 100 MB of bytes. A
+    list is text.render_parts' pieces, written with newlines between, never joined."""
+    if isinstance(text, list):
+        for k, part in enumerate(text):
+            if k:
+                out.write("\n")
+            _write_text(out, part)
+        return
     if len(text) <= WRITE_CHUNK:
         out.write(text)
         return
@@ -449,7 +456,7 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
         elif isinstance(res.report, Rendered):  # plain text, made by the worker
             if i:
                 out.write("\n")
-            _write_text(out, res.report.text)
+            _write_text(out, res.report.text if res.report.parts is None else res.report.parts)
         else:
             with _NoCyclicGC():
                 console = _render(res.report, mode, console, i, digits, simulation=False,
@@ -499,6 +506,8 @@ def _text_renderer(mode: str, quiet: bool, digits: int, detail: str, jsonl: bool
 
     if quiet:
         return partial(text.render_quiet, sig=digits)
+    if detail == "full":  # in pieces, joined by solve_many once the report is freed
+        return partial(text.render_parts, sig=digits)
     return partial(text.render, sig=digits, detail=detail)
 
 

@@ -25,6 +25,18 @@ def test_rendered_equals_report_rendered_here(name, how):
     assert shipped.status == direct.status and shipped.diagnostics == direct.diagnostics
 
 
+@pytest.mark.parametrize("name", FILES)
+def test_rendered_parts_join_to_the_report_rendered_here(name):
+    """--plain's full text ships as pieces (a streamed report, never joined whole)."""
+    from momentum_cli.report.text import render_parts
+
+    src = read_source(str(EXAMPLES / name))
+    direct = solve_source(src, False, 6, "float")
+    (shipped,) = list(solve_many([src], False, 6, "float", render=partial(render_parts, sig=6)))
+    assert shipped.report.parts is not None and shipped.report.text == ""
+    assert "\n".join(shipped.report.parts) == render(direct.report, 6)
+
+
 def test_failed_file_ships_no_report(tmp_path):
     p = tmp_path / "bad.mom"
     p.write_text('problem "x"\nbody a: particle(mass = 1 kg)\nfind a.vx@9\n', encoding="utf-8")

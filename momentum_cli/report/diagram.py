@@ -218,6 +218,61 @@ def build_diagrams(sol, reader: Reader | None = None) -> list[ImpulseDiagram]:
     return out
 
 
+class LazyDiagrams:
+    """`build_diagrams`, each diagram made when it is read (iterated, or `of` the
+    transition being rendered) and not kept: a report streamed into its text holds one
+    transition's diagram at a time. A copy (`list`, pickle) is a plain list."""
+
+    __slots__ = ("sol", "reader", "shared", "ts")
+
+    def __init__(self, sol, reader: Reader | None):
+        self.sol, self.reader, self.shared = sol, reader or Reader(), None
+        self.ts = {}  # (kind, key) -> the first transition of it, as an index finds it
+        for t in sol.system.transitions:
+            if t.kind in ("impact", "interval"):
+                self.ts.setdefault((t.kind, t.key), t)
+
+    def _build(self, t) -> ImpulseDiagram:
+        if self.shared is None:
+            self.shared = _Shared(self.sol)
+        d = _Builder(self.shared, t, self.reader).build()
+        d.reader = self.reader
+        return d
+
+    def of(self, kind: str, key: str):
+        """The diagram of a transition for its text (`lines`): the bodies' velocities,
+        the surfaces, pins and links, which only a drawing reads, are left out."""
+        t = self.ts.get((kind, key))
+        if t is None:
+            return None
+        if self.shared is None:
+            self.shared = _Shared(self.sol)
+        d = _Builder(self.shared, t, self.reader).build(lines_only=True)
+        d.reader = self.reader
+        return d
+
+    def __iter__(self):
+        for t in self.sol.system.transitions:
+            if t.kind in ("impact", "interval"):
+                yield self._build(t)
+
+    def __len__(self) -> int:
+        return sum(1 for t in self.sol.system.transitions if t.kind in ("impact", "interval"))
+
+    def __bool__(self) -> bool:
+        return bool(self.ts)
+
+    def __getitem__(self, i):
+        return list(self)[i]
+
+    def __reduce__(self):
+        return (list, (list(self),))
+
+
+def lazy_diagrams(sol, reader: Reader | None = None) -> LazyDiagrams:
+    return LazyDiagrams(sol, reader)
+
+
 class _Shared:
     """What every diagram of one solution looks up: transitions by key, the states an
     impact ties (positions unchanged), a schematic length; computed once."""
@@ -291,11 +346,13 @@ class _Builder:
         sh = self.shared
         return sh.placed.get((body, q, sh.root(sid)))
 
-    def build(self) -> ImpulseDiagram:
+    def build(self, lines_only: bool = False) -> ImpulseDiagram:
+        """`lines_only`: what `ImpulseDiagram.lines` reads (no velocities, surfaces, pins
+        or links: a drawing's)."""
         t = self.t
         kind_word = "impact" if t.kind == "impact" else "interval"
         title = f"Impulse diagram, {kind_word} {t.before} -> {t.after}"
-        bodies = self._bodies()
+        bodies = self._bodies(lines_only)
         self._place(bodies)
         where = {b.name: b for b in bodies}
         impulses = []
@@ -303,6 +360,9 @@ class _Builder:
             impulses.extend(self._impulses(a, where[a.body]))
         order = {b.name: k for k, b in enumerate(bodies)}
         impulses.sort(key=lambda i: order[i.body])  # stable: grouped by body
+        if lines_only:
+            return ImpulseDiagram(title, t.kind, t.key, t.before, t.after, bodies, impulses,
+                                  self._dropped(), [], [], [], self.notes)
         return ImpulseDiagram(title, t.kind, t.key, t.before, t.after, bodies, impulses,
                               self._dropped(), self._surfaces(bodies), self._pins(),
                               self._links(where), self.notes)
@@ -328,7 +388,7 @@ class _Builder:
             return placed.get((body, q, root[0]))
         return known
 
-    def _bodies(self) -> list[DiagramBody]:
+    def _bodies(self, lines_only: bool = False) -> list[DiagramBody]:
         i, j = self.t.before, self.t.after
         ki = self._known_at(i)
         values, states = self.values, self.sc.states
@@ -351,12 +411,18 @@ class _Builder:
         for name in self.t.bodies:
             b = bodies[name]
             x, y, ang = ki(name, "x"), ki(name, "y"), ki(name, "angle")
+            particle = b.is_particle
+            if lines_only:  # the name and the position its impulses are placed by
+                out.append(DiagramBody(
+                    name, b.kind, x if x is not None else math.nan,
+                    y if y is not None else math.nan, ang or 0.0,
+                    x is not None and y is not None, (), None, None, None, None, particle))
+                continue
             vi = (vel(name, ".vx", at_i, gi), vel(name, ".vy", at_i, gi))
             vj = (vel(name, ".vx", at_j, gj), vel(name, ".vy", at_j, gj))
             parts = shapes.get(name)
             if parts is None:  # one list per body, shared by its diagrams (read only)
                 parts = shapes[name] = [(k, c, dict(dims), rot) for k, c, dims, rot in b.outline]
-            particle = b.is_particle
             out.append(DiagramBody(
                 name, b.kind, x if x is not None else math.nan, y if y is not None else math.nan,
                 ang or 0.0, x is not None and y is not None, parts,
@@ -464,22 +530,31 @@ class _Builder:
             torque = variables(a.torque) if a.torque is not None else _NO_NAMES
         # an unknown nothing solved (an angle not needed) reads 0: the values themselves
         # where every name is solved or an impulse (no layer over them for most impulses)
-        arm_names = variables(a.arm.x)
-        variables(a.arm.y, arm_names)
-        over = {}
-        for group in (names, arm_names, torque):
-            for n in group:
-                if n not in vals and n not in over and not _impulse(n):
-                    over[n] = 0.0
-        base = _Over(vals, over) if over or a.torque is not None else vals
+        ax, ay = a.arm.x, a.arm.y
+        tx, ty = type(ax), type(ay)
         p = a.point
-        if p.round_contact or p.located_by is not None:
-            try:
-                arm = (evaluate(a.arm.x, base), evaluate(a.arm.y, base))
-            except (KeyError, ValueError, ZeroDivisionError):
-                arm = (0.0, 0.0)
+        if mono is not None and (tx is Const or tx is Known) and (ty is Const or ty is Known):
+            # the commonest: impulses alone (never read through a layer) and a known arm,
+            # as `evaluate` reads its leaves
+            base = vals
+            arm = (ax.value, ay.value) if p.round_contact or p.located_by is not None else \
+                (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
         else:
-            arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
+            arm_names = variables(ax)
+            variables(ay, arm_names)
+            over = {}
+            for group in (names, arm_names, torque):
+                for n in group:
+                    if n not in vals and n not in over and not _impulse(n):
+                        over[n] = 0.0
+            base = _Over(vals, over) if over or a.torque is not None else vals
+            if p.round_contact or p.located_by is not None:
+                try:
+                    arm = (evaluate(ax, base), evaluate(ay, base))
+                except (KeyError, ValueError, ZeroDivisionError):
+                    arm = (0.0, 0.0)
+            else:
+                arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
         at = (body.x + arm[0], body.y + arm[1])
         if p.round_contact and p.name == a.body:
             point = f"{a.body}'s contact point" if arm != (0.0, 0.0) else f"{a.body}'s centre"

@@ -194,7 +194,11 @@ def report_fields(rep) -> dict:
     d["answers"] = [{k: a[k] for k in ("name", "value", "unit", "si_value")}
                     for a in rep.answers]
     d["unknowns"] = [{k: u[k] for k in ("name", "si_value", "unit")} for u in rep.unknowns]
-    rows = [r for t in rep.transitions for r in t["equations"]]
+    rows, transitions = [], []  # one pass over the transitions (made as read if lazy)
+    for t in rep.transitions:
+        rows += t["equations"]
+        transitions.append(dict(kind=t["kind"], before=t["before"], after=t["after"],
+                                line=t["line"], why=t["why"]))
     rows += [r for rs in rep.other_equations.values() for r in rs]
     rows.sort(key=lambda r: r.index)
     d["equations"] = [dict(index=r.index + 1, principle=r.principle, group=r.group,
@@ -203,8 +207,7 @@ def report_fields(rep) -> dict:
     d["checks"] = [dict(name=c.name, status=c.status, detail=c.detail, value=c.value)
                    for c in rep.checks]
     d["blocks"] = [dict(b) for b in rep.blocks]
-    d["transitions"] = [dict(kind=t["kind"], before=t["before"], after=t["after"],
-                             line=t["line"], why=t["why"]) for t in rep.transitions]
+    d["transitions"] = transitions
     d["regimes"] = list(rep.regimes)
     d["counts"] = dict(rep.counts)
     if rep.flows:

@@ -103,9 +103,39 @@ def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
             numeric_line(e, values, keep, system, reader, sig))
 
 
-def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") -> Report:
+class Lazy:
+    """A list of the report made item by item each time it is read, never held whole: a
+    big scene's report is streamed into its text while only the solution is alive (the
+    rows, blocks and unknowns of 10^5 balls are half a gigabyte as objects). `make()`
+    gives an iterator over the items; a copy (`list`, pickle) is a plain list."""
+
+    __slots__ = ("_n", "_make")
+
+    def __init__(self, n: int, make):
+        self._n, self._make = n, make
+
+    def __iter__(self):
+        return self._make()
+
+    def __len__(self) -> int:
+        return self._n
+
+    def __bool__(self) -> bool:
+        return self._n > 0
+
+    def __getitem__(self, i):
+        return list(self._make())[i]
+
+    def __reduce__(self):
+        return (list, (list(self._make()),))
+
+
+def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
+                 lazy: bool = False) -> Report:
     """`units`: si | us | file (the units the file is written in), for what is shown;
-    the SI values stay beside them (si_value) for JSON."""
+    the SI values stay beside them (si_value) for JSON. `lazy`: the transitions (their
+    equations, statements and diagrams), blocks and unknowns are `Lazy`, made from the
+    solution as a renderer reads them (for a report rendered at once, then dropped)."""
     system: System = sol.system
     sc = system.scene
     st = sol.structure
@@ -135,11 +165,26 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
     integrated = {k for integ in system.integrations for k in integ.equations}
     six: dict = {}
     shown = (six, six if sig == 6 else {})
-    rows = [EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
-                        *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
-                                reader, sig, shown),
-                        e.kind, role[k], solves.get(k, []))
-            for k, e in enumerate(system.equations)]
+    eqs = system.equations
+
+    def row(k: int) -> EquationRow:
+        e = eqs[k]
+        return EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
+                           *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
+                                   reader, sig, shown),
+                           e.kind, role[k], solves.get(k, []))
+
+    by_group: dict[str, list[int]] = {}  # one pass over the equations, not one a transition
+    for k, e in enumerate(eqs):
+        by_group.setdefault(e.group, []).append(k)
+    if not lazy:  # every row made once, in order (and shared by the transitions' lists)
+        rows = [row(k) for k in range(len(eqs))]
+
+    def group_rows(ks: list):
+        if lazy:  # made as read: a transition of 10^5 bodies is not held as rows
+            return Lazy(len(ks), lambda: map(row, ks))
+        return [rows[k] for k in ks]
+
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
                    formula=b.inertia_formula, particle=b.is_particle,
                    weight=b.weight_given, shown_mass=b.mass / reader.factor(MASS),
@@ -173,68 +218,86 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
             for rel, v, _ in hs:
                 si_unit = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
                            "omega": "rad/s"}[q]
-                shown = reader.show(v, STATE_DIMS[q], si_unit, q == "angle")
-                items.append((f"{body}.{q} {rel}", shown[0], "hint"))
-                units.append(shown[1])
+                shown_v = reader.show(v, STATE_DIMS[q], si_unit, q == "angle")
+                items.append((f"{body}.{q} {rel}", shown_v[0], "hint"))
+                units.append(shown_v[1])
         # items: (name, value, unit) in the reader's units, unit "hint" for a bound (its
         # unit in `units`, one per item)
         knowns.append(dict(id=sid, label=spec.label or "", items=items, units=units))
-    transitions = []
     used_groups = set()
-    by_group: dict[str, list[EquationRow]] = {}  # one pass over the rows, not one a transition
-    for r in rows:
-        by_group.setdefault(r.group, []).append(r)
     for t in system.transitions:
-        group = f"{t.kind} {t.before} -> {t.after}"
-        used_groups.add(group)
-        # system: the principles stated for the system (sum of momenta, moments about a
-        # pin with I_O = I_G + m d^2), shown before the body-by-body rows (statements.py)
-        transitions.append(dict(kind=t.kind, key=t.key, before=t.before, after=t.after,
-                                line=t.span.line, why=list(t.why),
-                                equations=list(by_group.get(group, ())),
-                                system=statements(t, values, system, reader, sig)))
+        used_groups.add(f"{t.kind} {t.before} -> {t.after}")
+
+    def transition_items():
+        for t in system.transitions:
+            group = f"{t.kind} {t.before} -> {t.after}"
+            # system: the principles stated for the system (sum of momenta, moments about
+            # a pin with I_O = I_G + m d^2), shown before the body-by-body rows
+            # (statements.py)
+            yield dict(kind=t.kind, key=t.key, before=t.before, after=t.after,
+                       line=t.span.line, why=list(t.why),
+                       equations=group_rows(by_group.get(group, ())),
+                       system=statements(t, values, system, reader, sig, shown))
+
     other: dict[str, list[EquationRow]] = {}
-    for r in rows:
-        if r.group not in used_groups:
-            other.setdefault(r.group, []).append(r)
-    blocks = []
-    eqs = system.equations
-    for b in sol.blocks:
-        ks = b.equations
-        if len(ks) == 1:  # most blocks (one unknown, one equation): no set to sort
-            span = eqs[ks[0]].span
-            lines = [span.line] if span else []
-        else:
-            lines = sorted({eqs[k].span.line for k in ks if eqs[k].span})
-        d = dict(index=len(blocks) + 1, unknowns=list(b.unknowns), method=b.method,
-                 condition_number=_finite(b.cond), iterations=b.iterations,
-                 residual=_finite(b.residual), lines=lines)
-        q = b.quality
-        if q is not None:
-            d["quality"] = dict(method=q.method, precision=q.precision,
-                                condition_number=_finite(q.cond),
-                                backward_error=_finite(q.backward),
-                                error_bound=_finite(q.bound), iterations=q.iterations)
-        if b.matrix is not None and len(b.unknowns) > 1:
-            d["matrix"] = [_finite_all(row) for row in b.matrix]
-            d["rhs"] = _finite_all(b.rhs)
-        blocks.append(d)
-    unknowns = []
+    for group, ks in by_group.items():
+        if group not in used_groups:
+            other[group] = group_rows(ks)
+
+    def block_items():
+        for i, b in enumerate(sol.blocks):
+            ks = b.equations
+            if len(ks) == 1:  # most blocks (one unknown, one equation): no set to sort
+                span = eqs[ks[0]].span
+                lines = [span.line] if span else []
+            else:
+                lines = sorted({eqs[k].span.line for k in ks if eqs[k].span})
+            d = dict(index=i + 1, unknowns=list(b.unknowns), method=b.method,
+                     condition_number=_finite(b.cond), iterations=b.iterations,
+                     residual=_finite(b.residual), lines=lines)
+            q = b.quality
+            if q is not None:
+                d["quality"] = dict(method=q.method, precision=q.precision,
+                                    condition_number=_finite(q.cond),
+                                    backward_error=_finite(q.backward),
+                                    error_bound=_finite(q.bound), iterations=q.iterations)
+            if b.matrix is not None and len(b.unknowns) > 1:
+                d["matrix"] = [_finite_all(row) for row in b.matrix]
+                d["rhs"] = _finite_all(b.rhs)
+            yield d
+
     shows: dict = {}  # (dim, unit) -> (factor, label): `reader.show` without its calls
     degrees = reader.degrees
-    for n, u in system.unknowns.items():
-        if n in values:
-            x = values[n]  # `_finite(x)` without a call for a finite float
-            si = (0.0 if x == 0 else x) if type(x) is float and x - x == 0.0 else _finite(x)
-            if si is not None and not (degrees and u.qty == "angle"):  # is_angle(Var(n))
-                fl = shows.get((u.dim, u.unit))
-                if fl is None:
-                    fl = shows[u.dim, u.unit] = (reader.factor(u.dim),
-                                                 reader.label(u.dim, u.unit))
-                v, shown = si / fl[0], fl[1]
-            else:
-                v, shown = reader.show(si, u.dim, u.unit, u.qty == "angle")
-            unknowns.append(dict(name=n, si_value=si, unit=u.unit, value=v, shown_unit=shown))
+
+    def unknown_items():
+        for n, u in system.unknowns.items():
+            if n in values:
+                x = values[n]  # `_finite(x)` without a call for a finite float
+                si = (0.0 if x == 0 else x) if type(x) is float and x - x == 0.0 else \
+                    _finite(x)
+                if si is not None and not (degrees and u.qty == "angle"):  # is_angle(Var(n))
+                    fl = shows.get((u.dim, u.unit))
+                    if fl is None:
+                        fl = shows[u.dim, u.unit] = (reader.factor(u.dim),
+                                                     reader.label(u.dim, u.unit))
+                    v, shown_unit = si / fl[0], fl[1]
+                else:
+                    v, shown_unit = reader.show(si, u.dim, u.unit, u.qty == "angle")
+                yield dict(name=n, si_value=si, unit=u.unit, value=v, shown_unit=shown_unit)
+
+    if lazy:
+        from .diagram import lazy_diagrams
+
+        transitions = Lazy(len(system.transitions), transition_items)
+        blocks = Lazy(len(sol.blocks), block_items)
+        unknowns = Lazy(sum(1 for n in system.unknowns if n in values), unknown_items)
+        diagrams = lazy_diagrams(sol, reader)
+    else:
+        from .diagram import build_diagrams
+
+        transitions = list(transition_items())
+        blocks = list(block_items())
+        unknowns = list(unknown_items())
     flows = _flow_rows(system, values)
     checks = list(sol.checks) + _energy_checks(sol, sig, reader) + _residual_checks(sol) + \
         _flux_checks(flows)
@@ -252,11 +315,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file") ->
                   blocks=len(st.blocks), solved_blocks=len(sol.blocks),
                   redundant=len(st.redundant) + len(st.constant_eqs),
                   undetermined=len(st.under))
-    from .diagram import build_diagrams
-
+    if not lazy:
+        diagrams = build_diagrams(sol, reader)
     rep = Report(name, sc.title, bodies, effects, knowns, transitions, other, blocks, unknowns,
                  checks, answers, regimes, list(sol.diagnostics), counts, flows,
-                 diagrams=build_diagrams(sol, reader))
+                 diagrams=diagrams)
     rep.units = dict(system=reader.system, degrees=reader.degrees,
                      name="US customary" if reader.system == "us" else "SI",
                      mass=reader.label(MASS), inertia=reader.label(INERTIA),
@@ -272,6 +335,8 @@ def diagram_for(rep: Report, t: dict):
     report's diagrams are indexed by (kind, key) once: a lookup per transition of a long
     sequence would otherwise scan them all (quadratic in the number of impacts)."""
     ds = rep.diagrams
+    if type(ds) is not list and hasattr(ds, "of"):  # lazy: the transition's own, made now
+        return ds.of(t["kind"], t["key"])
     cache = _DIAGRAM_INDEX
     if cache[0] is not ds or cache[1] != len(ds):
         index: dict = {}

@@ -103,20 +103,25 @@ def _moments(law, part, values, given: dict):
     return add_all(terms)
 
 
-def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[dict]:
+def statements(t, values: dict, system, reader: Reader, sig: int = 6,
+               numbers: tuple | None = None) -> list[dict]:
     """One dict per system law of transition `t`: kind, principle, why, steps (lines
     before the equation: the parallel-axis step), symbolic, numeric, result (lines after:
-    the common velocity)."""
+    the common velocity). `numbers`: the numbers printed so far to 6 and to `sig`
+    figures (value -> text), kept by the caller across transitions (`printer.lines`)."""
     out = []
     shown: set = set()  # a pin's parallel-axis step is shown once per transition
     si = reader.system != "us" and not reader.degrees  # the printers per shape (printer.py)
-    six: dict = {}
-    shown_numbers = six if sig == 6 else {}
+    if numbers is None:
+        six: dict = {}
+        numbers = (six, six if sig == 6 else {})
+    six, shown_numbers = numbers
     for law in getattr(t, "laws", ()) or ():
         steps, result = [], []
         rhs = law.rhs
         rhs_names = variables(law.rhs)
-        names = variables(law.lhs) | rhs_names
+        lhs_names = variables(law.lhs)
+        names = lhs_names | rhs_names
         if law.kind == "linear" and all(values.get(n, 1.0) == 0 for n in names):
             continue  # nothing moves along it: 0 = 0 says nothing
         vals = values
@@ -140,7 +145,7 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6) -> list[di
                 vals = ChainMap(given, values)
         eq = _Eq(lhs, rhs)
         both = names if lhs is law.lhs and rhs is law.rhs else \
-            variables(lhs) | variables(rhs)  # the law's own sides: their names are known
+            (lhs_names if lhs is law.lhs else variables(lhs)) | variables(rhs)  # known ones
         after, key = f"@{t.after}", f"@{t.key}"  # a state quantity after it, its impulses
         keep = {n for n in both if "'" in n or n.endswith(after) or n.endswith(key)}
         p = law.parallel

@@ -70,22 +70,29 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
     numbers, the answers and the key checks (see `render_brief`)."""
     if steps and detail == "brief":
         return render_brief(rep, sig)
+    return "\n".join(render_parts(rep, sig, steps))
+
+
+def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
+    """`render`'s full text as pieces (a line, or a section of lines) to join with
+    newlines: a caller that frees the report (and a lazy one's solution) before joining
+    holds the text once, not beside them."""
     f = formatter(sig)
     out: list[str] = []
     title = rep.title or "(untitled problem)"
     out.append(f"== {rep.file}: {title}")
     u = rep.units or {}
     if steps:
-        if rep.bodies:
+        if rep.bodies:  # each big section joined as made: not a list of lines too
             out.append("")
             out.append("Bodies")
-        out.extend([] if not rep.bodies else table(
-            ["body", "shape", f"mass ({u.get('mass', 'kg')})",
-             f"I_G ({u.get('inertia', 'kg*m^2')})", "inertia formula"],
-                         [[b["name"], b["shape"], f(b.get("shown_mass", b["mass"])),
-                           "-" if b["particle"] else f(b.get("shown_inertia", b["inertia"])),
-                           b["formula"] + (" (mass = W/g)" if b["weight"] else "")]
-                          for b in rep.bodies]))
+            out.append("\n".join(table(
+                ["body", "shape", f"mass ({u.get('mass', 'kg')})",
+                 f"I_G ({u.get('inertia', 'kg*m^2')})", "inertia formula"],
+                [[b["name"], b["shape"], f(b.get("shown_mass", b["mass"])),
+                  "-" if b["particle"] else f(b.get("shown_inertia", b["inertia"])),
+                  b["formula"] + (" (mass = W/g)" if b["weight"] else "")]
+                 for b in rep.bodies])))
         out.append("")
         out.append("Effects and constraints")
         out.extend("  " + e for e in rep.effects)
@@ -105,22 +112,27 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
                                f"({f(r['vx'])}, {f(r['vy'])})" if r["rate"] is not None else "-",
                                f"({f(r['flux_x'])}, {f(r['flux_y'])})", f(r["moment"])]
                               for r in rep.flows if r["volume"] == volume]))
+        whole = out
         for t in rep.transitions:
-            out.append("")
+            out = [""]
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
             d = diagram_for(rep, t)
             if d is not None:
-                out.extend(d.lines("  "))
+                out.append("\n".join(d.lines("  ")))
+                d = None  # a lazy report's diagram: freed before the equations are made
             for w in t["why"]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))
             _equations(t["equations"], out)
+            whole += out  # its pieces (an equation's lines are one), not joined again
+        out = whole
         for group, rows in rep.other_equations.items():
             out.append("")
             out.append(group[0].upper() + group[1:])
             _equations(rows, out)
         out.append("")
         out.append("Solving, block by block")
+        whole, out = out, []
         add = out.append
         shown = f.cache
         for b in rep.blocks:
@@ -140,12 +152,15 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
                 add(f"  block {b['index']}: {names} ({count}{how}; {lines})")
             if "matrix" in b:
                 _matrix(unknowns, b["matrix"], b["rhs"], f, out)
+        if out:
+            whole.append("\n".join(out))
+        out = whole
         out.append("")
         out.append(f"Solution ({u.get('name', 'SI')})")
-        out.extend(table(["unknown", "value", "unit"],
-                         [[x["name"], shown[v] if v in shown else f(v),
-                           x.get("shown_unit", x["unit"])] for x in rep.unknowns
-                          for v in (x.get("value", x["si_value"]),)]))
+        out.append("\n".join(table(["unknown", "value", "unit"],
+                                    [[x["name"], shown[v] if v in shown else f(v),
+                                      x.get("shown_unit", x["unit"])] for x in rep.unknowns
+                                     for v in (x.get("value", x["si_value"]),)])))
         if rep.regimes:
             out.append("")
             out.append("Friction regimes")
@@ -166,7 +181,7 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
 
         out.extend(text_lines(rep.sensitivities, sig, table))
     out.append("")  # the final newline: not a second copy of a large text
-    return "\n".join(out)
+    return out
 
 
 def _matrix(unknowns: list, matrix: list, rhs: list, f, out: list) -> None:
