@@ -25,7 +25,7 @@ from .elements.joints import BearingFriction, joint_element
 from .elements.keys import duration_key, state_key
 from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
 from .energy_groups import energy_groups, split_joints
-from . import impact_contacts
+from . import impact_contacts, impact_phase
 from .expr import (
     V2,
     ZERO,
@@ -200,7 +200,8 @@ def _chronological(phases: list) -> list:
 
 
 class _Compiler(ReferencesMixin, PrinciplesMixin):
-    Applied = Applied  # for impact_contacts (which compile imports)
+    Applied = Applied  # for impact_contacts and impact_phase (which compile imports)
+    TransitionInfo = TransitionInfo
 
     def __init__(self, scene: Scene, regimes: dict[str, str]):
         self.scene = scene
@@ -643,9 +644,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     # ---- impacts and intervals ----------------------------------------------------------------
     def _impulse_phase(self, t: TransitionSpec) -> None:
+        key = t.key
+        if impact_phase.fits(self, t):
+            return impact_phase.stamp(self, t, key)
         sc = self.scene
         i, j = t.before, t.after
-        key = t.key
         group = f"{t.kind} {i} -> {j}"
         is_interval = t.kind == TransitionKind.INTERVAL
         # impulses acting on each body: (arm from G, impulse vector, torque)
