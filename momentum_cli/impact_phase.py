@@ -8,15 +8,27 @@ system laws' texts come from format strings made once per kind (why_texts.py).
 from __future__ import annotations
 
 from collections import defaultdict
+from math import copysign
 
 from . import impact_contacts
+from .impact_contacts import ZERO_V2
 from .elements.kinds import TransitionKind
-from .expr import Add, Const, Known, Mul, Var, add, add_all, mul, neg
-from .system_laws import linear_laws
+from .expr import V2, Add, Const, Known, Mul, Var, add, add_all, mul, neg
+from . import system_laws
+from .elements.base import ImpulseSource
+from .elements.keys import impulse_key, parameter_key
+from .elements.kinds import Component, KeyKind
+from .system_laws import _momenta_builder, _plain_dirs, linear_laws
+from .tree_template import template
+from .units import IMPULSE
 from .why_texts import linear_texts, why_lines
 
 ENABLED = True  # tests switch it off to compare with compile._impulse_phase
+TEMPLATE = True  # the whole impact from one template per kind (off: contact by contact)
+_FEW = system_laws._FEW  # bodies of an impact replayed whole (the momenta's template)
 _NAMED = (Var, Known)
+_JN = Component.JN
+_E = Component.E
 _IMPACT = TransitionKind.IMPACT
 
 
@@ -39,7 +51,10 @@ def fits(comp, t) -> bool:
 
 
 def stamp(comp, t, key: str) -> None:
-    """compile._impulse_phase for an impact that `fits`."""
+    """compile._impulse_phase for an impact that `fits`: replayed whole from its kind's
+    template when it has few bodies, else contact by contact."""
+    if TEMPLATE and t.contacts and t.before != t.after and len(comp._busy[key]) <= _FEW:
+        return _replay(comp, t, key)
     i, j = t.before, t.after
     group = f"{t.kind} {i} -> {j}"
     lin: dict = defaultdict(list)
@@ -74,3 +89,189 @@ def stamp(comp, t, key: str) -> None:
     comp.transitions.append(comp.TransitionInfo(t.kind, key, i, j, span, why, contacts_info,
                                                 energy, tuple(moved), laws,
                                                 [a for _, a in applied]))
+
+
+def _replay(comp, t, key: str) -> None:
+    """The impact from one generated function of its leaves per kind (tree_template): the
+    contacts' trees, the impulse-momentum rows, the kinetic energies before and after and
+    the sums of momenta of its laws; the unknowns made in the element's order."""
+    i, j = t.before, t.after
+    bodies = comp.scene.bodies
+    moved = comp._moved(key)
+    index = {b: k for k, b in enumerate(moved)}
+    vel, unknown, unknowns = comp.vel, comp.unknown, comp.unknowns
+    leaves: list = []
+    shape: list = []
+    sources: list = []
+    contacts = t.contacts
+    for c in contacts:
+        label = c.label
+        kn = impulse_key(_JN, label, key)
+        Jn = unknown(kn, IMPULSE, KeyKind.IMPULSE)
+        unknowns[kn].hints.append((">", 0.0, c.span))
+        pa, pb = c.a, c.b
+        a = pa.body
+        body_a = bodies[a]
+        if pb is not None:  # the state unknowns in the order the element makes them
+            b = pb.body
+            vel(a, i), vel(b, i), vel(a, j), vel(b, j)
+            rb = bodies[b].radius if pb.round_contact and bodies[b].radius else None
+        else:
+            vel(a, i), vel(a, j)
+            rb = None
+        e = c.restitution
+        leaves += (Jn, Known(parameter_key(_E, label), e))
+        n0, n1 = c.normal
+        ra = body_a.radius if pa.round_contact and body_a.radius else None
+        shape.append((index[a], -1 if pb is None else index[pb.body], n0, copysign(1.0, n0),
+                      n1, copysign(1.0, n1), e, copysign(1.0, e), ra, rb))
+        where = f"{label}'s contact point" if ra is not None else pa.name
+        sources.append(ImpulseSource((a, pb.body if pb is not None else None), where,
+                                     c.normal, False, f"contact {label}"))
+    mass = comp.mass
+    for b in moved:
+        v1, v2 = vel(b, i), vel(b, j)
+        leaves += (mass(b, i), v1.x, v1.y, v2.x, v2.y)
+    plain = True
+    for x in leaves:
+        if type(x) not in _NAMED:
+            plain = False
+            break
+    # the kinetic energies: the sums and each body's term already made are leaves
+    names = tuple(moved)
+    Ts, Tbs = comp._T, comp._Tb
+    memo = []
+    for sid in (i, j):
+        hit = Ts.get((sid, names))
+        if hit is not None:
+            memo.append(True)
+            leaves.append(hit)
+            continue
+        memo.append(False)
+        for b in moved:
+            hit = Tbs.get((b, sid))
+            if hit is None:
+                memo.append(False)
+            else:
+                memo.append(True)
+                leaves.append(hit[0])
+                plain = plain and type(hit[0]) is Mul
+    texts = linear_texts(sources, moved) if len(moved) >= 2 else None
+    dirs = None if texts is None else texts[0]
+    args = (tuple(shape), len(moved), tuple(memo), dirs)
+    f = None
+    if plain and (dirs is None or _plain_dirs(dirs)):
+        f = template(("impact",) + args[:3] + (None if dirs is None else tuple(
+            (d[0], copysign(1.0, d[0]), d[1], copysign(1.0, d[1])) for d in dirs),),
+            _builder, len(leaves), *args)
+    out = (f or _builder(*args))(*leaves)
+    # the outputs in the order _impulse_phase makes them
+    group = f"{t.kind} {i} -> {j}"
+    eq = comp.eq
+    applied = []
+    losses = comp.losses.setdefault(key, [])
+    contacts_info = []
+    Applied = comp.Applied
+    pos = 0
+    for n, c in enumerate(contacts):
+        J, Jb, vn1, vn2, loss, rhs, arm_a, arm_b = out[pos:pos + 8]
+        pos += 8
+        pa, pb = c.a, c.b
+        what = sources[n].what
+        applied.append(Applied(pa.body, pa, J, None, arm_a, what))
+        if pb is not None:
+            applied.append(Applied(pb.body, pb, Jb, None, arm_b, what))
+        losses.append(loss)
+        eq(vn2, rhs, f"restitution at {c.label} (Newton)", group, c.span)
+        contacts_info.append((c.label, vn1, vn2))
+    span = t.span
+    for b in moved:
+        lx, rx, ly, ry = out[pos:pos + 4]
+        pos += 4
+        eq(lx, rx, f"linear impulse-momentum x: {b}", group, span)
+        eq(ly, ry, f"linear impulse-momentum y: {b}", group, span)
+    comp.sources[key] = sources
+    why = why_lines(comp, sources, moved)
+    energy = []
+    flags = iter(memo)
+    for sid in (i, j):
+        if next(flags):
+            energy.append(out[pos])
+            pos += 1
+            continue
+        for b in moved:
+            if not next(flags):
+                Tbs[(b, sid)] = (out[pos],)
+            pos += 1
+        energy.append(Ts.setdefault((sid, names), out[pos]))
+        pos += 1
+    laws = [] if texts is None else linear_laws(comp, moved, i, j, *texts, rows=out[pos])
+    comp.transitions.append(comp.TransitionInfo(t.kind, key, i, j, span, why, contacts_info,
+                                                tuple(energy), names, laws, applied))
+
+
+def _builder(shape, nb: int, memo, dirs):
+    """The impact's trees from its leaves (see _replay), as the element, the rows,
+    _body_kinetic and _momenta_builder fold them."""
+    contact = [impact_contacts._builder(n0, n1, e, None if ib < 0 else True)
+               for _ia, ib, n0, _s0, n1, _s1, e, _se, _ra, _rb in shape]
+    nc = len(shape)
+
+    def trees(*leaves):
+        bl = leaves[2 * nc:2 * nc + 5 * nb]  # m, v1x, v1y, v2x, v2y of each body
+        extra = list(leaves[2 * nc + 5 * nb:])
+        out = []
+        lin: list = [[] for _ in range(nb)]
+        for n, (ia, ib, n0, _s0, n1, _s1, e, _se, ra, rb) in enumerate(shape):
+            Jn, E_ = leaves[2 * n], leaves[2 * n + 1]
+            a = bl[5 * ia:5 * ia + 5]
+            if ib >= 0:
+                b = bl[5 * ib:5 * ib + 5]
+                J, Jb, vn1, vn2, loss, rhs = contact[n](Jn, a[1], a[2], b[1], b[2], a[3], a[4],
+                                                        b[3], b[4], E_)
+            else:
+                J, Jb, vn1, vn2, loss, rhs = contact[n](Jn, a[1], a[2], a[3], a[4], E_)
+            arm_a = ZERO_V2 if ra is None else V2(Const(-1.0 * ra * n0), Const(-1.0 * ra * n1))
+            arm_b = None
+            lin[ia].append(J)
+            if ib >= 0:
+                arm_b = ZERO_V2 if rb is None else V2(Const(1.0 * rb * n0), Const(1.0 * rb * n1))
+                lin[ib].append(Jb)
+            out += (J, Jb, vn1, vn2, loss, rhs, arm_a, arm_b)
+        for k in range(nb):
+            m, a1x, a1y, a2x, a2y = bl[5 * k:5 * k + 5]
+            Js = lin[k]
+            for a1, a2, rhs in ((a1x, a2x, add_all([J.x for J in Js])),
+                                (a1y, a2y, add_all([J.y for J in Js]))):
+                if type(m) in _NAMED and type(a1) in _NAMED and type(a2) in _NAMED:
+                    lhs = Mul((m, Add((a2, Mul((Const(-1.0), a1))))))
+                else:
+                    lhs = mul(m, add(a2, neg(a1)))
+                out += (lhs, rhs)
+        flags = iter(memo)
+        for s in (0, 1):
+            if next(flags):
+                out.append(extra.pop(0))  # the sum, made before
+                continue
+            terms = []
+            for k in range(nb):
+                if next(flags):
+                    term = extra.pop(0)  # the body's term, made before
+                else:
+                    m, vx, vy = bl[5 * k], bl[5 * k + 1 + 2 * s], bl[5 * k + 2 + 2 * s]
+                    if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
+                        term = Mul((Const(0.5), m, Add((Mul((vx, vx)), Mul((vy, vy))))))
+                    else:
+                        term = mul(Const(0.5), mul(m, V2(vx, vy).dot(V2(vx, vy))))
+                terms.append(term)
+                out.append(term)
+            out.append(add_all(terms))
+        if dirs is not None:
+            side = [[], []]
+            for k in range(nb):
+                m = bl[5 * k]
+                side[0] += (m, bl[5 * k + 1], bl[5 * k + 2])
+                side[1] += (m, bl[5 * k + 3], bl[5 * k + 4])
+            out.append(_momenta_builder(nb, dirs)(*side[0], *side[1]))
+        return tuple(out)
+    return trees

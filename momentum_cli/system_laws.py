@@ -238,10 +238,13 @@ def linear_head(sources, moved) -> tuple | None:
     return dirs, why
 
 
-def linear_laws(c, moved, i, j, dirs, why, principles) -> list[SystemLaw]:
-    """The linear-momentum laws along `dirs` (linear_head's), with their texts."""
+def linear_laws(c, moved, i, j, dirs, why, principles, rows=None) -> list[SystemLaw]:
+    """The linear-momentum laws along `dirs` (linear_head's), with their texts (and the
+    sums of momenta, when the caller replayed `_momenta_builder` itself)."""
     out = []
-    rows = _momenta(c, moved, i, j, dirs) if len(moved) <= _FEW else _many(c, moved, i, j, dirs)
+    if rows is None:
+        rows = _momenta(c, moved, i, j, dirs) if len(moved) <= _FEW else \
+            _many(c, moved, i, j, dirs)
     for n, d in enumerate(dirs):
         if rows is not None:
             lhs, rhs, total, first = rows[n]
