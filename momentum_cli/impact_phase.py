@@ -21,7 +21,7 @@ from .elements.kinds import Component, KeyKind
 from .system_laws import _momenta_builder, _plain_dirs, linear_laws
 from .tree_template import template
 from .units import IMPULSE
-from .why_texts import linear_texts, why_lines
+from .why_texts import kind, linear_texts, why_lines
 
 ENABLED = True  # tests switch it off to compare with compile._impulse_phase
 TEMPLATE = True  # the whole impact from one template per kind (off: contact by contact)
@@ -156,7 +156,8 @@ def _replay(comp, t, key: str) -> None:
                 memo.append(True)
                 leaves.append(hit[0])
                 plain = plain and type(hit[0]) is Mul
-    texts = linear_texts(sources, moved) if len(moved) >= 2 else None
+    got = kind(sources, moved)
+    texts = linear_texts(sources, moved, got) if len(moved) >= 2 else None
     dirs = None if texts is None else texts[0]
     args = (tuple(shape), len(moved), tuple(memo), dirs)
     f = None
@@ -191,7 +192,7 @@ def _replay(comp, t, key: str) -> None:
         eq(lx, rx, f"linear impulse-momentum x: {b}", group, span)
         eq(ly, ry, f"linear impulse-momentum y: {b}", group, span)
     comp.sources[key] = sources
-    why = why_lines(comp, sources, moved)
+    why = why_lines(comp, sources, moved, got)
     energy = []
     flags = iter(memo)
     for sid in (i, j):

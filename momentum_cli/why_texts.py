@@ -71,11 +71,18 @@ def _values(sources, bodies) -> list:
     return [*bodies, *(s.point for s in sources), *(s.what for s in sources)]
 
 
-def why_lines(comp, sources, bodies) -> list[str]:
-    """comp._why(sources, None, bodies), from a plan per kind."""
+def kind(sources, bodies):
+    """What why_lines and linear_texts key their plans on (None: no plan), computed once
+    for both."""
     if not ENABLED or not bodies or len(sources) > _MANY or len(bodies) > _MANY:
-        return comp._why(sources, None, bodies)
-    got = _kind(sources, bodies)
+        return None
+    return _kind(sources, bodies)
+
+
+def why_lines(comp, sources, bodies, got=False) -> list[str]:
+    """comp._why(sources, None, bodies), from a plan per kind (`got`: `kind`'s answer)."""
+    if got is False:
+        got = kind(sources, bodies)
     if got is None:
         return comp._why(sources, None, bodies)
     key, order = got
@@ -90,11 +97,11 @@ def why_lines(comp, sources, bodies) -> list[str]:
     return [f.format(*vals) for f in plan]
 
 
-def linear_texts(sources, moved) -> tuple | None:
+def linear_texts(sources, moved, got=False) -> tuple | None:
     """system_laws.linear_head with each direction's principle: (dirs, why, principles),
-    or None (no direction free), from a plan per kind."""
-    got = _kind(sources, moved) if ENABLED and len(sources) <= _MANY and \
-        len(moved) <= _MANY else None
+    or None (no direction free), from a plan per kind (`got`: `kind`'s answer)."""
+    if got is False:
+        got = kind(sources, moved)
     if got is None:
         head = linear_head(sources, moved)
         if head is None:
