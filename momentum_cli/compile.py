@@ -202,6 +202,7 @@ def _chronological(phases: list) -> list:
 class _Compiler(ReferencesMixin, PrinciplesMixin):
     Applied = Applied  # for impact_contacts and impact_phase (which compile imports)
     TransitionInfo = TransitionInfo
+    Equation = Equation
 
     def __init__(self, scene: Scene, regimes: dict[str, str]):
         self.scene = scene

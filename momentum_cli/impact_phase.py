@@ -186,11 +186,21 @@ def _replay(comp, t, key: str) -> None:
         eq(vn2, rhs, f"restitution at {c.label} (Newton)", group, c.span)
         contacts_info.append((c.label, vn1, vn2))
     span = t.span
+    bp = comp._by_principle
+    eqs = comp.equations
+    Equation = comp.Equation
     for b in moved:
         lx, rx, ly, ry = out[pos:pos + 4]
         pos += 4
-        eq(lx, rx, f"linear impulse-momentum x: {b}", group, span)
-        eq(ly, ry, f"linear impulse-momentum y: {b}", group, span)
+        for lhs, rhs, p in ((lx, rx, f"linear impulse-momentum x: {b}"),
+                            (ly, ry, f"linear impulse-momentum y: {b}")):
+            if bp is not None and p not in bp and "|" not in p:
+                # what eq does with a principle seen for the first time, inline
+                e = bp[p] = Equation(lhs, rhs, p, group, span)
+                e.index = len(eqs)
+                eqs.append(e)
+            else:
+                eq(lhs, rhs, p, group, span)
     comp.sources[key] = sources
     why = why_lines(comp, sources, moved, got)
     energy = []
