@@ -18,10 +18,11 @@ from . import system_laws
 from .elements.base import ImpulseSource
 from .elements.keys import impulse_key, parameter_key
 from .elements.kinds import Component, KeyKind
-from .system_laws import _momenta_builder, _plain_dirs, linear_laws
+from .system_laws import _momenta_builder, _plain_dirs, linear_head, linear_laws
 from .tree_template import template
 from .units import IMPULSE
-from .why_texts import kind, linear_texts, why_lines
+from . import tree_template, why_texts
+from .why_texts import kind, linear_formats, linear_texts, values, why_formats, why_lines
 
 ENABLED = True  # tests switch it off to compare with compile._impulse_phase
 TEMPLATE = True  # the whole impact from one template per kind (off: contact by contact)
@@ -30,6 +31,8 @@ _NAMED = (Var, Known)
 _JN = Component.JN
 _E = Component.E
 _IMPACT = TransitionKind.IMPACT
+_PLANS: dict = {}  # whole-impact kind -> _plan's answer (a few kinds: bounded below)
+_LIMIT = 512
 
 
 def fits(comp, t) -> bool:
@@ -156,16 +159,23 @@ def _replay(comp, t, key: str) -> None:
                 memo.append(True)
                 leaves.append(hit[0])
                 plain = plain and type(hit[0]) is Mul
-    got = kind(sources, moved)
-    texts = linear_texts(sources, moved, got) if len(moved) >= 2 else None
-    dirs = None if texts is None else texts[0]
-    args = (tuple(shape), len(moved), tuple(memo), dirs)
-    f = None
-    if plain and (dirs is None or _plain_dirs(dirs)):
-        f = template(("impact",) + args[:3] + (None if dirs is None else tuple(
-            (d[0], copysign(1.0, d[0]), d[1], copysign(1.0, d[1])) for d in dirs),),
-            _builder, len(leaves), *args)
-    out = (f or _builder(*args))(*leaves)
+    if len(sources) == 1:
+        classes = None
+    else:  # which points and names are equal, and the names' sort order (why_texts)
+        points: dict = {}
+        whats: dict = {}
+        classes = (tuple(points.setdefault(s.point, k) for k, s in enumerate(sources)),
+                   tuple(whats.setdefault(s.what, k) for k, s in enumerate(sources)))
+        classes += (tuple(whats[w] for w in sorted(whats)),)
+    pkey = (tuple(shape), len(moved), tuple(memo), plain, classes, why_texts.ENABLED,
+            tree_template.ENABLED)
+    plan = _PLANS.get(pkey)
+    if plan is None:
+        plan = _plan(comp, sources, moved, pkey)
+        if len(_PLANS) < _LIMIT:
+            _PLANS[pkey] = plan
+    trees, dirs, why_fmts, law_fmts = plan
+    out = trees(*leaves)
     # the outputs in the order _impulse_phase makes them
     group = f"{t.kind} {i} -> {j}"
     eq = comp.eq
@@ -202,7 +212,12 @@ def _replay(comp, t, key: str) -> None:
             else:
                 eq(lhs, rhs, p, group, span)
     comp.sources[key] = sources
-    why = why_lines(comp, sources, moved, got)
+    vals = None
+    if why_fmts is not None:
+        vals = values(sources, moved)
+        why = [f.format(*vals) for f in why_fmts]
+    else:
+        why = comp._why(sources, None, moved)
     energy = []
     flags = iter(memo)
     for sid in (i, j):
@@ -216,9 +231,52 @@ def _replay(comp, t, key: str) -> None:
             pos += 1
         energy.append(Ts.setdefault((sid, names), out[pos]))
         pos += 1
-    laws = [] if texts is None else linear_laws(comp, moved, i, j, *texts, rows=out[pos])
+    if dirs is None:
+        laws = []
+    elif law_fmts is not None:
+        if vals is None:
+            vals = values(sources, moved)
+        laws = linear_laws(comp, moved, i, j, dirs, law_fmts[1].format(*vals),
+                           [f.format(*vals) for f in law_fmts[2]], rows=out[pos])
+    else:
+        texts = linear_texts(sources, moved, None)
+        laws = linear_laws(comp, moved, i, j, *texts, rows=out[pos])
     comp.transitions.append(comp.TransitionInfo(t.kind, key, i, j, span, why, contacts_info,
                                                 tuple(energy), names, laws, applied))
+
+
+def _plan(comp, sources, moved, pkey) -> tuple:
+    """What every impact of this kind shares: the function of its leaves making its
+    trees, the directions of its laws, and its texts as format strings (None: made
+    directly each time)."""
+    shape, nb, memo, plain = pkey[:4]
+    head = linear_head(sources, moved) if nb >= 2 else None
+    dirs = None if head is None else head[0]
+    args = (shape, nb, memo, dirs)
+    f = None
+    if plain and (dirs is None or _plain_dirs(dirs)):
+        f = template(("impact", shape, nb, memo, None if dirs is None else tuple(
+            (d[0], copysign(1.0, d[0]), d[1], copysign(1.0, d[1])) for d in dirs)),
+            _builder, sum(2 for _ in shape) + 5 * nb + _memo_leaves(memo, nb), *args)
+    got = kind(sources, moved)
+    why_fmts = None if got is None else why_formats(comp, sources, moved, got)
+    law_fmts = None
+    if dirs is not None and got is not None:
+        law_fmts = linear_formats(sources, moved, got)
+    return (f or _builder(*args), dirs, why_fmts, law_fmts)
+
+
+def _memo_leaves(memo, nb: int) -> int:
+    """How many made-before terms of T are leaves (see _replay)."""
+    n = 0
+    flags = iter(memo)
+    for _ in (0, 1):
+        if next(flags):
+            n += 1
+            continue
+        for _ in range(nb):
+            n += bool(next(flags))
+    return n
 
 
 def _builder(shape, nb: int, memo, dirs):

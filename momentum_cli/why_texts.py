@@ -67,10 +67,6 @@ def _format(text: str) -> str:
     return _STAND_IN.sub(r"{\1}", text)
 
 
-def _values(sources, bodies) -> list:
-    return [*bodies, *(s.point for s in sources), *(s.what for s in sources)]
-
-
 def kind(sources, bodies):
     """What why_lines and linear_texts key their plans on (None: no plan), computed once
     for both."""
@@ -79,21 +75,52 @@ def kind(sources, bodies):
     return _kind(sources, bodies)
 
 
+def why_formats(comp, sources, bodies, got=False) -> list[str] | None:
+    """compile._why's lines for this kind as format strings of `values` (None: no plan
+    for this kind; `got`: `kind`'s answer)."""
+    if got is False:
+        got = kind(sources, bodies)
+    if got is None:
+        return None
+    fake, sb = _stand_ins(sources, bodies, got[1])
+    return [_format(line) for line in comp._why(fake, None, sb)]
+
+
+def linear_formats(sources, moved, got=False):
+    """(dirs, why, principles) of linear_texts as format strings of `values`; None when
+    no direction is free, False when this kind has no plan."""
+    if got is False:
+        got = kind(sources, moved)
+    if got is None:
+        return False
+    fake, sb = _stand_ins(sources, moved, got[1])
+    head = linear_head(fake, sb)
+    if head is None:
+        return None
+    names = ", ".join(sb)
+    return (head[0], _format(head[1]),
+            [_format(f"linear momentum of {{{names}}} along {_words(d)}: "
+                     "sum of m v before = sum of m v after") for d in head[0]])
+
+
+def values(sources, bodies) -> list:
+    """What the formats' fields stand for: the bodies, each source's point, its name."""
+    return [*bodies, *(s.point for s in sources), *(s.what for s in sources)]
+
+
 def why_lines(comp, sources, bodies, got=False) -> list[str]:
     """comp._why(sources, None, bodies), from a plan per kind (`got`: `kind`'s answer)."""
     if got is False:
         got = kind(sources, bodies)
     if got is None:
         return comp._why(sources, None, bodies)
-    key, order = got
-    key = ("why",) + key
+    key = ("why",) + got[0]
     plan = _PLANS.get(key)
     if plan is None:
-        fake, sb = _stand_ins(sources, bodies, order)
-        plan = [_format(line) for line in comp._why(fake, None, sb)]
+        plan = why_formats(comp, sources, bodies, got)
         if len(_PLANS) < _LIMIT:
             _PLANS[key] = plan
-    vals = _values(sources, bodies)
+    vals = values(sources, bodies)
     return [f.format(*vals) for f in plan]
 
 
@@ -109,22 +136,13 @@ def linear_texts(sources, moved, got=False) -> tuple | None:
         names = ", ".join(moved)
         return head[0], head[1], [f"linear momentum of {{{names}}} along {_words(d)}: "
                                   "sum of m v before = sum of m v after" for d in head[0]]
-    key, order = got
-    key = ("linear",) + key
+    key = ("linear",) + got[0]
     plan = _PLANS.get(key, _PLANS)
     if plan is _PLANS:
-        fake, sb = _stand_ins(sources, moved, order)
-        head = linear_head(fake, sb)
-        if head is None:
-            plan = None
-        else:
-            names = ", ".join(sb)
-            plan = (head[0], _format(head[1]),
-                    [_format(f"linear momentum of {{{names}}} along {_words(d)}: "
-                             "sum of m v before = sum of m v after") for d in head[0]])
+        plan = linear_formats(sources, moved, got)
         if len(_PLANS) < _LIMIT:
             _PLANS[key] = plan
     if plan is None:
         return None
-    vals = _values(sources, moved)
+    vals = values(sources, moved)
     return plan[0], plan[1].format(*vals), [f.format(*vals) for f in plan[2]]
