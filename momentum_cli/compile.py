@@ -203,6 +203,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     Applied = Applied  # for impact_contacts and impact_phase (which compile imports)
     TransitionInfo = TransitionInfo
     Equation = Equation
+    Unknown = Unknown
 
     def __init__(self, scene: Scene, regimes: dict[str, str]):
         self.scene = scene

@@ -20,7 +20,7 @@ from .elements.keys import impulse_key, parameter_key
 from .elements.kinds import Component, KeyKind
 from .system_laws import _momenta_builder, _plain_dirs, linear_head, linear_laws
 from .tree_template import template
-from .units import IMPULSE
+from .units import IMPULSE, si_label
 from . import tree_template, why_texts
 from .why_texts import kind, linear_formats, linear_texts, values, why_formats, why_lines
 
@@ -31,6 +31,7 @@ _NAMED = (Var, Known)
 _JN = Component.JN
 _E = Component.E
 _IMPACT = TransitionKind.IMPACT
+_IMPULSE_UNIT = si_label(IMPULSE)
 _PLANS: dict = {}  # whole-impact kind -> _plan's answer (a few kinds: bounded below)
 _LIMIT = 512
 
@@ -64,9 +65,7 @@ def stamp(comp, t, key: str) -> None:
     applied: list = []
     sources: list = []
     contacts_info: list = []
-    one = impact_contacts.stamp
-    for c in t.contacts:
-        one(comp, c, i, j, key, group, False, None, applied, lin, sources, contacts_info)
+    _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info)
     moved = comp._moved(key)
     vel, mass, eq, span = comp.vel, comp.mass, comp.eq, t.span
     for b in moved:
@@ -86,12 +85,78 @@ def stamp(comp, t, key: str) -> None:
     energy = (comp._kinetic(i, moved), comp._kinetic(j, moved))
     texts = linear_texts(sources, moved) if len(moved) >= 2 else None
     laws = linear_laws(comp, moved, i, j, *texts) if texts is not None else []
-    n = len(sources)
-    for k, a in applied:
-        a.what = sources[k].what if k < n else ""
     comp.transitions.append(comp.TransitionInfo(t.kind, key, i, j, span, why, contacts_info,
-                                                energy, tuple(moved), laws,
-                                                [a for _, a in applied]))
+                                                energy, tuple(moved), laws, applied))
+
+
+def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -> None:
+    """impact_contacts.stamp for each contact of t, its calls inlined (an impact of
+    10^4 contacts: a chain), each contact's trees replayed from its kind's template."""
+    bodies = comp.scene.bodies
+    vel, unknowns = comp.vel, comp.unknowns
+    Unknown, Applied, Equation = comp.Unknown, comp.Applied, comp.Equation
+    bp = comp._by_principle
+    eqs = comp.equations
+    losses = comp.losses.setdefault(key, []) if t.contacts else None
+    kinds: dict = {}  # contact kind -> its trees' function (this impact's few kinds)
+    for c in t.contacts:
+        label = c.label
+        kn = impulse_key(_JN, label, key)
+        u = unknowns.get(kn)
+        if u is None:
+            u = unknowns[kn] = Unknown(kn, IMPULSE, _IMPULSE_UNIT, KeyKind.IMPULSE)
+        Jn = Var(kn)
+        u.hints.append((">", 0.0, c.span))
+        e = c.restitution
+        pa, pb = c.a, c.b
+        a = pa.body
+        E_ = Known(parameter_key(_E, label), e)
+        n = c.normal
+        n0, n1 = n
+        # the unknowns in the order the element makes them: J_n, then v_a, v_b before, after
+        if pb is not None:
+            b = pb.body
+            va1, vb1, va2, vb2 = vel(a, i), vel(b, i), vel(a, j), vel(b, j)
+            leaves = (Jn, va1.x, va1.y, vb1.x, vb1.y, va2.x, va2.y, vb2.x, vb2.y, E_)
+        else:
+            b = None
+            va1, va2 = vel(a, i), vel(a, j)
+            leaves = (Jn, va1.x, va1.y, va2.x, va2.y, E_)
+        ck = (n0, copysign(1.0, n0), n1, copysign(1.0, n1), e, copysign(1.0, e), b is not None)
+        f = kinds.get(ck)
+        if f is None:
+            f = kinds[ck] = template(("contact",) + ck, impact_contacts._builder, len(leaves),
+                                     n0, n1, e, pb) or impact_contacts._builder(n0, n1, e, pb)
+        for x in leaves:
+            if type(x) not in _NAMED:
+                f = impact_contacts._builder(n0, n1, e, pb)  # leaves that fold
+                break
+        J, Jb, vn1, vn2, loss, rhs = f(*leaves)
+        what = f"contact {label}"
+        body_a = bodies[a]
+        r = body_a.radius
+        arm = V2(Const(-1.0 * r * n0), Const(-1.0 * r * n1)) if pa.round_contact and r \
+            else ZERO_V2
+        applied.append(Applied(a, pa, J, None, arm, what))
+        lin[a].append(J)
+        if b is not None:
+            r = bodies[b].radius
+            arm = V2(Const(1.0 * r * n0), Const(1.0 * r * n1)) if pb.round_contact and r \
+                else ZERO_V2
+            applied.append(Applied(b, pb, Jb, None, arm, what))
+            lin[b].append(Jb)
+        where = f"{label}'s contact point" if pa.round_contact and body_a.radius else pa.name
+        sources.append(ImpulseSource((a, b), where, n, False, what))
+        losses.append(loss)
+        p = f"restitution at {label} (Newton)"
+        if bp is not None and p not in bp and "|" not in p:
+            row = bp[p] = Equation(vn2, rhs, p, group, c.span)
+            row.index = len(eqs)
+            eqs.append(row)
+        else:
+            comp.eq(vn2, rhs, p, group, c.span)
+            bp = comp._by_principle
+        contacts_info.append((label, vn1, vn2))
 
 
 def _replay(comp, t, key: str) -> None:
@@ -211,6 +276,7 @@ def _replay(comp, t, key: str) -> None:
                 eqs.append(e)
             else:
                 eq(lhs, rhs, p, group, span)
+                bp = comp._by_principle  # None from a principle with a `|` on
     comp.sources[key] = sources
     vals = None
     if why_fmts is not None:
