@@ -167,7 +167,7 @@ def _replay(comp, t, key: str) -> None:
     bodies = comp.scene.bodies
     moved = comp._moved(key)
     index = {b: k for k, b in enumerate(moved)}
-    vel, unknown, unknowns = comp.vel, comp.unknown, comp.unknowns
+    vel, unknowns, Unknown = comp.vel, comp.unknowns, comp.Unknown
     leaves: list = []
     shape: list = []
     sources: list = []
@@ -175,8 +175,11 @@ def _replay(comp, t, key: str) -> None:
     for c in contacts:
         label = c.label
         kn = impulse_key(_JN, label, key)
-        Jn = unknown(kn, IMPULSE, KeyKind.IMPULSE)
-        unknowns[kn].hints.append((">", 0.0, c.span))
+        u = unknowns.get(kn)  # comp.unknown, inline
+        if u is None:
+            u = unknowns[kn] = Unknown(kn, IMPULSE, _IMPULSE_UNIT, KeyKind.IMPULSE)
+        Jn = Var(kn)
+        u.hints.append((">", 0.0, c.span))
         pa, pb = c.a, c.b
         a = pa.body
         body_a = bodies[a]
