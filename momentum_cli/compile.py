@@ -852,9 +852,22 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def _kinetic_of(self, sid: str, names) -> E:
         terms = []
         memo = self._Tb
+        bodies = self.scene.bodies
+        vel = self.vel
+        masses = self._mass if self.flows is None else None
         for b in names:
             hit = memo.get((b, sid))
             if hit is None:
+                m = None if masses is None else masses.get(b)
+                if m is not None and bodies[b].is_particle:
+                    # _body_kinetic of a particle with its declared mass, inline
+                    v = vel(b, sid)
+                    vx, vy = v.x, v.y
+                    if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
+                        hit = (Mul((Const(0.5), m, Add((Mul((vx, vx)), Mul((vy, vy)))))),)
+                        memo[(b, sid)] = hit
+                        terms.append(hit[0])
+                        continue
                 hit = memo[(b, sid)] = self._body_kinetic(b, sid)
             terms.extend(hit)
         return add_all(terms)
