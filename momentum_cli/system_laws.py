@@ -174,13 +174,17 @@ def _many(c, moved, i, j, dirs) -> list[tuple] | None:
         for leaves in side:
             if not plain_leaves(*leaves):
                 return None
+    # each body's terms along every direction, before and after, from one replay
+    f = template(("terms",) + tuple((d[0], math.copysign(1.0, d[0]), d[1],
+                                     math.copysign(1.0, d[1])) for d in dirs),
+                 _terms_builder, 6, dirs)
+    if f is None:
+        return None
+    per = [f(*a, *b) for a, b in zip(*sides)]
     out = []
-    for d in dirs:
-        f = template(("term", d[0], math.copysign(1.0, d[0]), d[1], math.copysign(1.0, d[1])),
-                     _term_builder, 3, d)
-        if f is None:
-            return None
-        lhs, rhs = [add_all([f(*leaves) for leaves in side]) for side in sides]
+    for n, d in enumerate(dirs):
+        lhs = add_all([p[2 * n] for p in per])
+        rhs = add_all([p[2 * n + 1] for p in per])
         after = sides[1]
         total = Add(tuple(m for m, _, _ in after))
         _, vx, vy = after[0]
@@ -188,10 +192,14 @@ def _many(c, moved, i, j, dirs) -> list[tuple] | None:
     return out
 
 
-def _term_builder(d):
-    def term(m, vx, vy):
-        return mul(m, V2(vx, vy).dot(V2(Const(d[0]), Const(d[1]))))
-    return term
+def _terms_builder(dirs):
+    def terms(m1, x1, y1, m2, x2, y2):
+        out = []
+        for d in dirs:
+            dv = V2(Const(d[0]), Const(d[1]))
+            out += (mul(m1, V2(x1, y1).dot(dv)), mul(m2, V2(x2, y2).dot(dv)))
+        return tuple(out)
+    return terms
 
 
 def _momenta_builder(k: int, dirs):
