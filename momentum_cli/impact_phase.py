@@ -2,26 +2,24 @@
 
 In: an impact whose only actors are contacts that impact_contacts.fits, every body it moves
 a particle, no joint, flow or end condition. Out: what compile._impulse_phase makes for it
-(unknowns, rows, sources, losses, TransitionInfo), in its order; the why-lines and the
-system laws' texts come from format strings made once per kind (why_texts.py).
+(unknowns, rows, sources, losses, TransitionInfo), in its order: a few bodies' impact
+replayed whole from one plan per kind (trees, texts as format strings; why_texts.py),
+many contacts (a chain) each from its kind's template.
 """
 from __future__ import annotations
 
 from collections import defaultdict
 from math import copysign
 
-from . import impact_contacts
-from .impact_contacts import ZERO_V2
-from .elements.kinds import TransitionKind
-from .expr import V2, Add, Const, Known, Mul, Var, add, add_all, mul, neg
-from . import system_laws
+from . import impact_contacts, system_laws, tree_template, why_texts
 from .elements.base import ImpulseSource
 from .elements.keys import impulse_key, parameter_key
-from .elements.kinds import Component, KeyKind
+from .elements.kinds import Component, KeyKind, TransitionKind
+from .expr import V2, Add, Const, Known, Mul, Var, add, add_all, mul, neg
+from .impact_contacts import ZERO_V2
 from .system_laws import _momenta_builder, _plain_dirs, linear_head, linear_laws
 from .tree_template import template
 from .units import IMPULSE, si_label
-from . import tree_template, why_texts
 from .why_texts import kind, linear_formats, linear_texts, values, why_formats, why_lines
 
 ENABLED = True  # tests switch it off to compare with compile._impulse_phase
