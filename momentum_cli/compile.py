@@ -22,10 +22,10 @@ from .diagnostics import Collector, ProblemError
 from .elements.base import FrictionSite, ImpulseSource, Phase
 from .elements.contacts import contact_element
 from .elements.joints import BearingFriction, joint_element
-from .elements.keys import duration_key, state_key
+from .elements.keys import Key, duration_key, state_key
 from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
 from .energy_groups import energy_groups, split_joints
-from . import impact_contacts
+from . import impact_contacts, impact_phase
 from .expr import (
     V2,
     ZERO,
@@ -200,7 +200,10 @@ def _chronological(phases: list) -> list:
 
 
 class _Compiler(ReferencesMixin, PrinciplesMixin):
-    Applied = Applied  # for impact_contacts (which compile imports)
+    Applied = Applied  # for impact_contacts and impact_phase (which compile imports)
+    TransitionInfo = TransitionInfo
+    Equation = Equation
+    Unknown = Unknown
 
     def __init__(self, scene: Scene, regimes: dict[str, str]):
         self.scene = scene
@@ -351,20 +354,28 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         return hit
 
     def _key_value(self, key: tuple, body: str, qty: str, given) -> E:
-        name = state_key(*key)
+        sid = key[2]
+        # state_key(*key), without its two calls (a big scene makes ~4 a body)
+        name = _str_new(Key, f"{body}.{qty}@{sid}")
+        name.kind = _STATE
+        name.body = body
+        name.qty = qty
+        name.state = sid
+        name.transition = name.label = name.comp = None
         if given is not None:
             return Known(name, given[0])
-        dim, unit = STATE_QTYS[qty]
-        st = self.scene.states[key[2]]
-        u = self.unknowns.get(name)
+        unknowns = self.unknowns
+        u = unknowns.get(name)
         if u is None:
-            u = self.unknowns[name] = Unknown(name, dim, unit, KeyKind.STATE, [], key[2], body,
-                                              qty)
-        hints = st.hints.get((body, qty))
+            dim, unit = STATE_QTYS[qty]
+            u = unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
+        hints = self.scene.states[sid].hints
         if hints:
-            for h in list(hints):
-                if h not in u.hints:
-                    u.hints.append(h)
+            hints = hints.get((body, qty))
+            if hints:
+                for h in list(hints):
+                    if h not in u.hints:
+                        u.hints.append(h)
         return Var(name)
 
     def mass(self, body: str, sid: str) -> E:
@@ -413,38 +424,45 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if w is None:
             return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
         svs = self._sv
+        x = svs.get((body, "vx", sid))
+        if x is None:
+            x = self._on_chain(body, "vx", sid, w)
+        y = svs.get((body, "vy", sid))
+        if y is None:
+            y = self._on_chain(body, "vy", sid, w)
+        return V2(x, y)
+
+    def _on_chain(self, body: str, qty: str, sid: str, w) -> E:
+        """sv of a velocity component at state sid, at place w = (chain, position) of a
+        chain: what _state_value and the chains' head_given give, in one walk."""
+        chains = self._chains
         c, p = w
         chain = chains.chains[c]
-        breaks = chains.breaks
         states = self.scene.states
-        out = []
-        for qty in ("vx", "vy"):
-            k3 = (body, qty, sid)
-            hit = svs.get(k3)
+        bq = (body, qty)
+        pts = chains.breaks.get((body, qty, c))
+        if pts is None:
+            start = chain[0]
+            given = states[start].givens.get(bq)
+        else:
+            k = bisect_right(pts, p) - 1
+            start = chain[pts[k]] if k >= 0 else chain[0]
+            given = states[start].givens.get(bq)
+            if given is None and k + 1 < len(pts):
+                nxt = chain[pts[k + 1]]
+                g = states[nxt].givens.get(bq)
+                if g is not None and self._linked(body, qty, chains.into[nxt]):
+                    start, given = nxt, g
+        svs = self._sv
+        if start == sid:
+            hit = self._key_value((body, qty, start), body, qty, given)
+        else:
+            key = (body, qty, start)
+            hit = svs.get(key)
             if hit is None:
-                bq = (body, qty)
-                pts = breaks.get((body, qty, c))
-                if pts is None:
-                    start = chain[0]
-                    key, given = (body, qty, start), states[start].givens.get(bq)
-                else:
-                    k = bisect_right(pts, p) - 1
-                    start = chain[pts[k]] if k >= 0 else chain[0]
-                    key, given = (body, qty, start), states[start].givens.get(bq)
-                    if given is None and k + 1 < len(pts):
-                        nxt = chain[pts[k + 1]]
-                        g = states[nxt].givens.get(bq)
-                        if g is not None and self._linked(body, qty, chains.into[nxt]):
-                            key, given = (body, qty, nxt), g
-                if key[2] == sid:
-                    hit = self._key_value(key, body, qty, given)
-                else:
-                    hit = svs.get(key)
-                    if hit is None:
-                        hit = svs[key] = self._key_value(key, body, qty, given)
-                svs[k3] = hit
-            out.append(hit)
-        return V2(out[0], out[1])
+                hit = svs[key] = self._key_value(key, body, qty, given)
+        svs[(body, qty, sid)] = hit
+        return hit
 
     def pos(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "x", sid), self.sv(body, "y", sid))
@@ -643,9 +661,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     # ---- impacts and intervals ----------------------------------------------------------------
     def _impulse_phase(self, t: TransitionSpec) -> None:
+        key = t.key
+        if impact_phase.fits(self, t):
+            return impact_phase.stamp(self, t, key)
         sc = self.scene
         i, j = t.before, t.after
-        key = t.key
         group = f"{t.kind} {i} -> {j}"
         is_interval = t.kind == TransitionKind.INTERVAL
         # impulses acting on each body: (arm from G, impulse vector, torque)
@@ -832,9 +852,22 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def _kinetic_of(self, sid: str, names) -> E:
         terms = []
         memo = self._Tb
+        bodies = self.scene.bodies
+        vel = self.vel
+        masses = self._mass if self.flows is None else None
         for b in names:
             hit = memo.get((b, sid))
             if hit is None:
+                m = None if masses is None else masses.get(b)
+                if m is not None and bodies[b].is_particle:
+                    # _body_kinetic of a particle with its declared mass, inline
+                    v = vel(b, sid)
+                    vx, vy = v.x, v.y
+                    if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
+                        hit = (Mul((Const(0.5), m, Add((Mul((vx, vx)), Mul((vy, vy)))))),)
+                        memo[(b, sid)] = hit
+                        terms.append(hit[0])
+                        continue
                 hit = memo[(b, sid)] = self._body_kinetic(b, sid)
             terms.extend(hit)
         return add_all(terms)
@@ -965,6 +998,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         return "no point is free of external angular impulse"
 
 _PLAIN = (float, int)  # numbers that are not a sweep's traced ones
+_str_new = str.__new__
+_STATE = KeyKind.STATE
 _NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
 ZERO_V2 = impact_contacts.ZERO_V2  # the arm of a point at G (a V2 is frozen: one for all)
 

@@ -174,13 +174,17 @@ def _many(c, moved, i, j, dirs) -> list[tuple] | None:
         for leaves in side:
             if not plain_leaves(*leaves):
                 return None
+    # each body's terms along every direction, before and after, from one replay
+    f = template(("terms",) + tuple((d[0], math.copysign(1.0, d[0]), d[1],
+                                     math.copysign(1.0, d[1])) for d in dirs),
+                 _terms_builder, 6, dirs)
+    if f is None:
+        return None
+    per = [f(*a, *b) for a, b in zip(*sides)]
     out = []
-    for d in dirs:
-        f = template(("term", d[0], math.copysign(1.0, d[0]), d[1], math.copysign(1.0, d[1])),
-                     _term_builder, 3, d)
-        if f is None:
-            return None
-        lhs, rhs = [add_all([f(*leaves) for leaves in side]) for side in sides]
+    for n, d in enumerate(dirs):
+        lhs = add_all([p[2 * n] for p in per])
+        rhs = add_all([p[2 * n + 1] for p in per])
         after = sides[1]
         total = Add(tuple(m for m, _, _ in after))
         _, vx, vy = after[0]
@@ -188,10 +192,14 @@ def _many(c, moved, i, j, dirs) -> list[tuple] | None:
     return out
 
 
-def _term_builder(d):
-    def term(m, vx, vy):
-        return mul(m, V2(vx, vy).dot(V2(Const(d[0]), Const(d[1]))))
-    return term
+def _terms_builder(dirs):
+    def terms(m1, x1, y1, m2, x2, y2):
+        out = []
+        for d in dirs:
+            dv = V2(Const(d[0]), Const(d[1]))
+            out += (mul(m1, V2(x1, y1).dot(dv)), mul(m2, V2(x2, y2).dot(dv)))
+        return tuple(out)
+    return terms
 
 
 def _momenta_builder(k: int, dirs):
@@ -209,24 +217,42 @@ def _momenta_builder(k: int, dirs):
 
 
 def _linear(c, sources, moved, i, j) -> list[SystemLaw]:
+    head = linear_head(sources, moved)
+    if head is None:
+        return []
+    dirs, why = head
+    names = ", ".join(moved)
+    principles = [f"linear momentum of {{{names}}} along {_words(d)}: "
+                  "sum of m v before = sum of m v after" for d in dirs]
+    return linear_laws(c, moved, i, j, dirs, why, principles)
+
+
+def linear_head(sources, moved) -> tuple | None:
+    """The directions free of external impulse for the bodies `moved` together, and why
+    (None: no direction is free); texts only, no tree (why_texts plans them per kind)."""
     members = set(moved)
     ext = [s for s in _external(sources, members) if not s.torque_only]
     if not ext:
-        dirs = [(1.0, 0.0), (0.0, 1.0)]
-        why = "no external impulse acts on the system"
-    else:
-        ds = [s.direction for s in ext]
-        if any(d is None for d in ds) or any(abs(ds[0][0] * d[1] - ds[0][1] * d[0]) > 1e-12
-                                             for d in ds):
-            return []
-        dirs = [(-ds[0][1], ds[0][0])]
-        if dirs[0][0] < 0 or (dirs[0][0] == 0 and dirs[0][1] < 0):
-            dirs = [(-dirs[0][0], -dirs[0][1])]
-        why = f"the external impulses ({', '.join(sorted({s.what for s in ext}))}) act only " \
-              f"along ({ds[0][0]:.4g}, {ds[0][1]:.4g})"
-    names = ", ".join(moved)
+        return [(1.0, 0.0), (0.0, 1.0)], "no external impulse acts on the system"
+    ds = [s.direction for s in ext]
+    if any(d is None for d in ds) or any(abs(ds[0][0] * d[1] - ds[0][1] * d[0]) > 1e-12
+                                         for d in ds):
+        return None
+    dirs = [(-ds[0][1], ds[0][0])]
+    if dirs[0][0] < 0 or (dirs[0][0] == 0 and dirs[0][1] < 0):
+        dirs = [(-dirs[0][0], -dirs[0][1])]
+    why = f"the external impulses ({', '.join(sorted({s.what for s in ext}))}) act only " \
+          f"along ({ds[0][0]:.4g}, {ds[0][1]:.4g})"
+    return dirs, why
+
+
+def linear_laws(c, moved, i, j, dirs, why, principles, rows=None) -> list[SystemLaw]:
+    """The linear-momentum laws along `dirs` (linear_head's), with their texts (and the
+    sums of momenta, when the caller replayed `_momenta_builder` itself)."""
     out = []
-    rows = _momenta(c, moved, i, j, dirs) if len(moved) <= _FEW else _many(c, moved, i, j, dirs)
+    if rows is None:
+        rows = _momenta(c, moved, i, j, dirs) if len(moved) <= _FEW else \
+            _many(c, moved, i, j, dirs)
     for n, d in enumerate(dirs):
         if rows is not None:
             lhs, rhs, total, first = rows[n]
@@ -240,8 +266,7 @@ def _linear(c, sources, moved, i, j) -> list[SystemLaw]:
         tag = comp if comp in ("x", "y") else "n"
         stand_in = f"v{tag}'@{j}"
         alias = {stand_in: first.name} if isinstance(first, Var) else {}
-        out.append(SystemLaw("linear", f"linear momentum of {{{names}}} along {comp}: "
-                             "sum of m v before = sum of m v after", why, lhs, rhs,
+        out.append(SystemLaw("linear", principles[n], why, lhs, rhs,
                              tuple(moved), Mul((total, Var(stand_in))) if alias else None,
                              alias))
     return out

@@ -168,4 +168,4 @@ def test_chains_and_cradles_take_the_templates():
     _compiled(chain_text(12), True)
     _compiled(cradle_text(4, "sequence"), True)
     kinds = {k[0] for k, f in tree_template._CACHE.items() if f is not None}
-    assert {"contact", "momenta", "term"} <= kinds
+    assert {"contact", "momenta", "terms"} <= kinds
