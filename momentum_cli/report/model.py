@@ -17,6 +17,8 @@ from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
 from .printer import lines
 from .statements import statements
+from .treecode import evaluate as tval
+from .treecode import value_and_magnitude as tv_and_m
 from .reader import (
     STATE_DIMS,
     direction,
@@ -479,7 +481,12 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
             continue
         T1, T2 = t.energy
         try:  # one walk each; a failure is "not solved" only where a name is missing
-            a, b = evaluate(T1, values), evaluate(T2, values)
+            a = tval(T1, values)  # by the shape's code (treecode.py), or walked
+            if a is None:
+                a = evaluate(T1, values)
+            b = tval(T2, values)
+            if b is None:
+                b = evaluate(T2, values)
         except (KeyError, ValueError, ZeroDivisionError, OverflowError):
             if variables(T1) <= values.keys() and variables(T2) <= values.keys():
                 raise
@@ -560,7 +567,9 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
             if "impulse-momentum" not in e.principle:
                 continue
             try:
-                r, s = value_and_magnitude(e.residual, values)
+                res = e.residual
+                got = tv_and_m(res, values)  # by the shape's code (treecode.py), or walked
+                r, s = got if got is not None else value_and_magnitude(res, values)
                 r = abs(r)
             except KeyError:  # it also holds an unknown no equation determines
                 continue
