@@ -4,8 +4,8 @@ In: a tree of sums, products, powers, functions and leaves (a residual, a kineti
 and the solved values. Out: `expr.evaluate(e)` and `model.value_and_magnitude(e)` by
 straight-line code made for the tree's shape (on its second sight), which checks the
 shape as it reads the leaves and performs the walks' float operations in their order:
-the same floats, the same KeyError. Anything else (a shape met once, a zero or non-float
-number, a node the code does not know) returns None and the caller walks the tree.
+the same floats. Anything else (a shape met once, a zero or non-float number, a node the
+code does not know, any exception) returns None and the caller walks the tree.
 """
 from __future__ import annotations
 
@@ -201,13 +201,13 @@ def _run(what: str, e, values):
         prev, after, fs = st
         guess = after.get(prev)
         if guess is not None:
-            got = guess(e, values)
+            got = _call(guess, e, values)
             if got is not None:
                 st[0] = guess
                 return got
         for f in fs:
             if f is not guess:
-                got = f(e, values)
+                got = _call(f, e, values)
                 if got is not None:
                     after[prev] = st[0] = f
                     return got
@@ -240,7 +240,16 @@ def _run(what: str, e, values):
         st[1] = {a: b for a, b in st[1].items() if a in st[2] and b in st[2]}
     st[1][st[0]] = f
     st[0] = f
-    return f(e, values)
+    return _call(f, e, values)
+
+
+def _call(f, e, values):
+    """`f(e, values)`, None where it fails (the walk then raises what it raises: it
+    may meet a zero division before the missing name the code reads first)."""
+    try:
+        return f(e, values)
+    except Exception:  # noqa: BLE001 - any failure: the walk decides
+        return None
 
 
 def evaluate(e, values):
