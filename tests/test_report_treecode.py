@@ -33,6 +33,8 @@ EXAMPLES = sorted(p for p in (ROOT / "examples").glob("*.mom"))
 def _bits(x):
     if isinstance(x, tuple):
         return tuple(_bits(y) for y in x)
+    if type(x) is complex:  # (-1) ** 0.5: both walks give a complex
+        return ("complex", _bits(x.real), _bits(x.imag))
     return struct.pack("<d", x) if type(x) is float else x
 
 
