@@ -45,7 +45,10 @@ def _key(e, out: list) -> None:
         for x in xs:
             _key(x, out)
     elif t is Pow:
-        out.append(("^", type(e.exp), e.exp))
+        p = e.exp
+        if (type(p) is not float and type(p) is not int) or p != p:
+            raise _Big  # a traced or odd exponent: walked (the key holds plain numbers)
+        out.append(("^", type(p), p))
         _key(e.base, out)
     elif t is Fn and e.name in FUNCS:
         out.append(("f", e.name))
