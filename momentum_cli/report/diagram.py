@@ -19,6 +19,7 @@ from .abbrev import name_list
 from .reader import Reader
 
 POSITION = ("x", "y", "angle")  # unchanged by an impact
+PLAIN = True  # tests turn it off: every application by `_impulses`' general steps
 SIG = 4  # significant figures in the diagram (short lines, stable drawings)
 UNIT = {False: "N*s", True: "N*m*s"}
 
@@ -522,6 +523,10 @@ class _Builder:
         # direction of each is read off its coefficients, as the two evaluations give it
         mono = _monomials(a.J) if a.torque is None else None
         if mono is not None:
+            ax, ay = a.arm.x, a.arm.y
+            tx, ty = type(ax), type(ay)
+            if PLAIN and (tx is Const or tx is Known) and (ty is Const or ty is Known):
+                return self._plain_impulses(a, body, mono)
             names = set(mono)
             torque = _NO_NAMES
         else:
@@ -617,6 +622,34 @@ class _Builder:
                                           direction_words(d), m))
         if a.torque is not None:
             out.extend(self._moments(a, body, at, point, base))
+        return out
+
+    def _plain_impulses(self, a, body: DiagramBody, mono: dict) -> list[DiagramImpulse]:
+        """`_impulses` of the commonest application, without its general steps: impulses
+        alone (each name of `mono` an impulse, no torque: no moment of its own) and a
+        known arm, its values read as `evaluate` reads its leaves."""
+        vals, p = self.values, a.point
+        if p.round_contact or p.located_by is not None:
+            arm = (a.arm.x.value, a.arm.y.value)
+        else:
+            arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
+        at = (body.x + arm[0], body.y + arm[1])
+        if p.round_contact and p.name == a.body:
+            point = f"{a.body}'s contact point" if arm != (0.0, 0.0) else f"{a.body}'s centre"
+        else:
+            point = "G" if p.name == a.body else p.name
+        contact = self._contacts().get(a.what)
+        out = []
+        for n in (mono if len(mono) == 1 else sorted(mono, key=str)):
+            d = mono[n]
+            size = math.hypot(*d)
+            if size == 0:
+                continue
+            d = (d[0] / size, d[1] / size)
+            val = vals.get(n)
+            out.append(DiagramImpulse(a.body, _local(n), a.what, point, at, d,
+                                      direction_words(d, _symbol(n, d, contact)),
+                                      None if val is None else val * size))
         return out
 
     @staticmethod

@@ -17,6 +17,8 @@ from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
 from .printer import lines
 from .statements import statements
+from .treecode import evaluate as tval
+from .treecode import value_and_magnitude as tv_and_m
 from .reader import (
     STATE_DIMS,
     direction,
@@ -252,15 +254,25 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                 lines = [span.line] if span else []
             else:
                 lines = sorted({eqs[k].span.line for k in ks if eqs[k].span})
+            # `_finite(x)` without a call for a finite float (x - x is 0 only then)
+            x, r = b.cond, b.residual
             d = dict(index=i + 1, unknowns=list(b.unknowns), method=b.method,
-                     condition_number=_finite(b.cond), iterations=b.iterations,
-                     residual=_finite(b.residual), lines=lines)
+                     condition_number=(0.0 if x == 0 else x)
+                     if type(x) is float and x - x == 0.0 else _finite(x),
+                     iterations=b.iterations,
+                     residual=(0.0 if r == 0 else r)
+                     if type(r) is float and r - r == 0.0 else _finite(r), lines=lines)
             q = b.quality
             if q is not None:
+                x, r, z = q.cond, q.backward, q.bound
                 d["quality"] = dict(method=q.method, precision=q.precision,
-                                    condition_number=_finite(q.cond),
-                                    backward_error=_finite(q.backward),
-                                    error_bound=_finite(q.bound), iterations=q.iterations)
+                                    condition_number=(0.0 if x == 0 else x)
+                                    if type(x) is float and x - x == 0.0 else _finite(x),
+                                    backward_error=(0.0 if r == 0 else r)
+                                    if type(r) is float and r - r == 0.0 else _finite(r),
+                                    error_bound=(0.0 if z == 0 else z)
+                                    if type(z) is float and z - z == 0.0 else _finite(z),
+                                    iterations=q.iterations)
             if b.matrix is not None and len(b.unknowns) > 1:
                 d["matrix"] = [_finite_all(row) for row in b.matrix]
                 d["rhs"] = _finite_all(b.rhs)
@@ -479,7 +491,12 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
             continue
         T1, T2 = t.energy
         try:  # one walk each; a failure is "not solved" only where a name is missing
-            a, b = evaluate(T1, values), evaluate(T2, values)
+            a = tval(T1, values)  # by the shape's code (treecode.py), or walked
+            if a is None:
+                a = evaluate(T1, values)
+            b = tval(T2, values)
+            if b is None:
+                b = evaluate(T2, values)
         except (KeyError, ValueError, ZeroDivisionError, OverflowError):
             if variables(T1) <= values.keys() and variables(T2) <= values.keys():
                 raise
@@ -560,7 +577,9 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
             if "impulse-momentum" not in e.principle:
                 continue
             try:
-                r, s = value_and_magnitude(e.residual, values)
+                res = e.residual
+                got = tv_and_m(res, values)  # by the shape's code (treecode.py), or walked
+                r, s = got if got is not None else value_and_magnitude(res, values)
                 r = abs(r)
             except KeyError:  # it also holds an unknown no equation determines
                 continue
