@@ -2,7 +2,7 @@
 
 In: a residual tree of sums, products and leaves (the rows of large scenes). Out: its
 shape (the tree's layout, which leaves are zero, which unknowns repeat) with its numbers
-and names, and Python functions, compiled once per shape (on its second sight), that
+and names, and Python functions, compiled once per shape (once met COMPILE_AFTER times), that
 perform the very float operations of `expr._affine_float`, `bounds.derivatives_and_size`
 and `expr.evaluate` in the same order (bit-identical results, the same dict orders, the
 same exceptions; anything else, and every failure, goes back to those walks). A 10^4-ball
@@ -25,7 +25,11 @@ _AFF: dict = {}
 _VAL: dict = {}
 _KEYS: dict = {}  # each shape's key, once
 _SEEN: dict = {}  # (cache, key) -> times met before it was compiled
-COMPILE_AFTER = 1  # a shape is compiled the second time it is met
+# a shape is compiled once met this often: compile() costs many walks of a small tree, so
+# a small file's shapes (met a few times each) are walked (newtons_cradle_sequence alone:
+# 291 -> 264 M instructions), a batch of variants is as fast either way, and a big
+# scene's handful of shapes, met 10^4 times, are compiled after 64 walks of each
+COMPILE_AFTER = 64
 _SHAPES: dict = {}  # id(tree) -> (tree, shape) within one solve (`remembered`)
 _ON = [0]  # how many `remembered` are open
 
@@ -273,8 +277,9 @@ def _val_function(key):
 
 
 def _compiled(cache: dict, key, make):
-    """The compiled function for `key`, made on the shape's second sight (a shape met
-    once, as in most small files, is cheaper to walk than to compile); None before."""
+    """The compiled function for `key`, made once the shape was met COMPILE_AFTER times
+    (a shape met a few times, as in small files, is cheaper to walk than to compile);
+    None before."""
     f = cache.get(key)
     if f is None:
         seen = _SEEN.get((id(cache), key), 0)

@@ -130,3 +130,68 @@ def test_a_family_is_its_text_but_for_digits():
     assert run_pool.family(a) == run_pool.family(b) != run_pool.family(c)
     assert run_pool.may_integrate("let x = 1\n  burn r 1 -> 2:\n")
     assert not run_pool.may_integrate("# burn r 1 -> 2\nimpact 1 -> 2:\n")
+
+
+# ---- families of one structure that differ only in numbers ----------------------------
+# Each entry: an example, and (text, numbers) pairs: every number put where `text`'s {}
+# is, one file per number, the rest of the file unchanged. The numbers are chosen so
+# that a friction regime switches (stick <-> slide), a block turns singular (a mass or
+# a closing speed of 0), a root branch changes or disappears (a swing past the top, not
+# enough energy), or the input is bad (a negative mass or coefficient).
+FAMILIES = {
+    "wall_oblique_stick.mom": [
+        ("friction {}", ["0.3", "0.05", "0", "1", "-0.2", "0.15", "0.1"]),
+        ("let beta = {} deg", ["20", "60", "0", "89", "45"]),
+        ("mass = {} kg", ["0.2", "0", "-1", "1e9"]),
+    ],
+    "rod_rough_floor_newton.mom": [
+        ("friction {}", ["0.5", "0.05", "0", "2", "0.2"]),
+        ("rod.v = ({} m/s, -2 m/s)", ["1.2", "-1.2", "0", "9", "-30"]),
+        ("restitution {} newton", ["0.9", "0", "1", "1.5"]),
+    ],
+    "ball_bounce_rebound.mom": [
+        ("let h = {} m", ["2", "0", "-1", "1e9", "0.001"]),
+        ("restitution {}, smooth", ["0.8", "0", "1", "-0.5"]),
+    ],
+    "find_e_no_energy_lost.mom": [
+        ("a: particle(mass = {} kg)", ["2", "3", "0", "1e-9", "-2"]),
+        ("a.v = ({} m/s, 0)", ["5", "0", "-5", "1e6"]),
+    ],
+    "pendulum_struck_ball_flies_off.mom": [
+        ("ball.v = ({} m/s, 0)", ["6", "60", "0", "-6", "20", "2"]),
+        ("let L = {} m", ["1.2", "0", "100"]),
+    ],
+}
+
+
+def family_files(tmp_path: Path) -> list[str]:
+    paths = []
+    for name, spots in FAMILIES.items():
+        text = (ROOT / "examples" / name).read_text(encoding="utf-8")
+        for k, (spot, numbers) in enumerate(spots):
+            first = spot.format(numbers[0])
+            assert text.count(first) == 1, (name, first)
+            for j, x in enumerate(numbers):
+                out = tmp_path / f"{name[:-4]}_{k}_{j}.mom"
+                out.write_text(text.replace(first, spot.format(x)), encoding="utf-8")
+                paths.append(out)
+    rng = random.Random(5)
+    rng.shuffle(paths)  # the families interleaved, as a batch of several problem sets
+    assert len(paths) >= PARALLEL_MIN
+    return [str(p) for p in paths]
+
+
+@pytest.mark.parametrize("fmt", ["--plain", "--json"])
+def test_number_variants_of_one_structure_print_what_each_alone_prints(tmp_path, fmt):
+    paths = family_files(tmp_path)
+    args = [sys.executable, "-m", "momentum_cli", "solve", fmt, *paths]
+    par = subprocess.run(args, capture_output=True, text=True, timeout=600)
+    ser = subprocess.run(args + ["--traceback"], capture_output=True, text=True, timeout=600)
+    assert par.returncode == ser.returncode == 1  # some variants do not solve
+    assert par.stdout == ser.stdout
+    assert par.stderr == ser.stderr
+    assert "Traceback" not in par.stderr
+    if fmt == "--plain":  # the variants do go different ways
+        out = par.stdout + par.stderr
+        for seen in ("stick held", "sliding", "error:", "no real solution"):
+            assert seen in out, seen
