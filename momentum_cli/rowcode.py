@@ -52,7 +52,9 @@ def shape(e):
     key = _KEYS.setdefault(key, key)  # one tuple per shape: a remembered row is small
     if len(_KEYS) > 4 * LIMIT:
         _KEYS.clear()
-    return key, nums, names
+    # tuples: a remembered shape is kept per equation for the whole solve, and a tuple
+    # is half a short list's size (the compiled walks only index them)
+    return key, tuple(nums), tuple(names)
 
 
 class remembered:
@@ -75,10 +77,10 @@ def shape_of(e):
     """`shape(e)`, remembered for the tree itself (held, so its id is not reused)."""
     hit = _SHAPES.get(id(e))
     if hit is not None and hit[0] is e:
-        return hit[1]
+        return hit[1:] if len(hit) > 2 else None
     sh = shape(e)
-    if _ON[0]:
-        _SHAPES[id(e)] = (e, sh)
+    if _ON[0]:  # one flat tuple per tree: (tree, key, numbers, names) or (tree, None)
+        _SHAPES[id(e)] = (e, None) if sh is None else (e, *sh)
     return sh
 
 
