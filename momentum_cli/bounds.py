@@ -236,7 +236,10 @@ def propagate(system, reports, values, exact: bool = False):
             continue
         col = {n: j for j, n in enumerate(names)}
         n = len(names)
-        A: list[dict[int, float]] = [{} for _ in rep.equations]
+        # a block past DENSE needs only each row's largest entry, not the rows themselves
+        # (a 10^5-row block's row dicts were most of the solve's peak memory)
+        sparse = FAST and not (n <= DENSE and len(rep.equations) == n)
+        A: list = [] if sparse else [{} for _ in rep.equations]
         cols: list[list[tuple[int, float]]] = [[] for _ in names]
         scale, delta = [], []
         newton = rep.method == "newton"
@@ -245,6 +248,8 @@ def propagate(system, reports, values, exact: bool = False):
             f = eqs[k].residual
             if not FAST:
                 d = _row_plain(f, values, col, A, cols, i, size, err, scale)
+            elif sparse:
+                d = _row_max(f, values, col, A, cols, i, sget, eget, scale)
             else:
                 d = _row(f, values, col, A[i], cols, i, sget, eget, scale)
             if not exact or newton:
@@ -260,7 +265,9 @@ def propagate(system, reports, values, exact: bool = False):
         # (lists, not generators, for max/min/sum: the same values in the same order)
         # (the parts that depend on the matrix alone, once per kind of block: a sequence
         # of impacts repeats one matrix; shared, only read)
-        if n <= DENSE and len(A) == n:
+        if sparse:
+            rmax, unit, inv = A, _units(A, cols), None
+        elif n <= DENSE and len(A) == n:
             rmax, unit, inv = kind_of(A, lambda A: _matrix_parts(A, cols, True))
         else:
             rmax, unit, inv = _matrix_parts(A, cols, False)
@@ -289,11 +296,16 @@ def _matrix_parts(A, cols, square: bool):
     """(each row's largest entry, each column's largest scaled entry, |A^-1| or None):
     `propagate`'s parts of a block that depend on its matrix alone."""
     rmax = [max([abs(v) for v in row.values()]) if row else 0.0 for row in A]
+    return rmax, _units(rmax, cols), _abs_inverse(A) if square else None
+
+
+def _units(rmax, cols):
+    """Each column's largest entry scaled by its row's largest (`_matrix_parts`)."""
     unit = []
     for cj in cols:
         us = [a / rmax[i] for i, a in cj if rmax[i] > 0]
         unit.append(max(us) if us else 0.0)
-    return rmax, unit, _abs_inverse(A) if square else None
+    return unit
 
 
 def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
@@ -368,6 +380,30 @@ def _row(f, values, col, Ai, cols, i, sget, eget, scale):
         elif s != 0:
             Ai[j] = s
             cols[j].append((i, abs(s)))
+    scale.append(mag + sc)
+    return d
+
+
+def _row_max(f, values, col, rmax, cols, i, sget, eget, scale):
+    """`_row` without the row: its largest |entry| appended to rmax, found as
+    `_matrix_parts` finds it (max keeps the first of equals and NaN where it comes first:
+    the same comparisons in the same order)."""
+    dv, mag = fast_derivatives_and_size(f, values)
+    sc = d = 0
+    m = None
+    for v, s in dv.items():
+        j = col.get(v)
+        if j is None:
+            a = abs(s)
+            if a:
+                sc += a * sget(v, 0.0)
+                d += a * eget(v, 0.0)
+        elif s != 0:
+            a = abs(s)
+            cols[j].append((i, a))
+            if m is None or a > m:
+                m = a
+    rmax.append(0.0 if m is None else m)
     scale.append(mag + sc)
     return d
 
