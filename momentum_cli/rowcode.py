@@ -26,7 +26,8 @@ _VAL: dict = {}
 _KEYS: dict = {}  # each shape's key, once
 _SEEN: dict = {}  # (cache, key) -> times met before it was compiled
 COMPILE_AFTER = 1  # a shape is compiled the second time it is met
-_SHAPES: dict = {}  # id(tree) -> (tree, shape) within one solve (`remembered`)
+_SHAPES: dict = {}  # tree -> shape within one solve (`remembered`)
+_NONE = object()
 _ON = [0]  # how many `remembered` are open
 
 
@@ -75,12 +76,12 @@ class remembered:
 
 def shape_of(e):
     """`shape(e)`, remembered for the tree itself (held, so its id is not reused)."""
-    hit = _SHAPES.get(id(e))
-    if hit is not None and hit[0] is e:
-        return hit[1:] if len(hit) > 2 else None
+    hit = _SHAPES.get(e, _NONE)  # trees hash by identity: the key holds the tree
+    if hit is not _NONE:
+        return hit
     sh = shape(e)
-    if _ON[0]:  # one flat tuple per tree: (tree, key, numbers, names) or (tree, None)
-        _SHAPES[id(e)] = (e, None) if sh is None else (e, *sh)
+    if _ON[0]:
+        _SHAPES[e] = sh
     return sh
 
 
