@@ -244,6 +244,7 @@ def propagate(system, reports, values, exact: bool = False):
         scale, delta = [], []
         newton = rep.method == "newton"
         eqs, sget, eget = system.equations, size.get, err.get
+        pairs = _flat_pairs if sparse else _same
         for i, k in enumerate(rep.equations):
             f = eqs[k].residual
             if not FAST:
@@ -266,7 +267,7 @@ def propagate(system, reports, values, exact: bool = False):
         # (the parts that depend on the matrix alone, once per kind of block: a sequence
         # of impacts repeats one matrix; shared, only read)
         if sparse:
-            rmax, unit, inv = A, _units(A, cols), None
+            rmax, unit, inv = A, _units(A, cols, _flat_pairs), None
         elif n <= DENSE and len(A) == n:
             rmax, unit, inv = kind_of(A, lambda A: _matrix_parts(A, cols, True))
         else:
@@ -275,7 +276,7 @@ def propagate(system, reports, values, exact: bool = False):
         big = max([x * u for x, u in zip(xs, unit)]) if names else 0.0
         for j, name in enumerate(names):
             x = xs[j]
-            cands = [scale[i] / a for i, a in cols[j]]
+            cands = [scale[i] / a for i, a in pairs(cols[j])]
             uj = unit[j]
             size[name] = max(x, min(cands) if cands else x, big / uj if uj > 0 else 0.0)
         q = rep.quality
@@ -286,10 +287,14 @@ def propagate(system, reports, values, exact: bool = False):
             if inv is not None:
                 e = sum([a * b for a, b in zip(inv[j], delta)])
             else:
-                e = cond * max([delta[i] / a for i, a in cols[j]], default=0.0)
+                e = cond * max([delta[i] / a for i, a in pairs(cols[j])], default=0.0)
             solver = comps[j] * abs(values.get(name, 0.0)) if solved else 0.0
             err[name] = e + solver if math.isfinite(e) else math.inf
     return size, err
+
+
+def _same(x):
+    return x
 
 
 def _matrix_parts(A, cols, square: bool):
@@ -299,11 +304,11 @@ def _matrix_parts(A, cols, square: bool):
     return rmax, _units(rmax, cols), _abs_inverse(A) if square else None
 
 
-def _units(rmax, cols):
+def _units(rmax, cols, pairs=None):
     """Each column's largest entry scaled by its row's largest (`_matrix_parts`)."""
     unit = []
     for cj in cols:
-        us = [a / rmax[i] for i, a in cj if rmax[i] > 0]
+        us = [a / rmax[i] for i, a in (cj if pairs is None else pairs(cj)) if rmax[i] > 0]
         unit.append(max(us) if us else 0.0)
     return unit
 
@@ -384,6 +389,11 @@ def _row(f, values, col, Ai, cols, i, sget, eget, scale):
     return d
 
 
+def _flat_pairs(cj):
+    """A column of `_row_max` as `_row`'s (row, |entry|) pairs, in order."""
+    return zip(cj[::2], cj[1::2])
+
+
 def _row_max(f, values, col, rmax, cols, i, sget, eget, scale):
     """`_row` without the row: its largest |entry| appended to rmax, found as
     `_matrix_parts` finds it (max keeps the first of equals and NaN where it comes first:
@@ -400,7 +410,9 @@ def _row_max(f, values, col, rmax, cols, i, sget, eget, scale):
                 d += a * eget(v, 0.0)
         elif s != 0:
             a = abs(s)
-            cols[j].append((i, a))
+            cj = cols[j]  # flat: row, |entry|, row, |entry| ... (`_flat_pairs`)
+            cj.append(i)
+            cj.append(a)
             if m is None or a > m:
                 m = a
     rmax.append(0.0 if m is None else m)
