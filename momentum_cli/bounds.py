@@ -236,15 +236,21 @@ def propagate(system, reports, values, exact: bool = False):
             continue
         col = {n: j for j, n in enumerate(names)}
         n = len(names)
-        A: list[dict[int, float]] = [{} for _ in rep.equations]
+        # a block past DENSE needs only each row's largest entry, not the rows themselves
+        # (a 10^5-row block's row dicts were most of the solve's peak memory)
+        sparse = FAST and not (n <= DENSE and len(rep.equations) == n)
+        A: list = [] if sparse else [{} for _ in rep.equations]
         cols: list[list[tuple[int, float]]] = [[] for _ in names]
         scale, delta = [], []
         newton = rep.method == "newton"
         eqs, sget, eget = system.equations, size.get, err.get
+        pairs = _flat_pairs if sparse else _same
         for i, k in enumerate(rep.equations):
             f = eqs[k].residual
             if not FAST:
                 d = _row_plain(f, values, col, A, cols, i, size, err, scale)
+            elif sparse:
+                d = _row_max(f, values, col, A, cols, i, sget, eget, scale)
             else:
                 d = _row(f, values, col, A[i], cols, i, sget, eget, scale)
             if not exact or newton:
@@ -260,7 +266,9 @@ def propagate(system, reports, values, exact: bool = False):
         # (lists, not generators, for max/min/sum: the same values in the same order)
         # (the parts that depend on the matrix alone, once per kind of block: a sequence
         # of impacts repeats one matrix; shared, only read)
-        if n <= DENSE and len(A) == n:
+        if sparse:
+            rmax, unit, inv = A, _units(A, cols, _flat_pairs), None
+        elif n <= DENSE and len(A) == n:
             rmax, unit, inv = kind_of(A, lambda A: _matrix_parts(A, cols, True))
         else:
             rmax, unit, inv = _matrix_parts(A, cols, False)
@@ -268,7 +276,7 @@ def propagate(system, reports, values, exact: bool = False):
         big = max([x * u for x, u in zip(xs, unit)]) if names else 0.0
         for j, name in enumerate(names):
             x = xs[j]
-            cands = [scale[i] / a for i, a in cols[j]]
+            cands = [scale[i] / a for i, a in pairs(cols[j])]
             uj = unit[j]
             size[name] = max(x, min(cands) if cands else x, big / uj if uj > 0 else 0.0)
         q = rep.quality
@@ -279,21 +287,30 @@ def propagate(system, reports, values, exact: bool = False):
             if inv is not None:
                 e = sum([a * b for a, b in zip(inv[j], delta)])
             else:
-                e = cond * max([delta[i] / a for i, a in cols[j]], default=0.0)
+                e = cond * max([delta[i] / a for i, a in pairs(cols[j])], default=0.0)
             solver = comps[j] * abs(values.get(name, 0.0)) if solved else 0.0
             err[name] = e + solver if math.isfinite(e) else math.inf
     return size, err
+
+
+def _same(x):
+    return x
 
 
 def _matrix_parts(A, cols, square: bool):
     """(each row's largest entry, each column's largest scaled entry, |A^-1| or None):
     `propagate`'s parts of a block that depend on its matrix alone."""
     rmax = [max([abs(v) for v in row.values()]) if row else 0.0 for row in A]
+    return rmax, _units(rmax, cols), _abs_inverse(A) if square else None
+
+
+def _units(rmax, cols, pairs=None):
+    """Each column's largest entry scaled by its row's largest (`_matrix_parts`)."""
     unit = []
     for cj in cols:
-        us = [a / rmax[i] for i, a in cj if rmax[i] > 0]
+        us = [a / rmax[i] for i, a in (cj if pairs is None else pairs(cj)) if rmax[i] > 0]
         unit.append(max(us) if us else 0.0)
-    return rmax, unit, _abs_inverse(A) if square else None
+    return unit
 
 
 def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
@@ -368,6 +385,37 @@ def _row(f, values, col, Ai, cols, i, sget, eget, scale):
         elif s != 0:
             Ai[j] = s
             cols[j].append((i, abs(s)))
+    scale.append(mag + sc)
+    return d
+
+
+def _flat_pairs(cj):
+    """A column of `_row_max` as `_row`'s (row, |entry|) pairs, in order."""
+    return zip(cj[::2], cj[1::2])
+
+
+def _row_max(f, values, col, rmax, cols, i, sget, eget, scale):
+    """`_row` without the row: its largest |entry| appended to rmax, found as
+    `_matrix_parts` finds it (max keeps the first of equals and NaN where it comes first:
+    the same comparisons in the same order)."""
+    dv, mag = fast_derivatives_and_size(f, values)
+    sc = d = 0
+    m = None
+    for v, s in dv.items():
+        j = col.get(v)
+        if j is None:
+            a = abs(s)
+            if a:
+                sc += a * sget(v, 0.0)
+                d += a * eget(v, 0.0)
+        elif s != 0:
+            a = abs(s)
+            cj = cols[j]  # flat: row, |entry|, row, |entry| ... (`_flat_pairs`)
+            cj.append(i)
+            cj.append(a)
+            if m is None or a > m:
+                m = a
+    rmax.append(0.0 if m is None else m)
     scale.append(mag + sc)
     return d
 

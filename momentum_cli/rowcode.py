@@ -30,7 +30,8 @@ _SEEN: dict = {}  # (cache, key) -> times met before it was compiled
 # 291 -> 264 M instructions), a batch of variants is as fast either way, and a big
 # scene's handful of shapes, met 10^4 times, are compiled after 64 walks of each
 COMPILE_AFTER = 64
-_SHAPES: dict = {}  # id(tree) -> (tree, shape) within one solve (`remembered`)
+_SHAPES: dict = {}  # tree -> shape within one solve (`remembered`)
+_NONE = object()
 _ON = [0]  # how many `remembered` are open
 
 
@@ -56,7 +57,9 @@ def shape(e):
     key = _KEYS.setdefault(key, key)  # one tuple per shape: a remembered row is small
     if len(_KEYS) > 4 * LIMIT:
         _KEYS.clear()
-    return key, nums, names
+    # tuples: a remembered shape is kept per equation for the whole solve, and a tuple
+    # is half a short list's size (the compiled walks only index them)
+    return key, tuple(nums), tuple(names)
 
 
 class remembered:
@@ -77,12 +80,12 @@ class remembered:
 
 def shape_of(e):
     """`shape(e)`, remembered for the tree itself (held, so its id is not reused)."""
-    hit = _SHAPES.get(id(e))
-    if hit is not None and hit[0] is e:
-        return hit[1]
+    hit = _SHAPES.get(e, _NONE)  # trees hash by identity: the key holds the tree
+    if hit is not _NONE:
+        return hit
     sh = shape(e)
     if _ON[0]:
-        _SHAPES[id(e)] = (e, sh)
+        _SHAPES[e] = sh
     return sh
 
 
