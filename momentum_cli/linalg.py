@@ -176,6 +176,14 @@ def factor_small(rows: Rows, n: int) -> Factored:
     the pivots and every row operation depend on the matrix alone, so the right-hand
     side's column can be replayed (raises SingularError as `_gauss_jordan` does)."""
     A, _, r, c = equilibrate(rows, [], n)
+    steps, cond = _eliminate(A, n)
+    return Factored(n, r, c, A, steps, cond)
+
+
+def _eliminate(A: Rows, n: int):
+    """Gauss-Jordan with partial pivoting on [A | I], recorded: (steps, cond), each step
+    (col, pivot row, pivot, ((row, factor), ...)); the inverse gives the cond. A
+    right-hand side's column takes the same operations when `_replay`ed."""
     norm1 = max((sum(abs(A[i].get(j, 0.0)) for i in range(n)) for j in range(n)), default=0.0)
     M = [[A[i].get(j, 0.0) for j in range(n)] + [1.0 if k == i else 0.0 for k in range(n)]
          for i in range(n)]
@@ -202,7 +210,19 @@ def factor_small(rows: Rows, n: int) -> Factored:
     cond = norm1 * inv_norm1
     if not math.isfinite(cond) or cond > SINGULAR_COND:
         raise SingularError(cond)
-    return Factored(n, r, c, A, tuple(steps), cond)
+    return tuple(steps), cond
+
+
+def _replay(steps, b: list[float]) -> list[float]:
+    """The right-hand side's column through `_eliminate`'s steps: the elimination's own
+    float operations on it, in their order."""
+    v = list(b)
+    for col, piv, p, ops in steps:
+        v[col], v[piv] = v[piv], v[col]
+        t = v[col] = v[col] / p
+        for i, f in ops:
+            v[i] = v[i] - f * t
+    return v
 
 
 def solve_factored(F: Factored, b: list[float]):
@@ -211,12 +231,7 @@ def solve_factored(F: Factored, b: list[float]):
     operations in their order; the rest is the general path's own code)."""
     n, r, c, A = F.n, F.r, F.c, F.A
     bs = [b[i] / r[i] for i in range(len(b))]
-    v = list(bs)
-    for col, piv, p, ops in F.steps:
-        v[col], v[piv] = v[piv], v[col]
-        t = v[col] = v[col] / p
-        for i, f in ops:
-            v[i] = v[i] - f * t
+    v = _replay(F.steps, bs)
     y = snap_roundoff(A, bs, v)
     back = _backward_factored(F, bs, y)
     cond = F.cond
@@ -288,30 +303,10 @@ def _float_solve(A: Rows, b: list[float], n: int):
 
 
 def _gauss_jordan(A: Rows, b: list[float], n: int):
-    """Gauss-Jordan with partial pivoting on [A | b | I]; the inverse gives the cond."""
-    norm1 = max((sum(abs(A[i].get(j, 0.0)) for i in range(n)) for j in range(n)), default=0.0)
-    M = [[A[i].get(j, 0.0) for j in range(n)] + [b[i]] + [1.0 if k == i else 0.0
-                                                          for k in range(n)] for i in range(n)]
-    width = 2 * n + 1
-    for col in range(n):
-        piv = max(range(col, n), key=lambda i: abs(M[i][col]))
-        if M[piv][col] == 0.0:
-            raise SingularError(math.inf)
-        M[col], M[piv] = M[piv], M[col]
-        p = M[col][col]
-        rowp = [x / p for x in M[col]]
-        M[col] = rowp
-        for i in range(n):
-            if i != col:
-                f = M[i][col]
-                if f != 0.0:
-                    Mi = M[i]
-                    M[i] = [Mi[k] - f * rowp[k] for k in range(width)]
-    inv_norm1 = max(sum(abs(M[i][n + 1 + j]) for i in range(n)) for j in range(n))
-    cond = norm1 * inv_norm1
-    if not math.isfinite(cond) or cond > SINGULAR_COND:
-        raise SingularError(cond)
-    return [M[i][n] for i in range(n)], cond
+    """Gauss-Jordan with partial pivoting on [A | b | I] (`_eliminate` on [A | I], b's
+    column replayed through its steps: the same operations); the inverse gives the cond."""
+    steps, cond = _eliminate(A, n)
+    return _replay(steps, b), cond
 
 
 def _dense(A: Rows, n: int):
