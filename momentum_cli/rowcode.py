@@ -15,6 +15,7 @@ import math
 from . import expr as _expr
 from .expr import Add, Const, Known, Mul, NonLinear, Var
 from .expr import evaluate as walk_value
+from .shape_codes import compiled_after
 
 ENABLED = True  # tests turn it off: every caller then takes the walks
 MAX_TOKENS = 400  # larger trees (a scene's total energy) keep the walks
@@ -285,16 +286,8 @@ def _compiled(cache: dict, key, make):
     None before."""
     f = cache.get(key)
     if f is None:
-        seen = _SEEN.get((id(cache), key), 0)
-        if seen < COMPILE_AFTER:
-            if len(_SEEN) >= 8 * LIMIT:
-                _SEEN.clear()
-            _SEEN[(id(cache), key)] = seen + 1
-            return None
-        f = make(key)
-        if len(cache) >= LIMIT:
-            cache.clear()
-        cache[key] = f
+        f = compiled_after(cache, _SEEN, key, make, COMPILE_AFTER, LIMIT,
+                           seen_key=(id(cache), key))
     return f
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from ..expr import _ADD, _ATOM, _MUL, Add, Const, Known, Mul, Pow, Var, _den_txt, _join, _txt
 from ..numbers import fmt_num
+from ..shape_codes import compiled_after
 from .reader import _NAME, _si_den, _si_text
 
 ENABLED = True  # tests turn it off (or compile every shape at once) to compare the paths
@@ -365,17 +366,11 @@ def _found(toks: list, leaves: list):
     key = tuple(toks)
     fns = _FNS.get(key)
     if fns is None:
-        seen = _SEEN.get(key, 0)
-        if seen < COMPILE_AFTER:
-            if len(_SEEN) > 4 * LIMIT:
-                _SEEN.clear()
-            _SEEN[key] = seen + 1
+        # emptied with it: _LAST's printers, not kept alive beside the table
+        fns = compiled_after(_FNS, _SEEN, key, _compile, COMPILE_AFTER, LIMIT,
+                             forget=_LAST.clear)
+        if fns is None:
             return None
-        if len(_FNS) >= LIMIT:
-            _FNS.clear()
-            _LAST.clear()  # its printers: not kept alive beside the table
-        fns = _FNS[key] = _compile(key)
-        _SEEN.pop(key, None)
     return leaves, fns
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 from ..expr import FUNCS, Add, Const, Fn, Known, Mul, Pow, Var
+from ..shape_codes import compiled_after
 
 ENABLED = True  # tests turn it off to compare with the walks
 COMPILE_AFTER = 1  # a shape is compiled the second time it is met
@@ -186,6 +187,11 @@ class _Gen:
             f"\n    return {out}\n"
 
 
+def _compile_key(k: tuple):
+    """`_compile` of a table key (what, shape)."""
+    return _compile(k[0], k[1])
+
+
 def _compile(what: str, key: tuple):
     g = _Gen(key)
     src = g.source(what)
@@ -224,17 +230,10 @@ def _run(what: str, e, values):
     k = (what, tuple(key))
     f = _FNS.get(k)
     if f is None:
-        seen = _SEEN.get(k, 0)
-        if seen < COMPILE_AFTER:
-            if len(_SEEN) > 4 * LIMIT:
-                _SEEN.clear()
-            _SEEN[k] = seen + 1
+        f = compiled_after(_FNS, _SEEN, k, _compile_key, COMPILE_AFTER, LIMIT,
+                           forget=_LAST.clear)
+        if f is None:
             return None
-        if len(_FNS) >= LIMIT:
-            _FNS.clear()
-            _LAST.clear()
-        f = _FNS[k] = _compile(what, k[1])
-        _SEEN.pop(k, None)
     st = _LAST.get(top)  # a few kept per top, the next guessed from the last
     if st is None:
         st = _LAST[top] = [None, {}, []]
