@@ -312,6 +312,17 @@ class _Shared:
         self.size = max([x for x in sizes if x > 0] or [1.0])
 
 
+def _where(a, body: DiagramBody, arm) -> tuple:
+    """Where an application's impulses act (the body's centre plus the arm) and how the
+    diagram names that point."""
+    p = a.point
+    at = (body.x + arm[0], body.y + arm[1])
+    if p.round_contact and p.name == a.body:
+        point = f"{a.body}'s contact point" if arm != (0.0, 0.0) else f"{a.body}'s centre"
+    else:
+        point = "G" if p.name == a.body else p.name
+    return at, point
+
 class _Builder:
     def __init__(self, shared: _Shared, t, reader: Reader):
         self.reader = reader
@@ -560,11 +571,7 @@ class _Builder:
                     arm = (0.0, 0.0)
             else:
                 arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
-        at = (body.x + arm[0], body.y + arm[1])
-        if p.round_contact and p.name == a.body:
-            point = f"{a.body}'s contact point" if arm != (0.0, 0.0) else f"{a.body}'s centre"
-        else:
-            point = "G" if p.name == a.body else p.name
+        at, point = _where(a, body, arm)
         out = []
         imp = sorted((n for n in names if _impulse(n)), key=str)
         imp_set = set(imp)
@@ -633,11 +640,7 @@ class _Builder:
             arm = (a.arm.x.value, a.arm.y.value)
         else:
             arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
-        at = (body.x + arm[0], body.y + arm[1])
-        if p.round_contact and p.name == a.body:
-            point = f"{a.body}'s contact point" if arm != (0.0, 0.0) else f"{a.body}'s centre"
-        else:
-            point = "G" if p.name == a.body else p.name
+        at, point = _where(a, body, arm)
         contact = self._contacts().get(a.what)
         out = []
         for n in (mono if len(mono) == 1 else sorted(mono, key=str)):
