@@ -204,6 +204,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     TransitionInfo = TransitionInfo
     Equation = Equation
     Unknown = Unknown
+    Fresh = None  # compile.Fresh, set below (impact_phase's rows)
 
     def __init__(self, scene: Scene, regimes: dict[str, str]):
         self.scene = scene
@@ -531,8 +532,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             if same is None:
                 self._by_principle[principle] = e
             else:
-                if type(same) is Equation:
-                    same = self._by_principle[principle] = {same.text()}
+                if type(same) is not set:
+                    same = self._by_principle[principle] = _texts_of(same)
                 t = e.text()
                 if t in same:
                     return None
@@ -550,7 +551,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         """From now on, repeats by `principle|text` (a principle with a `|` in it could
         meet another's text there: the keys decide, as they always did)."""
         for principle, same in self._by_principle.items():
-            for t in ([same.text()] if type(same) is Equation else same):
+            for t in _texts_of(same):
                 self._seen.add(principle + "|" + t)
         self._by_principle = None
 
@@ -1002,6 +1003,34 @@ _str_new = str.__new__
 _STATE = KeyKind.STATE
 _NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
 ZERO_V2 = impact_contacts.ZERO_V2  # the arm of a point at G (a V2 is frozen: one for all)
+
+
+class Fresh(list):
+    """Equations of one principle not yet printed: each holds an unknown made after every
+    equation before it, so no two can print the same (see impact_phase's rows). Items:
+    an Equation, or the set of texts of those before."""
+
+    __slots__ = ()
+
+
+_Compiler.Fresh = Fresh
+
+
+def _texts_of(same) -> set:
+    """The texts of what `eq` remembers for a principle: an Equation, a Fresh list, or
+    already a set of texts."""
+    t = type(same)
+    if t is set:
+        return same
+    if t is Fresh:
+        out: set = set()
+        for x in same:
+            if type(x) is set:
+                out |= x
+            else:
+                out.add(x.text())
+        return out
+    return {same.text()}
 
 
 def _minus(e) -> str | None:

@@ -9,6 +9,7 @@ many contacts (a chain) each from its kind's template.
 from __future__ import annotations
 
 from collections import defaultdict
+from itertools import islice
 from math import copysign
 
 from . import impact_contacts, system_laws, tree_template, why_texts
@@ -170,6 +171,7 @@ def _replay(comp, t, key: str) -> None:
     shape: list = []
     sources: list = []
     contacts = t.contacts
+    made = len(unknowns)
     for c in contacts:
         label = c.label
         kn = impulse_key(_JN, label, key)
@@ -206,6 +208,7 @@ def _replay(comp, t, key: str) -> None:
         if type(x) not in _NAMED:
             plain = False
             break
+    named = plain  # the rows are m*(v2 - v1) of these leaves, unfolded
     # the kinetic energies: the sums and each body's term already made are leaves
     names = tuple(moved)
     Ts, Tbs = comp._T, comp._Tb
@@ -265,14 +268,32 @@ def _replay(comp, t, key: str) -> None:
     bp = comp._by_principle
     eqs = comp.equations
     Equation = comp.Equation
+    # the unknowns this impact made: a row naming one repeats no earlier row (its text
+    # holds a name no earlier tree has), so its principle's repeats need no texts
+    made = len(unknowns) - made
+    fresh = set(islice(reversed(unknowns), made)) if made and named else ()
+    vels = comp._vel
+    Fresh = comp.Fresh
     for b in moved:
         lx, rx, ly, ry = out[pos:pos + 4]
         pos += 4
-        for lhs, rhs, p in ((lx, rx, f"linear impulse-momentum x: {b}"),
-                            (ly, ry, f"linear impulse-momentum y: {b}")):
-            if bp is not None and p not in bp and "|" not in p:
-                # what eq does with a principle seen for the first time, inline
-                e = bp[p] = Equation(lhs, rhs, p, group, span)
+        v2 = vels[(b, j)]
+        for lhs, rhs, p, x in ((lx, rx, f"linear impulse-momentum x: {b}", v2.x),
+                               (ly, ry, f"linear impulse-momentum y: {b}", v2.y)):
+            if bp is not None and "|" not in p:
+                same = bp.get(p)
+                if same is None:
+                    # what eq does with a principle seen for the first time, inline
+                    e = bp[p] = Equation(lhs, rhs, p, group, span)
+                elif type(x) is Var and x.name in fresh:
+                    e = Equation(lhs, rhs, p, group, span)
+                    if type(same) is Fresh:
+                        same.append(e)
+                    else:
+                        bp[p] = Fresh((same, e))
+                else:
+                    eq(lhs, rhs, p, group, span)
+                    continue
                 e.index = len(eqs)
                 eqs.append(e)
             else:
