@@ -2,7 +2,8 @@
 
 In: a builder (the folding code itself: mul, add, V2.dot) and a kind key (the numbers its
 folding depends on). Out: a generated function of the leaves making the builder's nodes
-(fresh where it makes fresh ones, the same shared objects such as ZERO), without its calls.
+(fresh where it makes fresh ones, the same shared objects such as ZERO), without its calls
+(each node by object.__new__ and its slots, not its class's __init__).
 """
 from __future__ import annotations
 
@@ -73,19 +74,28 @@ class _Gen:
         if k in self.shared or x is None:
             src = "None" if x is None else self.cap(x)
         else:
+            # each node made as its class's __init__ makes it, without the call (a third
+            # faster): object.__new__, then its slots set in order
             t = type(x)
             if t is Const:
-                src = f"Const({self.cap(x.value)})"
+                return self.node(k, "Const", f".value = {self.cap(x.value)}")
             elif t is Add:
-                src = f"Add(({''.join(self.expr(y) + ', ' for y in x.terms)}))"
+                return self.node(k, "Add",
+                                 f".terms = ({''.join(self.expr(y) + ', ' for y in x.terms)})")
             elif t is Mul:
-                src = f"Mul(({''.join(self.expr(y) + ', ' for y in x.factors)}))"
+                return self.node(k, "Mul",
+                                 f".factors = ({''.join(self.expr(y) + ', ' for y in x.factors)})")
             elif t is Pow:
-                src = f"Pow({self.expr(x.base)}, {self.cap(x.exp)})"
+                base = self.expr(x.base)
+                return self.node(k, "Pow", f".base = {base}", f".exp = {self.cap(x.exp)}")
             elif t is Fn:
-                src = f"Fn({self.cap(x.name)}, {self.expr(x.arg)})"
+                arg = self.expr(x.arg)
+                return self.node(k, "Fn", f".name = {self.cap(x.name)}", f".arg = {arg}")
             elif t is V2:
-                src = f"V2({self.expr(x.x)}, {self.expr(x.y)})"
+                a, b = self.expr(x.x), self.expr(x.y)
+                name = self.node(k, "V2")
+                self.lines.append(f"    _sx({name}, {a}); _sy({name}, {b})")
+                return name
             elif t is tuple:
                 src = f"({''.join(self.expr(y) + ', ' for y in x)})"
             else:  # a leaf the builder made afresh (a Var or Known of its own): not replayed
@@ -97,6 +107,14 @@ class _Gen:
             self.names[k] = name
             return name
         return src
+
+    def node(self, k: int, cls: str, *sets: str) -> str:
+        """A local holding a new node of class `cls` with its slots set (`.slot = src`);
+        made after its kids' lines; `k`: the id of the builder's node it stands for."""
+        name = f"n{len(self.lines)}_"
+        self.lines.append(f"    {name} = _new({cls})" + "".join(f"; {name}{a}" for a in sets))
+        self.names[k] = name
+        return name
 
 
 def _kids(y):
@@ -143,7 +161,8 @@ def _generate(builder, nargs: int):
     src = "def replay(" + ", ".join(f"a{k}" for k in range(nargs)) + "):\n" + \
         "".join(line + "\n" for line in g.lines) + f"    return {body}\n"
     ns = {"K": g.consts, "Const": Const, "Add": Add, "Mul": Mul, "Pow": Pow, "Fn": Fn,
-          "V2": V2, "Known": Known}
+          "V2": V2, "Known": Known, "_new": object.__new__, "_sx": V2.x.__set__,
+          "_sy": V2.y.__set__}
     exec(compile(src, "<tree_template>", "exec"), ns)
     f = ns["replay"]
     # the replay must make what the builder makes: checked once, on a third set of leaves
