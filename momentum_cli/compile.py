@@ -426,12 +426,52 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
         svs = self._sv
         x = svs.get((body, "vx", sid))
+        y = svs.get((body, "vy", sid))
+        if x is None and y is None:
+            return self._on_chain_v(body, sid, w)
         if x is None:
             x = self._on_chain(body, "vx", sid, w)
-        y = svs.get((body, "vy", sid))
         if y is None:
             y = self._on_chain(body, "vy", sid, w)
         return V2(x, y)
+
+    def _on_chain_v(self, body: str, sid: str, w) -> V2:
+        """_on_chain of vx, then of vy, in one call (the commonest miss of vel: a body's
+        velocity at a state asked for the first time), its lookups made once."""
+        chains = self._chains
+        c, p = w
+        chain = chains.chains[c]
+        states = self.scene.states
+        breaks = chains.breaks
+        svs = self._sv
+        out = []
+        for qty in ("vx", "vy"):
+            bq = (body, qty)
+            pts = breaks.get((body, qty, c))
+            if pts is None:
+                start = chain[0]
+                given = states[start].givens.get(bq)
+            else:
+                k = bisect_right(pts, p) - 1
+                start = chain[pts[k]] if k >= 0 else chain[0]
+                given = states[start].givens.get(bq)
+                if given is None and k + 1 < len(pts):
+                    nxt = chain[pts[k + 1]]
+                    g = states[nxt].givens.get(bq)
+                    if g is not None and self._linked(body, qty, chains.into[nxt]):
+                        start, given = nxt, g
+            # sv's memo holds the head's node (found again through the head); vel's
+            # memo, the velocity at sid
+            if start == sid:
+                hit = svs[(body, qty, sid)] = self._key_value((body, qty, sid), body, qty,
+                                                              given)
+            else:
+                key = (body, qty, start)
+                hit = svs.get(key)
+                if hit is None:
+                    hit = svs[key] = self._key_value(key, body, qty, given)
+            out.append(hit)
+        return V2(out[0], out[1])
 
     def _on_chain(self, body: str, qty: str, sid: str, w) -> E:
         """sv of a velocity component at state sid, at place w = (chain, position) of a
