@@ -21,7 +21,8 @@ from .impact_contacts import ZERO_V2
 from .system_laws import _momenta_builder, _plain_dirs, linear_head, linear_laws
 from .tree_template import template
 from .units import IMPULSE, si_label
-from .why_texts import kind, linear_formats, linear_texts, values, why_formats, why_lines
+from .why_texts import compiled, kind, linear_formats, linear_texts, values, why_formats, \
+    why_lines
 
 ENABLED = True  # tests switch it off to compare with compile._impulse_phase
 TEMPLATE = True  # the whole impact from one template per kind (off: contact by contact)
@@ -243,7 +244,7 @@ def _replay(comp, t, key: str) -> None:
         plan = _plan(comp, sources, moved, pkey)
         if len(_PLANS) < _LIMIT:
             _PLANS[pkey] = plan
-    trees, dirs, why_fmts, law_fmts = plan
+    trees, dirs, why_fn, law_fn = plan
     out = trees(*leaves)
     # the outputs in the order _impulse_phase makes them
     group = f"{t.kind} {i} -> {j}"
@@ -270,8 +271,8 @@ def _replay(comp, t, key: str) -> None:
     Equation = comp.Equation
     # the unknowns this impact made: a row naming one repeats no earlier row (its text
     # holds a name no earlier tree has), so its principle's repeats need no texts
-    made = len(unknowns) - made
-    fresh = set(islice(reversed(unknowns), made)) if made and named else ()
+    made = len(unknowns) - made if named else 0
+    fresh = None  # their names, when a principle repeats
     vels = comp._vel
     Fresh = comp.Fresh
     for b in moved:
@@ -285,15 +286,17 @@ def _replay(comp, t, key: str) -> None:
                 if same is None:
                     # what eq does with a principle seen for the first time, inline
                     e = bp[p] = Equation(lhs, rhs, p, group, span)
-                elif type(x) is Var and x.name in fresh:
+                else:
+                    if made and fresh is None:
+                        fresh = set(islice(reversed(unknowns), made))
+                    if not made or type(x) is not Var or x.name not in fresh:
+                        eq(lhs, rhs, p, group, span)
+                        continue
                     e = Equation(lhs, rhs, p, group, span)
                     if type(same) is Fresh:
                         same.append(e)
                     else:
                         bp[p] = Fresh((same, e))
-                else:
-                    eq(lhs, rhs, p, group, span)
-                    continue
                 e.index = len(eqs)
                 eqs.append(e)
             else:
@@ -301,9 +304,9 @@ def _replay(comp, t, key: str) -> None:
                 bp = comp._by_principle  # None from a principle with a `|` on
     comp.sources[key] = sources
     vals = None
-    if why_fmts is not None:
+    if why_fn is not None:
         vals = values(sources, moved)
-        why = [f.format(*vals) for f in why_fmts]
+        why = why_fn(vals)
     else:
         why = comp._why(sources, None, moved)
     energy = []
@@ -321,11 +324,11 @@ def _replay(comp, t, key: str) -> None:
         pos += 1
     if dirs is None:
         laws = []
-    elif law_fmts is not None:
+    elif law_fn is not None:
         if vals is None:
             vals = values(sources, moved)
-        laws = linear_laws(comp, moved, i, j, dirs, law_fmts[1].format(*vals),
-                           [f.format(*vals) for f in law_fmts[2]], rows=out[pos])
+        texts = law_fn(vals)
+        laws = linear_laws(comp, moved, i, j, dirs, texts[0], texts[1:], rows=out[pos])
     else:
         texts = linear_texts(sources, moved, None)
         laws = linear_laws(comp, moved, i, j, *texts, rows=out[pos])
@@ -351,7 +354,14 @@ def _plan(comp, sources, moved, pkey) -> tuple:
     law_fmts = None
     if dirs is not None and got is not None:
         law_fmts = linear_formats(sources, moved, got)
-    return (f or _builder(*args), dirs, why_fmts, law_fmts)
+    # the texts as functions of the values (law_fmts: its why, then each principle)
+    why_fn = None if why_fmts is None else compiled(why_fmts)
+    law_fn = None if not law_fmts else compiled([law_fmts[1]] + law_fmts[2])
+    if why_fmts is not None and why_fn is None:
+        why_fn = lambda vals: [f.format(*vals) for f in why_fmts]  # noqa: E731
+    if law_fmts and law_fn is None:
+        law_fn = lambda vals: [f.format(*vals) for f in [law_fmts[1]] + law_fmts[2]]  # noqa: E731
+    return (f or _builder(*args), dirs, why_fn, law_fn)
 
 
 def _memo_leaves(memo, nb: int) -> int:

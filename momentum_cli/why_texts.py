@@ -103,6 +103,25 @@ def linear_formats(sources, moved, got=False):
                      "sum of m v before = sum of m v after") for d in head[0]])
 
 
+def compiled(formats: list[str]):
+    """One function of `values` giving the texts of `formats` as a list: each an
+    f-string, what str.format makes of it without parsing it again each time (None: a
+    field other than a plain index)."""
+    from string import Formatter
+
+    parts = []
+    for fmt in formats:
+        pieces = []
+        for lit, field, spec, conv in Formatter().parse(fmt):
+            pieces.append(lit.replace("{", "{{").replace("}", "}}"))
+            if field is not None:
+                if not field.isdigit() or spec or conv:
+                    return None
+                pieces.append(f"{{v[{field}]}}")
+        parts.append("f" + repr("".join(pieces)))
+    return eval("lambda v: [" + ", ".join(parts) + "]")  # noqa: S307 (our own formats)
+
+
 def values(sources, bodies) -> list:
     """What the formats' fields stand for: the bodies, each source's point, its name."""
     return [*bodies, *(s.point for s in sources), *(s.what for s in sources)]
