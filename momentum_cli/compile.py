@@ -232,6 +232,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._Tb: dict[tuple, tuple] = {}  # each body's terms of T, by body and state
         self._vel: dict[tuple[str, str], V2] = {}  # vel's answers (made of sv's: as fixed)
         self._mass: dict[str, E] = {}  # each body's declared mass, one Known
+        self._hints: bool | None = None  # whether any state has hints (_key_value)
         self._next: dict[str, list[str]] | None = None  # for holds_at
         self._prev: dict[str, str] | None = None  # for mass
         self.flows = None  # flows.FlowCompiler, for `steady` and `burn` statements
@@ -370,7 +371,11 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if u is None:
             dim, unit = STATE_QTYS[qty]
             u = unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
-        hints = self.scene.states[sid].hints
+        hints = self._hints
+        if hints is None:  # whether any state has hints (most scenes: none)
+            hints = self._hints = any(st.hints for st in self.scene.states.values())
+        if hints:
+            hints = self.scene.states[sid].hints
         if hints:
             hints = hints.get((body, qty))
             if hints:
@@ -450,11 +455,17 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             pts = breaks.get((body, qty, c))
             if pts is None:
                 start = chain[0]
-                given = states[start].givens.get(bq)
             else:
                 k = bisect_right(pts, p) - 1
                 start = chain[pts[k]] if k >= 0 else chain[0]
-                given = states[start].givens.get(bq)
+            if start != sid:
+                # no break between start and sid: sid's node is start's, if made
+                hit = svs.get((body, qty, start))
+                if hit is not None:
+                    out.append(hit)
+                    continue
+            given = states[start].givens.get(bq)
+            if pts is not None:
                 if given is None and k + 1 < len(pts):
                     nxt = chain[pts[k + 1]]
                     g = states[nxt].givens.get(bq)
@@ -703,7 +714,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     # ---- impacts and intervals ----------------------------------------------------------------
     def _impulse_phase(self, t: TransitionSpec) -> None:
         key = t.key
-        if impact_phase.fits(self, t):
+        if impact_phase.fits(self, t, key):
             return impact_phase.stamp(self, t, key)
         sc = self.scene
         i, j = t.before, t.after
