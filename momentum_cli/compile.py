@@ -429,16 +429,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         w = chains.where.get(sid) if chains is not None else None
         if w is None:
             return V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
-        svs = self._sv
-        x = svs.get((body, "vx", sid))
-        y = svs.get((body, "vy", sid))
-        if x is None and y is None:
-            return self._on_chain_v(body, sid, w)
-        if x is None:
-            x = self._on_chain(body, "vx", sid, w)
-        if y is None:
-            y = self._on_chain(body, "vy", sid, w)
-        return V2(x, y)
+        return self._on_chain_v(body, sid, w)
 
     def _on_chain_v(self, body: str, sid: str, w) -> V2:
         """_on_chain of vx, then of vy, in one call (the commonest miss of vel: a body's
@@ -458,63 +449,23 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             else:
                 k = bisect_right(pts, p) - 1
                 start = chain[pts[k]] if k >= 0 else chain[0]
-            if start != sid:
-                # no break between start and sid: sid's node is start's, if made
-                hit = svs.get((body, qty, start))
-                if hit is not None:
-                    out.append(hit)
-                    continue
-            given = states[start].givens.get(bq)
-            if pts is not None:
-                if given is None and k + 1 < len(pts):
-                    nxt = chain[pts[k + 1]]
+            # sv's memo holds the node of each head (made once, found again through it;
+            # sv may have made it): no break lies between start and sid, so sid's node is
+            # start's; vel's memo, the velocity at sid
+            key = (body, qty, start)
+            hit = svs.get(key)
+            if hit is None:
+                given = states[start].givens.get(bq)
+                if given is None and pts is not None and k + 1 < len(pts):
+                    nxt = chain[pts[k + 1]]  # a later state may give it (the end velocity)
                     g = states[nxt].givens.get(bq)
                     if g is not None and self._linked(body, qty, chains.into[nxt]):
-                        start, given = nxt, g
-            # sv's memo holds the head's node (found again through the head); vel's
-            # memo, the velocity at sid
-            if start == sid:
-                hit = svs[(body, qty, sid)] = self._key_value((body, qty, sid), body, qty,
-                                                              given)
-            else:
-                key = (body, qty, start)
-                hit = svs.get(key)
+                        key, given = (body, qty, nxt), g
+                        hit = svs.get(key)
                 if hit is None:
                     hit = svs[key] = self._key_value(key, body, qty, given)
             out.append(hit)
         return V2(out[0], out[1])
-
-    def _on_chain(self, body: str, qty: str, sid: str, w) -> E:
-        """sv of a velocity component at state sid, at place w = (chain, position) of a
-        chain: what _state_value and the chains' head_given give, in one walk."""
-        chains = self._chains
-        c, p = w
-        chain = chains.chains[c]
-        states = self.scene.states
-        bq = (body, qty)
-        pts = chains.breaks.get((body, qty, c))
-        if pts is None:
-            start = chain[0]
-            given = states[start].givens.get(bq)
-        else:
-            k = bisect_right(pts, p) - 1
-            start = chain[pts[k]] if k >= 0 else chain[0]
-            given = states[start].givens.get(bq)
-            if given is None and k + 1 < len(pts):
-                nxt = chain[pts[k + 1]]
-                g = states[nxt].givens.get(bq)
-                if g is not None and self._linked(body, qty, chains.into[nxt]):
-                    start, given = nxt, g
-        svs = self._sv
-        if start == sid:
-            hit = self._key_value((body, qty, start), body, qty, given)
-        else:
-            key = (body, qty, start)
-            hit = svs.get(key)
-            if hit is None:
-                hit = svs[key] = self._key_value(key, body, qty, given)
-        svs[(body, qty, sid)] = hit
-        return hit
 
     def pos(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "x", sid), self.sv(body, "y", sid))
