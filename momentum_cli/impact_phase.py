@@ -25,6 +25,7 @@ from .why_texts import compiled, kind, linear_formats, linear_texts, values, why
     why_lines
 
 ENABLED = True  # tests switch it off to compare with compile._impulse_phase
+FRESH = True  # off: every repeat of a row's principle printed and compared (compile.eq)
 TEMPLATE = True  # the whole impact from one template per kind (off: contact by contact)
 _FEW = system_laws._FEW  # bodies of an impact replayed whole (the momenta's template)
 _NAMED = (Var, Known)
@@ -272,7 +273,7 @@ def _replay(comp, t, key: str) -> None:
     Equation = comp.Equation
     # the unknowns this impact made: a row naming one repeats no earlier row (its text
     # holds a name no earlier tree has), so its principle's repeats need no texts
-    made = len(unknowns) - made if named else 0
+    made = len(unknowns) - made if named and FRESH else 0
     fresh = None  # their names, when a principle repeats
     vels = comp._vel
     Fresh = comp.Fresh
