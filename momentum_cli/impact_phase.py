@@ -32,6 +32,7 @@ _NAMED = (Var, Known)
 _JN = Component.JN
 _E = Component.E
 _IMPACT = TransitionKind.IMPACT
+_IMPACT_WORD = str(_IMPACT)
 _IMPULSE_UNIT = si_label(IMPULSE)
 _PLANS: dict = {}  # whole-impact kind -> _plan's answer (a few kinds: bounded below)
 _LIMIT = 512
@@ -69,9 +70,9 @@ def stamp(comp, t, key: str) -> None:
     contacts_info: list = []
     _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info)
     moved = comp._moved(key)
-    vel, mass, eq, span = comp.vel, comp.mass, comp.eq, t.span
+    vels, mass, eq, span = comp._vel, comp.mass, comp.eq, t.span
     for b in moved:
-        v1, v2 = vel(b, i), vel(b, j)
+        v1, v2 = vels[(b, i)], vels[(b, j)]  # what vel remembered in _contacts
         m = mass(b, i)
         Js = lin[b]
         named = type(m) in _NAMED
@@ -203,8 +204,9 @@ def _replay(comp, t, key: str) -> None:
         sources.append(ImpulseSource((a, pb.body if pb is not None else None), where,
                                      c.normal, False, f"contact {label}"))
     mass = comp.mass
+    vels = comp._vel  # what vel remembered just now
     for b in moved:
-        v1, v2 = vel(b, i), vel(b, j)
+        v1, v2 = vels[(b, i)], vels[(b, j)]
         leaves += (mass(b, i), v1.x, v1.y, v2.x, v2.y)
     plain = True
     for x in leaves:
@@ -249,7 +251,7 @@ def _replay(comp, t, key: str) -> None:
     trees, dirs, why_fn, law_fn = plan
     out = trees(*leaves)
     # the outputs in the order _impulse_phase makes them
-    group = f"{t.kind} {i} -> {j}"
+    group = f"{_IMPACT_WORD} {i} -> {j}"  # f"{t.kind} ...", without the enum's __str__
     eq = comp.eq
     applied = []
     losses = comp.losses.setdefault(key, [])
@@ -275,7 +277,6 @@ def _replay(comp, t, key: str) -> None:
     # holds a name no earlier tree has), so its principle's repeats need no texts
     made = len(unknowns) - made if named and FRESH else 0
     fresh = None  # their names, when a principle repeats
-    vels = comp._vel
     Fresh = comp.Fresh
     for b in moved:
         lx, rx, ly, ry = out[pos:pos + 4]

@@ -67,8 +67,9 @@ def state_key(body: str, qty: str, sid: str) -> Key:
 def impulse_key(comp: Component, label: str, transition: str) -> Key:
     """A reaction's impulse in a transition: `J_n[A]@2->3`, `M[O]@1->2`."""
     kind = KeyKind.ANGULAR_IMPULSE if comp is Component.M else KeyKind.IMPULSE
-    return _key(f"{comp}[{label}]@{transition}", kind, None, None, None, transition, label,
-                comp)
+    # comp's word as str(comp) gives it (its value), without the enum's __str__
+    return _key(f"{comp._value_}[{label}]@{transition}", kind, None, None, None, transition,
+                label, comp)
 
 
 def duration_key(transition: str) -> Key:
@@ -79,7 +80,7 @@ def duration_key(transition: str) -> Key:
 def parameter_key(comp: Component, label: str) -> Key:
     """A contact's parameter: `e[A]`, `v_sep[A]`."""
     kind = KeyKind.RESTITUTION if comp is Component.E else KeyKind.PARAMETER
-    return _key(f"{comp}[{label}]", kind, None, None, None, None, label, comp)
+    return _key(f"{comp._value_}[{label}]", kind, None, None, None, None, label, comp)
 
 
 def named_key(name: str, kind: KeyKind) -> Key:
