@@ -665,7 +665,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     # ---- impacts and intervals ----------------------------------------------------------------
     def _impulse_phase(self, t: TransitionSpec) -> None:
         key = t.key
-        if impact_phase.fits(self, t, key):
+        if impact_phase.fits(self, t):
             return impact_phase.stamp(self, t, key)
         sc = self.scene
         i, j = t.before, t.after

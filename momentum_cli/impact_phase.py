@@ -38,18 +38,16 @@ _PLANS: dict = {}  # whole-impact kind -> _plan's answer (a few kinds: bounded b
 _LIMIT = 512
 
 
-def fits(comp, t, key: str | None = None) -> bool:
-    """Whether impact t (whose key the caller may have made) takes this path (see the
-    module's docstring)."""
+def fits(comp, t) -> bool:
+    """Whether impact t takes this path (see the module's docstring)."""
     if not ENABLED or t.kind is not _IMPACT or comp.joints or comp.flows is not None:
         return False
     if t.bearing_friction or t.stops or t.stops_relative or t.rolls or t.forces or \
             t.moments or t.duration_expr is not None:
         return False
+    # with none of those (and no joint), the bodies it moves are its contacts' bodies,
+    # each a particle if every contact fits
     bodies = comp.scene.bodies
-    for b in comp._busy[t.key if key is None else key]:
-        if not bodies[b].is_particle:
-            return False
     fit = impact_contacts.fits
     for c in t.contacts:
         if not fit(c, bodies):
