@@ -867,7 +867,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                     v = vel(b, sid)
                     vx, vy = v.x, v.y
                     if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
-                        hit = (Mul((Const(0.5), m, Add((Mul((vx, vx)), Mul((vy, vy)))))),)
+                        hit = (_half_mv2(m, vx, vy),)
                         memo[(b, sid)] = hit
                         terms.append(hit[0])
                         continue
@@ -884,7 +884,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         vx, vy = v.x, v.y
         if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
             # what mul and add fold 1/2 m (vx vx + vy vy) to, written directly
-            t = Mul((Const(0.5), m, Add((Mul((vx, vx)), Mul((vy, vy))))))
+            t = _half_mv2(m, vx, vy)
         else:
             t = mul(Const(0.5), mul(m, v.dot(v)))
         if body.is_particle:
@@ -1033,6 +1033,26 @@ def _texts_of(same) -> set:
                 out.add(x.text())
         return out
     return {same.text()}
+
+
+_new = object.__new__
+
+
+def _half_mv2(m, vx, vy) -> Mul:
+    """`Mul((Const(0.5), m, Add((Mul((vx, vx)), Mul((vy, vy))))))`, what mul and add fold
+    1/2 m (vx vx + vy vy) to for named leaves, its nodes made by object.__new__ and
+    their slots (as their __init__ would; a big scene makes one a body and state)."""
+    h = _new(Const)
+    h.value = 0.5
+    xx = _new(Mul)
+    xx.factors = (vx, vx)
+    yy = _new(Mul)
+    yy.factors = (vy, vy)
+    s = _new(Add)
+    s.terms = (xx, yy)
+    t = _new(Mul)
+    t.factors = (h, m, s)
+    return t
 
 
 def _minus(e) -> str | None:
