@@ -69,6 +69,7 @@ def stamp(comp, t, key: str) -> None:
     _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info)
     moved = comp._moved(key)
     vels, mass, eq, span = comp._vel, comp.mass, comp.eq, t.span
+    bp, eqs, Equation = comp._by_principle, comp.equations, comp.Equation
     for b in moved:
         v1, v2 = vels[(b, i)], vels[(b, j)]  # what vel remembered in _contacts
         m = mass(b, i)
@@ -80,7 +81,15 @@ def stamp(comp, t, key: str) -> None:
                 lhs = Mul((m, Add((a2, Mul((Const(-1.0), a1))))))
             else:
                 lhs = mul(m, add(a2, neg(a1)))
-            eq(lhs, rhs, f"linear impulse-momentum {comp_}: {b}", group, span)
+            p = f"linear impulse-momentum {comp_}: {b}"
+            if bp is not None and "|" not in p and p not in bp:
+                # what eq does with a principle seen for the first time, inline
+                e = bp[p] = Equation(lhs, rhs, p, group, span)
+                e.index = len(eqs)
+                eqs.append(e)
+            else:
+                eq(lhs, rhs, p, group, span)
+                bp = comp._by_principle  # None from a principle with a `|` on
     comp.sources[key] = sources
     why = why_lines(comp, sources, moved)
     energy = (comp._kinetic(i, moved), comp._kinetic(j, moved))
