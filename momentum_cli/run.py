@@ -279,6 +279,21 @@ class Rendered:
     parts: list | None = None
 
 
+JOIN_LIMIT = 1 << 20  # characters: a report's pieces joined where it is solved
+
+
+def _joined_if_small(parts: list):
+    """text.render_parts' pieces as one text when they are small (the common file):
+    one string to pickle and one write in the parent instead of ~50 of each; a big
+    report stays in pieces (never held twice)."""
+    total = 0
+    for p in parts:
+        total += len(p) + 1
+        if total > JOIN_LIMIT:
+            return parts
+    return "\n".join(parts)
+
+
 def _solve_job(job):
     """Worker: solve one (source, options) job; a bug becomes an internal FileResult.
     With a `render` (the job's last item), a report is shipped as `Rendered` text."""
@@ -290,6 +305,8 @@ def _solve_job(job):
             if render is not None and res.report is not None:
                 made = render(res.report)
                 checks = list(res.report.checks)
+                if isinstance(made, list):
+                    made = _joined_if_small(made)
                 res.report = Rendered(made, checks) if isinstance(made, str) else \
                     Rendered("", checks, None, made) if isinstance(made, list) else \
                     Rendered("", checks, made)
