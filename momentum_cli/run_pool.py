@@ -20,16 +20,18 @@ AHEAD = 2  # chunks queued per worker, so that none waits for the parent
 WINDOW = 512  # files solved ahead of the next one printed (bounds the results held)
 HEAVY = ("numpy", "scipy")  # the imports worth routing: ~0.2 s and ~1 s per process
 _MAY_INTEGRATE = re.compile(r"^[ \t]*(?:gain|lose|burn)\b", re.M)
-_DIGITS = str.maketrans("", "", "0123456789")
 
 
 def family(text: str) -> int:
-    """Files of one family share most statements (variants of one problem)."""
-    return hash(text.translate(_DIGITS))
+    """Files of one family share most statements (variants of one problem): the text
+    without its digits (as UTF-8 bytes, whose translate is ~4x faster than str's)."""
+    return hash(text.encode("utf-8", "surrogatepass").translate(None, b"0123456789"))
 
 
 def may_integrate(text: str) -> bool:
     """A flow that may have no closed form: solved with scipy's solve_ivp (a hint)."""
+    if "gain" not in text and "lose" not in text and "burn" not in text:
+        return False  # the common file: three substring scans instead of a regex's
     return _MAY_INTEGRATE.search(text) is not None
 
 

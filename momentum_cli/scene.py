@@ -289,6 +289,9 @@ def build(doc: S.Document) -> Scene:
         b.ev = None  # cyclic collection (paused during a solve): break it here
 
 
+_LEAF: dict = {}  # statement class -> whether no class derives from it
+
+
 class _Kinds:
     """The document's statements by kind: `of(A, B)` are those that are an A or a B, in
     file order; grouped by type once, so each of the builder's passes walks only its own
@@ -308,6 +311,12 @@ class _Kinds:
         self._st, self._by = st, by
 
     def __call__(self, *kinds) -> list:
+        if len(kinds) == 1:  # most passes ask for one kind, which no statement type extends
+            leaf = _LEAF.get(kinds[0])
+            if leaf is None:
+                leaf = _LEAF[kinds[0]] = not kinds[0].__subclasses__()
+            if leaf:
+                return self._by.get(kinds[0], [])
         types = [t for t in self._by if issubclass(t, kinds)]
         if not types:
             return []

@@ -130,6 +130,9 @@ def test_a_family_is_its_text_but_for_digits():
     assert run_pool.family(a) == run_pool.family(b) != run_pool.family(c)
     assert run_pool.may_integrate("let x = 1\n  burn r 1 -> 2:\n")
     assert not run_pool.may_integrate("# burn r 1 -> 2\nimpact 1 -> 2:\n")
+    assert not run_pool.may_integrate("let gains = 1\n")  # a word, not the statement
+    assert run_pool.family("let a = 1 # café\n") == run_pool.family("let a = 22 # café\n")
+    assert run_pool.family("let a = 1 # café\n") != run_pool.family("let a = 1 # cafe\n")
 
 
 # ---- families of one structure that differ only in numbers ----------------------------

@@ -275,3 +275,17 @@ def test_non_utf8_file_exits_1_through_the_cli(tmp_path):
 def test_byte_order_mark_is_ignored():
     res = solve_source(decode_source("bom.mom", b"\xef\xbb\xbf" + BASE.encode()))
     assert res.status == "solved"
+
+
+def test_read_source_reads_past_its_first_read_and_stops_at_the_limit(tmp_path, monkeypatch):
+    """read_source reads a small first piece and the rest only when there is more: a
+    file larger than that piece is read whole, one over the limit is cut at the limit
+    (parse then refuses it as too large), as one read of READ_LIMIT bytes did."""
+    from momentum_cli import run
+
+    monkeypatch.setattr(run, "FIRST_READ", 8)
+    monkeypatch.setattr(run, "READ_LIMIT", 20)
+    for n in (0, 7, 8, 9, 19, 20, 21, 100):
+        p = tmp_path / f"f{n}.mom"
+        p.write_bytes(b"x" * n)
+        assert run.read_source(str(p)).text == "x" * min(n, 20)

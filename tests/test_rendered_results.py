@@ -26,12 +26,17 @@ def test_rendered_equals_report_rendered_here(name, how):
 
 
 @pytest.mark.parametrize("name", FILES)
-def test_rendered_parts_join_to_the_report_rendered_here(name):
-    """--plain's full text ships as pieces (a streamed report, never joined whole)."""
+def test_rendered_parts_join_to_the_report_rendered_here(name, monkeypatch):
+    """--plain's full text: a big report ships as pieces (streamed, never joined whole),
+    a small one as one text (one string to pickle and to write); both are the text."""
+    from momentum_cli import run
     from momentum_cli.report.text import render_parts
 
     src = read_source(str(EXAMPLES / name))
     direct = solve_source(src, False, 6, "float")
+    (small,) = list(solve_many([src], False, 6, "float", render=partial(render_parts, sig=6)))
+    assert small.report.parts is None and small.report.text == render(direct.report, 6)
+    monkeypatch.setattr(run, "JOIN_LIMIT", 100)  # any report is "big" now
     (shipped,) = list(solve_many([src], False, 6, "float", render=partial(render_parts, sig=6)))
     assert shipped.report.parts is not None and shipped.report.text == ""
     assert "\n".join(shipped.report.parts) == render(direct.report, 6)
