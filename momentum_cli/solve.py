@@ -17,7 +17,7 @@ from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
 from .elements.kinds import Component, KeyKind
-from .block_memo import solve  # linalg.solve, once per distinct block
+from .block_memo import solve, solve_one  # linalg's, once per distinct block
 from .bounds import ROUNDOFF, error_of, propagate, size_of, slopes, slopes_and_size
 from .expr import (
     E,
@@ -31,7 +31,7 @@ from .expr import (
     magnitude,
     to_text,
 )
-from .linalg import SingularError, exact_rank_test, solve_one
+from .linalg import SingularError, exact_rank_test
 from .numbers import fmt_num, fmt_tiny
 from .records import record
 from .scene import Scene
@@ -887,7 +887,7 @@ def _solve_one(system: System, block, values) -> BlockReport | None:
     if a == 0.0 or not (math.isfinite(a) and math.isfinite(b)):
         return None
     try:
-        x, quality = solve_one(a, b)  # what solve_linear gives a 1x1 float block
+        x, quality = solve_one(a, b)  # what solve_linear gives a 1x1 float block (shared)
     except SingularError:
         return None
     values[name] = x[0]
