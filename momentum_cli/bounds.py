@@ -140,6 +140,11 @@ def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, flo
     if got is None:
         got = rowcode.grad_size_big(e, values, _grad_size)
     dv, mag = got if got is not None else derivatives_and_size(e, values)
+    return slopes_of(dv, mag, size)
+
+
+def slopes_of(dv: dict, mag: float, size: dict[str, float]) -> tuple[dict[str, float], float]:
+    """`slopes_and_size` from the derivatives and the size of the terms."""
     slope = {v: abs(d) for v, d in dv.items()}
     return slope, mag + sum(s * size.get(v, 0.0) for v, s in slope.items() if s)
 

@@ -372,8 +372,10 @@ class _Src:
 
 
 # ---- bounds.derivatives_and_size -------------------------------------------------------
-def _gs_function(key):
-    """f(c, n, values, out, w) -> size: `bounds._grad_size(e, w, values, out)`."""
+def _gs_function(key, value: bool = False):
+    """f(c, n, values, out, w) -> size: `bounds._grad_size(e, w, values, out)`; with
+    `value`, -> (`expr.evaluate(e, values)`, size): `_val_function`'s value from the
+    same temporaries (the same expressions: the same floats)."""
     root, nvars = _parse(key)
     s = _Src()
     for j in range(nvars):  # every unknown outside a zero product is read by the walk
@@ -415,7 +417,11 @@ def _gs_function(key):
             sizes.append(gs(k, wk))
         return s.tmp("1.0" + "".join(" * " + z for z in sizes))
 
-    s.lines.append(f"    return {gs(root, 'w')}")
+    size = gs(root, "w")
+    if value:
+        s.lines.append(f"    return {val(root)}, {size}")
+        return s.function("vgs(c, n, values, out, w)", {"fsum": math.fsum})
+    s.lines.append(f"    return {size}")
     return s.function("gs(c, n, values, out, w)", {"fsum": math.fsum})
 
 
@@ -562,6 +568,84 @@ def grad_size_big(e, values, walk):
         return None
     finally:  # gs refers to itself: without this the cycle keeps `values` and `out`
         del gs  # alive until a cyclic collection (paused during a solve)
+
+
+_VGS: dict = {}  # value, derivatives and size in one walk, by shape (`value_grad_size`)
+
+
+def _vgs_function(key):
+    return _gs_function(key, True)
+
+
+def value_grad_size(e, values, walk):
+    """(`evaluate(e, values)`, *`grad_size_big(e, values, walk)`) of a large tree (a
+    scene's energy, an energy lost: an answer's value and its bound) with each small
+    term walked once by its shape's compiled walk, not once for the value and once for
+    the bound; None where the tree has a shape of its own or anything else the two
+    walks take otherwise (a product of two large factors, a power), or anything fails
+    (the caller takes the two walks then: the same numbers, or their failures)."""
+    if not ENABLED or shape_of(e) is not None:
+        return None
+    out: dict = {}
+    try:
+        v, z = _vgs(e, 1.0, values, out, walk)
+    except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
+        return None
+    return v, out, z
+
+
+def _vgs(e, w, values, out, walk):
+    """(value, size) of `e` with its derivatives times w added to `out`: the walks of
+    `_evaluate_parts` and `grad_size_big`'s gs, in one."""
+    sh = shape_of(e)
+    if sh is not None:
+        key, nums, names = sh
+        f = _VGS.get(key)
+        if f is None:
+            f = _compiled(_VGS, key, _vgs_function)
+        if f is not None:
+            return f(nums, names, values, out, w)
+        fv = _val_of(key)  # not compiled yet: as the two walks take it
+        v = fv(nums, names, values) if fv is not None else walk_value(e, values)
+        fg = _gs_of(key)
+        return v, (fg(nums, names, values, out, w) if fg is not None else
+                   walk(e, w, values, out))
+    t = type(e)
+    if t is Add:
+        vs = []
+        zs = []
+        for x in e.terms:
+            v, z = _vgs(x, w, values, out, walk)
+            vs.append(v)
+            zs.append(z)
+        return math.fsum(vs), sum(zs)
+    if t is Mul:  # numbers times one large factor (-(T2)): its weight is known first
+        fs = e.factors
+        for f in fs:
+            if (type(f) is Const or type(f) is Known) and type(f.value) is not float:
+                raise _No
+        for f in fs:
+            if (type(f) is Known or type(f) is Const) and f.value == 0.0:
+                return 0.0, 0.0
+        free = [i for i, f in enumerate(fs) if type(f) is not Const and type(f) is not Known]
+        if len(free) != 1:
+            raise _No
+        i = free[0]
+        k = w
+        for j, f in enumerate(fs):
+            if j != i:
+                k *= f.value
+        v, z = _vgs(fs[i], k, values, out, walk)
+        value = size = 1.0
+        for j, f in enumerate(fs):
+            if j == i:
+                value *= v
+                size *= z
+            else:
+                value *= f.value
+                size *= abs(f.value)
+        return value, size
+    raise _No
 
 
 # ---- expr._affine_float ----------------------------------------------------------------
