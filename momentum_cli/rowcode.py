@@ -45,9 +45,10 @@ def shape(e):
     in pre-order; a product with a zero number factor is one token (every walk stops
     there); None for anything else or a tree too large. A sum or product first tries
     the readers of the shapes met most at its root (`_reader`): a big scene's rows come
-    in a few shapes, and reading a known shape's leaves costs a third of walking it."""
+    in a few shapes, and reading a known shape's leaves costs half of walking it (a
+    solve's first GUESS_AFTER trees are walked)."""
     t = type(e)
-    if GUESS and (t is Add or t is Mul):
+    if GUESS and (t is Add or t is Mul) and len(_SHAPES) >= GUESS_AFTER:
         last = _LAST[0]
         f = _NEXT.get(last)  # the rows of stamped kinds come in a period: the shape
         if f is not None:  # that followed the last two last time, first
@@ -103,6 +104,9 @@ def walk_shape(e):
 
 
 GUESS = True  # tests turn it off: every shape walked
+# readers once a solve has shaped this many trees (`remembered`): a small file's few
+# rows are walked as before (learning their shapes would cost more than it saves)
+GUESS_AFTER = 256
 _READERS: dict = {}  # root signature -> readers of the shapes met there, latest first
 _READER_OF: dict = {}  # key -> its reader (made once the key was met COMPILE_AFTER times)
 _FEW = 4  # readers tried per root signature before walking

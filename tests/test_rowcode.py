@@ -54,6 +54,7 @@ def compile_at_once(monkeypatch):
     """Every shape compiled at first sight (the solve waits for the second): the compiled
     walks are what these tests are about."""
     monkeypatch.setattr(rowcode, "COMPILE_AFTER", 0)
+    monkeypatch.setattr(rowcode, "GUESS_AFTER", 0)  # shapes read at once too
 
 
 def test_compiled_walks_equal_the_walks_on_random_trees():

@@ -99,6 +99,7 @@ def test_every_reader_on_every_tree_reads_the_walk_or_nothing():
 
 def test_shape_with_readers_equals_the_walk_on_random_trees(monkeypatch):
     monkeypatch.setattr(rowcode, "COMPILE_AFTER", 0)
+    monkeypatch.setattr(rowcode, "GUESS_AFTER", 0)
     rng = random.Random(17)
     for _ in range(3000):
         e = _tree(rng, 4)
@@ -141,6 +142,7 @@ def _trees(system):
 @pytest.mark.parametrize("name,text", [pytest.param(n, t, id=n) for n, t in _scenes()])
 def test_shapes_of_every_scene_equal_the_walk(monkeypatch, name, text):
     monkeypatch.setattr(rowcode, "COMPILE_AFTER", 0)
+    monkeypatch.setattr(rowcode, "GUESS_AFTER", 0)
     try:
         system = compile_scene(build(parse(Source(name, text))))
     except ProblemError:
