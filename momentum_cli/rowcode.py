@@ -204,15 +204,13 @@ def _reader(key):
                 node(kid, x, nd.kind == "mul")
 
     node(root, "e", False)
-    tail = [f"    if ({''.join(f'type({b}), ' for b, _ in boxes)}) != "
-            f"({''.join(c + ', ' for _, c in boxes)}): return None"]
+    # the types expected, as constants (`type` a default argument: no global lookups)
+    tail = [f"    if ({''.join(f'type({b}), ' for b, _ in boxes)}) != BOXES: return None"]
     if var_nodes:
-        tail.append(f"    if ({''.join(f'type({x}), ' for x in var_nodes)}) != "
-                    f"({'Var, ' * len(var_nodes)}): return None")
+        tail.append(f"    if ({''.join(f'type({x}), ' for x in var_nodes)}) != VARS: return None")
     if nums:
         tail.append(f"    if not {{{''.join(f'type({x}), ' for x in nums)}}} <= NUMBER: return None")
-        tail.append(f"    if ({''.join(f'type({c}), ' for c in values)}) != "
-                    f"({'float, ' * len(values)}): return None")
+        tail.append(f"    if ({''.join(f'type({c}), ' for c in values)}) != FLOATS: return None")
     if nonzero:
         tail.append(f"    if 0.0 in ({''.join(c + ', ' for c in nonzero)}): return None")
     for z in zeros:
@@ -221,11 +219,12 @@ def _reader(key):
         tail.append(f"    if len({{{', '.join(firsts)}}}) != {len(firsts)}: return None")
     tail.append(f"    return KEY, ({''.join(c + ', ' for c in values)}), "
                 f"({''.join(n + ', ' for n in names)})")
-    src = "def read(e):\n    try:\n" + "\n".join(lines or ["        pass"]) + \
+    src = "def read(e, type=type):\n    try:\n" + "\n".join(lines or ["        pass"]) + \
         "\n    except (AttributeError, ValueError, TypeError):\n        return None\n" + \
         "\n".join(tail) + "\n"
-    ns = {"Add": Add, "Mul": Mul, "Var": Var, "NUMBER": frozenset((Const, Known)),
-          "zero_product": _is_zero_product, "KEY": key}
+    ns = {"Mul": Mul, "NUMBER": frozenset((Const, Known)), "zero_product": _is_zero_product,
+          "KEY": key, "BOXES": tuple(Add if c == "Add" else Mul for _, c in boxes),
+          "VARS": (Var,) * len(var_nodes), "FLOATS": (float,) * len(values)}
     exec(compile(src, "<rowcode reader>", "exec"), ns)
     return ns["read"]
 
