@@ -395,8 +395,10 @@ def _row(f, values, col, Ai, cols, i, sget, eget, scale):
 
 
 def _flat_pairs(cj):
-    """A column of `_row_max` as `_row`'s (row, |entry|) pairs, in order."""
-    return zip(cj[::2], cj[1::2])
+    """A column of `_row_max` as `_row`'s (row, |entry|) pairs, in order (one iterator
+    zipped with itself: no slices made)."""
+    it = iter(cj)
+    return zip(it, it)
 
 
 def _row_max(f, values, col, rmax, cols, i, sget, eget, scale):
