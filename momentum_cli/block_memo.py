@@ -10,10 +10,12 @@ Bounded: the tables are emptied when full.
 """
 from __future__ import annotations
 
+from math import copysign
 from struct import pack
 
 from .linalg import Quality, SingularError, factor_small, solve_factored
 from .linalg import solve as linalg_solve
+from .linalg import solve_one as linalg_solve_one
 
 LIMIT = 4096  # entries per table; the blocks of a scene repeat in a few kinds
 SMALL = 12  # larger blocks are rarely identical and cost more to key than to look up
@@ -75,6 +77,41 @@ def _by_kind(rows, rhs, n: int, akey):
     if type(F) is float:
         raise SingularError(F)
     return solve_factored(F, rhs)
+
+
+_ones: dict = {}
+_one_skip = [0, 0]  # solve_one: calls left with the table off, misses in a row
+MISSES, OFF = 256, 4096
+
+
+def solve_one(a: float, b: float):
+    """`linalg.solve_one(a, b)` of a 1x1 float block, remembered by its two numbers: a
+    sequence of impacts of one kind repeats its one-unknown rows' data (a still body's
+    y row: m v2 = m v1), and keying two floats costs a tenth of the solve. A zero right
+    side is keyed with its sign (0.0 and -0.0 are equal keys, their x are not); a
+    singular block is not kept (it raises again). Shared: the caller only reads x and
+    the Quality (a BlockReport keeps it, nothing changes it). Where the rows do not
+    repeat (a chain of other masses), MISSES in a row turn the table off for a while:
+    a miss costs a quarter of a solve more."""
+    skip = _one_skip
+    if skip[0]:
+        skip[0] -= 1
+        return linalg_solve_one(a, b)
+    if type(a) is not float or type(b) is not float:
+        return linalg_solve_one(a, b)
+    key = (a, b) if b else (a, b, copysign(1.0, b))
+    hit = _ones.get(key)
+    if hit is None:
+        hit = linalg_solve_one(a, b)
+        if len(_ones) >= LIMIT:
+            _ones.clear()
+        _ones[key] = hit
+        skip[1] += 1
+        if skip[1] >= MISSES:
+            skip[0], skip[1] = OFF, 0
+    else:
+        skip[1] = 0
+    return hit
 
 
 _kinds: dict = {}

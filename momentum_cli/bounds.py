@@ -140,6 +140,11 @@ def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, flo
     if got is None:
         got = rowcode.grad_size_big(e, values, _grad_size)
     dv, mag = got if got is not None else derivatives_and_size(e, values)
+    return slopes_of(dv, mag, size)
+
+
+def slopes_of(dv: dict, mag: float, size: dict[str, float]) -> tuple[dict[str, float], float]:
+    """`slopes_and_size` from the derivatives and the size of the terms."""
     slope = {v: abs(d) for v, d in dv.items()}
     return slope, mag + sum(s * size.get(v, 0.0) for v, s in slope.items() if s)
 
@@ -390,8 +395,10 @@ def _row(f, values, col, Ai, cols, i, sget, eget, scale):
 
 
 def _flat_pairs(cj):
-    """A column of `_row_max` as `_row`'s (row, |entry|) pairs, in order."""
-    return zip(cj[::2], cj[1::2])
+    """A column of `_row_max` as `_row`'s (row, |entry|) pairs, in order (one iterator
+    zipped with itself: no slices made)."""
+    it = iter(cj)
+    return zip(it, it)
 
 
 def _row_max(f, values, col, rmax, cols, i, sget, eget, scale):

@@ -43,7 +43,47 @@ class _No(Exception):
 def shape(e):
     """(key, numbers, names) of a tree of Const, Known, Var, Add and Mul with float numbers,
     in pre-order; a product with a zero number factor is one token (every walk stops
-    there); None for anything else or a tree too large."""
+    there); None for anything else or a tree too large. A sum or product first tries
+    the readers of the shapes met most at its root (`_reader`): a big scene's rows come
+    in a few shapes, and reading a known shape's leaves costs half of walking it (a
+    solve's first GUESS_AFTER trees are walked)."""
+    t = type(e)
+    if GUESS and (t is Add or t is Mul) and len(_SHAPES) >= GUESS_AFTER:
+        last = _LAST[0]
+        f = _NEXT.get(last)  # the rows of stamped kinds come in a period: the shape
+        if f is not None:  # that followed the last two last time, first
+            got = f(e)
+            if got is not None:
+                _LAST[0] = (last[1], id(got[0]))
+                return got
+        sig = len(e.terms) if t is Add else -1 - len(e.factors)
+        readers = _READERS.get(sig)
+        if readers is not None:
+            for f in readers:
+                got = f(e)
+                if got is not None:
+                    _follows(last, got[0], f)
+                    return got
+        sh = walk_shape(e)
+        if sh is not None:
+            f = _learn(sig, sh[0])
+            if f is not None:
+                _follows(last, sh[0], f)
+            else:
+                _LAST[0] = (last[1], id(sh[0]))
+        return sh
+    return walk_shape(e)
+
+
+def _follows(last, key, f) -> None:
+    if len(_NEXT) >= LIMIT:
+        _NEXT.clear()
+    _NEXT[last] = f
+    _LAST[0] = (last[1], id(key))
+
+
+def walk_shape(e):
+    """`shape(e)` by walking the tree (the reference the readers are tested against)."""
     toks: list = []
     nums: list = []
     names: list = []
@@ -61,6 +101,132 @@ def shape(e):
     # tuples: a remembered shape is kept per equation for the whole solve, and a tuple
     # is half a short list's size (the compiled walks only index them)
     return key, tuple(nums), tuple(names)
+
+
+GUESS = True  # tests turn it off: every shape walked
+# readers once a solve has shaped this many trees (`remembered`): a small file's few
+# rows are walked as before (learning their shapes would cost more than it saves)
+GUESS_AFTER = 256
+_READERS: dict = {}  # root signature -> readers of the shapes met there, latest first
+_READER_OF: dict = {}  # key -> its reader (made once the key was met COMPILE_AFTER times)
+_FEW = 4  # readers tried per root signature before walking
+# the shapes that followed the last two: (id of a key, id of a key) -> the reader of the
+# shape that came next last time (a guess: any reader on any tree is right or None)
+_NEXT: dict = {}
+_LAST = [(0, 0)]  # the ids of the last two shapes' keys
+
+
+def _learn(sig, key):
+    """Count a walked shape; once met often enough, its reader (returned) goes first at
+    its root."""
+    f = _READER_OF.get(key)
+    if f is None:
+        f = compiled_after(_READER_OF, _SEEN, key, _reader, COMPILE_AFTER, LIMIT,
+                           seen_key=("reader", key), forget=_forget)
+        if f is None:
+            return None
+    readers = _READERS.get(sig)
+    if readers is None:
+        if len(_READERS) >= LIMIT:
+            _READERS.clear()
+        readers = _READERS[sig] = []
+    if f not in readers:  # else walked although its reader is there: it failed
+        readers.insert(0, f)
+        del readers[_FEW:]
+    return f
+
+
+def _forget() -> None:
+    _READERS.clear()
+    _NEXT.clear()
+
+
+def _is_zero_product(m) -> bool:
+    """Whether `_walk` makes the product `m` one zero token: every number factor a float,
+    one of them zero."""
+    zero = False
+    for f in m.factors:
+        tf = type(f)
+        if tf is Const or tf is Known:
+            v = f.value
+            if type(v) is not float:
+                return False
+            if v == 0.0:
+                zero = True
+    return zero
+
+
+def _reader(key):
+    """f(e) -> `walk_shape(e)` where e has the shape `key`, None where it has not (then
+    the walk decides). Generated: the leaves read by position, every fact the walk
+    checks checked (node types, float numbers, no zero number in a product, which
+    unknowns are the same), the key itself captured."""
+    root, _ = _parse(key)
+    lines: list[str] = []
+    boxes: list[str] = []  # each sum or product and its type
+    nums: list[str] = []  # each number's node
+    values: list[str] = []
+    nonzero: list[str] = []
+    zeros: list[str] = []
+    var_nodes: list[str] = []
+    names: list[str] = []
+    firsts: list[str] = []
+    k = [0]
+
+    def node(nd, at: str, in_mul: bool) -> None:
+        if nd.kind == "v":
+            nm = f"n{nd.i}"
+            lines.append(f"        {nm} = {at}.name")
+            var_nodes.append(at)
+            names.append(nm)
+            if nd.same == nd.i:
+                firsts.append(nm)
+            else:
+                lines.append(f"        if {nm} != n{nd.same}: return None")
+        elif nd.kind == "c":
+            c = f"c{nd.i}"
+            lines.append(f"        {c} = {at}.value")
+            nums.append(at)
+            values.append(c)
+            if in_mul:
+                nonzero.append(c)
+        elif nd.kind == "zero":
+            zeros.append(at)
+        else:
+            cls, attr = ("Add", "terms") if nd.kind == "add" else ("Mul", "factors")
+            boxes.append((at, cls))
+            kids = []
+            for _ in nd.kids:
+                k[0] += 1
+                kids.append(f"x{k[0]}")
+            lines.append(f"        {''.join(x + ', ' for x in kids)}= {at}.{attr}")
+            for kid, x in zip(nd.kids, kids):
+                node(kid, x, nd.kind == "mul")
+
+    node(root, "e", False)
+    # the types expected, as constants (`type` a default argument: no global lookups)
+    tail = [f"    if ({''.join(f'type({b}), ' for b, _ in boxes)}) != BOXES: return None"]
+    if var_nodes:
+        tail.append(f"    if ({''.join(f'type({x}), ' for x in var_nodes)}) != VARS: return None")
+    if nums:
+        tail.append(f"    if not {{{''.join(f'type({x}), ' for x in nums)}}} <= NUMBER: return None")
+        tail.append(f"    if ({''.join(f'type({c}), ' for c in values)}) != FLOATS: return None")
+    if nonzero:
+        tail.append(f"    if 0.0 in ({''.join(c + ', ' for c in nonzero)}): return None")
+    for z in zeros:
+        tail.append(f"    if type({z}) is not Mul or not zero_product({z}): return None")
+    if len(firsts) > 1:
+        tail.append(f"    if len({{{', '.join(firsts)}}}) != {len(firsts)}: return None")
+    tail.append(f"    return KEY, ({''.join(c + ', ' for c in values)}), "
+                f"({''.join(n + ', ' for n in names)})")
+    src = "def read(e, type=type):\n    try:\n" + "\n".join(lines or ["        pass"]) + \
+        "\n    except (AttributeError, ValueError, TypeError):\n        return None\n" + \
+        "\n".join(tail) + "\n"
+    ns = {"Mul": Mul, "NUMBER": frozenset((Const, Known)), "zero_product": _is_zero_product,
+          "KEY": key, "BOXES": tuple(Add if c == "Add" else Mul for _, c in boxes),
+          "VARS": (Var,) * len(var_nodes), "FLOATS": (float,) * len(values)}
+    exec(compile(src, "<rowcode reader>", "exec"), ns)
+    return ns["read"]
 
 
 class remembered:
@@ -209,8 +375,10 @@ class _Src:
 
 
 # ---- bounds.derivatives_and_size -------------------------------------------------------
-def _gs_function(key):
-    """f(c, n, values, out, w) -> size: `bounds._grad_size(e, w, values, out)`."""
+def _gs_function(key, value: bool = False):
+    """f(c, n, values, out, w) -> size: `bounds._grad_size(e, w, values, out)`; with
+    `value`, -> (`expr.evaluate(e, values)`, size): `_val_function`'s value from the
+    same temporaries (the same expressions: the same floats)."""
     root, nvars = _parse(key)
     s = _Src()
     for j in range(nvars):  # every unknown outside a zero product is read by the walk
@@ -252,7 +420,11 @@ def _gs_function(key):
             sizes.append(gs(k, wk))
         return s.tmp("1.0" + "".join(" * " + z for z in sizes))
 
-    s.lines.append(f"    return {gs(root, 'w')}")
+    size = gs(root, "w")
+    if value:
+        s.lines.append(f"    return {val(root)}, {size}")
+        return s.function("vgs(c, n, values, out, w)", {"fsum": math.fsum})
+    s.lines.append(f"    return {size}")
     return s.function("gs(c, n, values, out, w)", {"fsum": math.fsum})
 
 
@@ -399,6 +571,84 @@ def grad_size_big(e, values, walk):
         return None
     finally:  # gs refers to itself: without this the cycle keeps `values` and `out`
         del gs  # alive until a cyclic collection (paused during a solve)
+
+
+_VGS: dict = {}  # value, derivatives and size in one walk, by shape (`value_grad_size`)
+
+
+def _vgs_function(key):
+    return _gs_function(key, True)
+
+
+def value_grad_size(e, values, walk):
+    """(`evaluate(e, values)`, *`grad_size_big(e, values, walk)`) of a large tree (a
+    scene's energy, an energy lost: an answer's value and its bound) with each small
+    term walked once by its shape's compiled walk, not once for the value and once for
+    the bound; None where the tree has a shape of its own or anything else the two
+    walks take otherwise (a product of two large factors, a power), or anything fails
+    (the caller takes the two walks then: the same numbers, or their failures)."""
+    if not ENABLED or shape_of(e) is not None:
+        return None
+    out: dict = {}
+    try:
+        v, z = _vgs(e, 1.0, values, out, walk)
+    except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
+        return None
+    return v, out, z
+
+
+def _vgs(e, w, values, out, walk):
+    """(value, size) of `e` with its derivatives times w added to `out`: the walks of
+    `_evaluate_parts` and `grad_size_big`'s gs, in one."""
+    sh = shape_of(e)
+    if sh is not None:
+        key, nums, names = sh
+        f = _VGS.get(key)
+        if f is None:
+            f = _compiled(_VGS, key, _vgs_function)
+        if f is not None:
+            return f(nums, names, values, out, w)
+        fv = _val_of(key)  # not compiled yet: as the two walks take it
+        v = fv(nums, names, values) if fv is not None else walk_value(e, values)
+        fg = _gs_of(key)
+        return v, (fg(nums, names, values, out, w) if fg is not None else
+                   walk(e, w, values, out))
+    t = type(e)
+    if t is Add:
+        vs = []
+        zs = []
+        for x in e.terms:
+            v, z = _vgs(x, w, values, out, walk)
+            vs.append(v)
+            zs.append(z)
+        return math.fsum(vs), sum(zs)
+    if t is Mul:  # numbers times one large factor (-(T2)): its weight is known first
+        fs = e.factors
+        for f in fs:
+            if (type(f) is Const or type(f) is Known) and type(f.value) is not float:
+                raise _No
+        for f in fs:
+            if (type(f) is Known or type(f) is Const) and f.value == 0.0:
+                return 0.0, 0.0
+        free = [i for i, f in enumerate(fs) if type(f) is not Const and type(f) is not Known]
+        if len(free) != 1:
+            raise _No
+        i = free[0]
+        k = w
+        for j, f in enumerate(fs):
+            if j != i:
+                k *= f.value
+        v, z = _vgs(fs[i], k, values, out, walk)
+        value = size = 1.0
+        for j, f in enumerate(fs):
+            if j == i:
+                value *= v
+                size *= z
+            else:
+                value *= f.value
+                size *= abs(f.value)
+        return value, size
+    raise _No
 
 
 # ---- expr._affine_float ----------------------------------------------------------------

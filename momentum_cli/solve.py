@@ -17,8 +17,9 @@ from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
 from .elements.kinds import Component, KeyKind
-from .block_memo import solve  # linalg.solve, once per distinct block
-from .bounds import ROUNDOFF, error_of, propagate, size_of, slopes, slopes_and_size
+from .block_memo import solve, solve_one  # linalg's, once per distinct block
+from .bounds import (ROUNDOFF, _grad_size, error_of, propagate, size_of, slopes,
+                     slopes_and_size, slopes_of)
 from .expr import (
     E,
     NonLinear,
@@ -31,7 +32,7 @@ from .expr import (
     magnitude,
     to_text,
 )
-from .linalg import SingularError, exact_rank_test, solve_one
+from .linalg import SingularError, exact_rank_test
 from .numbers import fmt_num, fmt_tiny
 from .records import record
 from .scene import Scene
@@ -887,7 +888,7 @@ def _solve_one(system: System, block, values) -> BlockReport | None:
     if a == 0.0 or not (math.isfinite(a) and math.isfinite(b)):
         return None
     try:
-        x, quality = solve_one(a, b)  # what solve_linear gives a 1x1 float block
+        x, quality = solve_one(a, b)  # what solve_linear gives a 1x1 float block (shared)
     except SingularError:
         return None
     values[name] = x[0]
@@ -1273,9 +1274,14 @@ def _value(expr: E, values, sol: Solution | None) -> tuple[float, float, float]:
     exact = sol.exact if sol is not None else None
     size = sol.size if sol is not None and sol.size is not None else {}
     err = sol.errors if sol is not None and sol.errors is not None else {}
-    si = float(evaluate_exact(expr, ChainMap(exact, values))) if exact is not None else \
-        rowcode.evaluate(expr, values)
-    slope, scale = slopes_and_size(expr, values, size)
+    got = rowcode.value_grad_size(expr, values, _grad_size) if exact is None else None
+    if got is not None:  # a large sum (an energy): each term walked once for both
+        si, dv, mag = got
+        slope, scale = slopes_of(dv, mag, size)
+    else:
+        si = float(evaluate_exact(expr, ChainMap(exact, values))) if exact is not None else \
+            rowcode.evaluate(expr, values)
+        slope, scale = slopes_and_size(expr, values, size)
     small = ROUNDOFF * scale
     # rounding: of the final value in exact mode, of every term in float
     bound = error_of(slope, err) + (2 * 2.0**-53 * abs(si) if exact is not None else small)

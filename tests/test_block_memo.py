@@ -97,3 +97,55 @@ def test_blocks_of_one_kind_replay_the_factorization_bit_for_bit():
                    for _ in range(n)]
             assert _outcome(block_memo.solve, rows, rhs, n) == _outcome(fresh_solve, rows, rhs, n)
     assert block_memo._factors  # the kinds were factored once and replayed
+
+
+def test_remembered_one_unknown_solve_equals_a_fresh_one():
+    """block_memo.solve_one against linalg.solve_one: x and every Quality field, the sign
+    of a zero x too (0.0 and -0.0 right sides are equal keys of a dict: the key tells
+    them apart), a singular block raising every time."""
+    from momentum_cli.linalg import SingularError
+    from momentum_cli.linalg import solve_one as fresh_one
+
+    rng = random.Random(11)
+    block_memo._ones.clear()
+    block_memo._one_skip[:] = [0, 0]
+    cases = [(a, b) for a in (1.0, -0.1, 3e-300, 2.5e300, rng.uniform(-2, 2))
+             for b in (0.0, -0.0, 1.0, -1e-308, rng.uniform(-1, 1))]
+    cases += [(a, b) for a, b in cases]  # every pair twice: the second read remembered
+    cases += [(1, 2.0), (2.0, 0), (0.0, 1.0), (1e-320, 1.0)]
+    rng.shuffle(cases)
+    for a, b in cases:
+        try:
+            want = fresh_one(a, b)
+        except SingularError as exc:
+            with pytest.raises(SingularError) as got:
+                block_memo.solve_one(a, b)
+            assert _same(got.value.args[0] if got.value.args else None,
+                         exc.args[0] if exc.args else None)
+            continue
+        x, q = block_memo.solve_one(a, b)
+        assert _same(x, want[0]), (a, b)
+        assert type(x[0]) is type(want[0][0])
+        for f in ("method", "precision", "cond", "backward", "bound", "iterations",
+                  "components", "exact"):
+            assert _same(getattr(q, f), getattr(want[1], f)), (a, b, f)
+    assert len(block_memo._ones) < len(cases)
+
+
+def test_one_unknown_table_turns_off_where_rows_do_not_repeat(monkeypatch):
+    """MISSES new rows in a row: the next OFF solves skip the table (the same answers)."""
+    from momentum_cli.linalg import solve_one as fresh_one
+
+    monkeypatch.setattr(block_memo, "MISSES", 4)
+    monkeypatch.setattr(block_memo, "OFF", 3)
+    block_memo._ones.clear()
+    block_memo._one_skip[:] = [0, 0]
+    for k in range(4):
+        block_memo.solve_one(1.0 + k, 2.0)
+    assert block_memo._one_skip == [3, 0]
+    for k in range(3):
+        x, q = block_memo.solve_one(1.0, 2.0)
+        assert _same(x, fresh_one(1.0, 2.0)[0])
+    assert block_memo._one_skip == [0, 0] and len(block_memo._ones) == 4
+    block_memo.solve_one(1.0, 2.0)  # on again: remembered
+    assert block_memo._one_skip == [0, 0]

@@ -19,7 +19,7 @@ from test_hard import cradle_text
 from momentum_cli import bounds, rowcode
 from momentum_cli.bench import chain_text
 from momentum_cli.diagnostics import ProblemError
-from momentum_cli.expr import NonLinear, affine
+from momentum_cli.expr import Add, Const, Known, Mul, NonLinear, Var, affine
 from momentum_cli.scene import build
 from momentum_cli.solve import solve_scene
 from momentum_cli.source import Source
@@ -54,6 +54,7 @@ def compile_at_once(monkeypatch):
     """Every shape compiled at first sight (the solve waits for the second): the compiled
     walks are what these tests are about."""
     monkeypatch.setattr(rowcode, "COMPILE_AFTER", 0)
+    monkeypatch.setattr(rowcode, "GUESS_AFTER", 0)  # shapes read at once too
 
 
 def test_compiled_walks_equal_the_walks_on_random_trees():
@@ -98,6 +99,66 @@ def test_evaluate_by_parts_equals_the_walk(monkeypatch):
         for _ in range(3000):
             e = _tree(rng, 5)
             assert outcome(rowcode.evaluate, e, values) == outcome(evaluate, e, values), e
+
+
+def _energy_like(rng: random.Random, depth: int):
+    """A sum of kinetic-energy-like products, with -(a sum) inside, a zero or a missing
+    value here and there, and now and then anything else (powers, functions)."""
+    def leaf():
+        k = rng.randrange(10)
+        if k == 0:
+            return Known("m", rng.choice([0.0, 2.0, 2.0, 2.0, 3]))
+        if k == 1:
+            return Const(rng.choice([0.0, -0.0, 0.5, 1e-300]))
+        if rng.random() < 0.01:
+            return Var("missing")
+        return Var(rng.choice(["x", "y", "z", "w", "v", "x"]))
+
+    terms = []
+    for _ in range(rng.randint(2, 7)):
+        r = rng.random()
+        if r < 0.55:
+            terms.append(Mul((Const(rng.choice([0.5, -0.25, 0.0, 2.0])), leaf(),
+                              Add((Mul((leaf(), leaf())), Mul((leaf(), leaf())))))))
+        elif r < 0.75 and depth:
+            terms.append(Mul((Const(rng.choice([-1.0, 0.5, 2])), _energy_like(rng, depth - 1))))
+        elif r < 0.9 and depth:
+            terms.append(_energy_like(rng, depth - 1))
+        elif r < 0.97:
+            terms.append(Mul((Const(0.5), leaf(), leaf())))
+        else:
+            terms.append(_tree(rng, 2))
+    return Add(tuple(terms))
+
+
+@pytest.mark.parametrize("after", [0, 10**9])
+def test_value_and_bound_in_one_walk_equal_the_two_walks(monkeypatch, after):
+    """value_grad_size (an answer's value and bound, each term walked once) against
+    rowcode.evaluate with grad_size_big, and against the plain walks, on energy-like
+    trees made 'large' by a small token limit; the shapes compiled at once, or never
+    (each term then by the two walks it stands for)."""
+    from momentum_cli.expr import evaluate
+
+    monkeypatch.setattr(rowcode, "MAX_TOKENS", 40)
+    monkeypatch.setattr(rowcode, "COMPILE_AFTER", after)
+    rng = random.Random(21)
+    values = {"x": 2.0, "y": -0.5, "z": 0.0, "w": 1e200, "v": -0.0}
+    done = 0
+    for _ in range(2000):
+        e = _energy_like(rng, 2)
+        if rng.random() < 0.3:  # -(a large sum), as an energy lost is written
+            e = Mul((Const(-1.0), e))
+        with rowcode.remembered():
+            got = rowcode.value_grad_size(e, values, bounds._grad_size)
+            if got is None:
+                continue
+            done += 1
+            assert _reprs(got[0]) == outcome(rowcode.evaluate, e, values) == \
+                outcome(evaluate, e, values), e
+            assert _reprs(got[1:]) == outcome(rowcode.grad_size_big, e, values,
+                                              bounds._grad_size) == \
+                outcome(bounds.derivatives_and_size, e, values), e
+    assert done > 120
 
 
 def snapshot(sol) -> list:
