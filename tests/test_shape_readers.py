@@ -15,11 +15,9 @@ import math
 import random
 
 import pytest
-from conftest import EXAMPLES
-from test_hard import cradle_text
+from test_rowcode import scenes
 
 from momentum_cli import rowcode
-from momentum_cli.bench import chain_text
 from momentum_cli.compile import compile_scene
 from momentum_cli.diagnostics import ProblemError
 from momentum_cli.expr import Add, Const, Fn, Known, Mul, Pow, Var
@@ -108,13 +106,8 @@ def test_shape_with_readers_equals_the_walk_on_random_trees(monkeypatch):
 
 
 def _scenes():
-    for path in sorted(EXAMPLES.glob("*.mom")):
-        yield path.name, path.read_text(encoding="utf-8")
-    for n in (2, 7, 60):
-        yield f"chain {n}", chain_text(n)
-    for n in (3, 40):
-        yield f"cradle-seq {n}", cradle_text(n, "sequence")
-        yield f"cradle-sim {n}", cradle_text(n, "simultaneous")
+    """test_rowcode's scenes (every example, chains, cradles) and 40 generated ones."""
+    yield from scenes()
     try:
         import scenegen
     except ImportError:  # numpy missing: the generated scenes are skipped
