@@ -105,16 +105,29 @@ def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
             numeric_line(e, values, keep, system, reader, sig))
 
 
+def equation_text(index: int, principle: str, line, role: str, sym: str, num: str) -> str:
+    """One equation row as the plain report shows it: its number, principle, line (or
+    scene) and role, then its symbolic line and (where it differs) its numeric line."""
+    tail = f"\n      {sym}\n      {num}" if num != sym else f"\n      {sym}"
+    if line:
+        return f"  ({index + 1}) {principle} (line {line}){tail}" if role == "solved" \
+            else f"  ({index + 1}) {principle} (line {line}) [{role}]{tail}"
+    return f"  ({index + 1}) {principle} (scene){tail}" if role == "solved" else \
+        f"  ({index + 1}) {principle} (scene) [{role}]{tail}"
+
+
 class Lazy:
     """A list of the report made item by item each time it is read, never held whole: a
     big scene's report is streamed into its text while only the solution is alive (the
     rows, blocks and unknowns of 10^5 balls are half a gigabyte as objects). `make()`
     gives an iterator over the items; a copy (`list`, pickle) is a plain list."""
 
-    __slots__ = ("_n", "_make")
+    __slots__ = ("_n", "_make", "texts")
 
-    def __init__(self, n: int, make):
-        self._n, self._make = n, make
+    def __init__(self, n: int, make, texts=None):
+        """`texts`: None, or a function giving an iterator over the items' plain text
+        (`equation_text` of each row), made without the items (plain text reads no more)."""
+        self._n, self._make, self.texts = n, make, texts
 
     def __iter__(self):
         return self._make()
@@ -176,6 +189,14 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                                    reader, sig, shown),
                            e.kind, role[k], solves.get(k, []))
 
+    def row_text(k: int) -> str:
+        """`equation_text` of `row(k)`, without the row."""
+        e = eqs[k]
+        span = e.span
+        return equation_text(k, e.principle, span.line if span else None, role[k],
+                             *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
+                                     reader, sig, shown))
+
     by_group: dict[str, list[int]] = {}  # one pass over the equations, not one a transition
     for k, e in enumerate(eqs):
         by_group.setdefault(e.group, []).append(k)
@@ -184,7 +205,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
 
     def group_rows(ks: list):
         if lazy:  # made as read: a transition of 10^5 bodies is not held as rows
-            return Lazy(len(ks), lambda: map(row, ks))
+            return Lazy(len(ks), lambda: map(row, ks), lambda: map(row_text, ks))
         return [rows[k] for k in ks]
 
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from ..numbers import fmt_num, fmt_tiny
 from .abbrev import abbreviate
-from .model import Report, diagram_for
+from .model import Report, diagram_for, equation_text
 
 
 _FORMATS: dict = {}  # (indent, column widths) -> (line format, rule): small tables recur
@@ -302,18 +302,14 @@ def _system(t: dict) -> list[str]:
 
 
 def _equations(rows, out: list) -> None:
-    """`_equation` of each row, appended to `out` (one loop, no list per row)."""
-    add = out.append  # one item per equation, its lines joined: the same text once joined
-    for r in rows:
-        role = r.role
-        sym, num = r.symbolic, r.numeric
-        tail = f"\n      {sym}\n      {num}" if num != sym else f"\n      {sym}"
-        if r.line:
-            add(f"  ({r.index + 1}) {r.principle} (line {r.line}){tail}" if role == "solved"
-                else f"  ({r.index + 1}) {r.principle} (line {r.line}) [{role}]{tail}")
-        else:
-            add(f"  ({r.index + 1}) {r.principle} (scene){tail}" if role == "solved" else
-                f"  ({r.index + 1}) {r.principle} (scene) [{role}]{tail}")
+    """`_equation` of each row, appended to `out` (one item per equation, its lines
+    joined: the same text once joined); a lazy report's rows as text, never made."""
+    texts = getattr(rows, "texts", None)
+    if texts is not None:
+        out += texts()
+        return
+    out += [equation_text(r.index, r.principle, r.line, r.role, r.symbolic, r.numeric)
+            for r in rows]
 
 
 def _equation(r) -> list[str]:
