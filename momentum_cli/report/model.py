@@ -299,6 +299,29 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                 d["rhs"] = _finite_all(b.rhs)
             yield d
 
+    def block_texts():
+        """What plain text reads of each `block_items` dict, as a tuple (index, unknowns,
+        method, condition number, iterations, residual, lines, matrix or None, rhs or
+        None): no dict, no quality (JSON's)."""
+        for i, b in enumerate(sol.blocks):
+            ks = b.equations
+            if len(ks) == 1:
+                span = eqs[ks[0]].span
+                lines = [span.line] if span else []
+            else:
+                lines = sorted({eqs[k].span.line for k in ks if eqs[k].span})
+            x, r = b.cond, b.residual
+            unk = b.unknowns
+            if b.matrix is not None and len(unk) > 1:
+                matrix, rhs = [_finite_all(row) for row in b.matrix], _finite_all(b.rhs)
+            else:
+                matrix = rhs = None
+            yield (i + 1, unk if type(unk) is list else list(unk), b.method,
+                   (0.0 if x == 0 else x) if type(x) is float and x - x == 0.0 else _finite(x),
+                   b.iterations,
+                   (0.0 if r == 0 else r) if type(r) is float and r - r == 0.0 else _finite(r),
+                   lines, matrix, rhs)
+
     shows: dict = {}  # (dim, unit) -> (factor, label): `reader.show` without its calls
     degrees = reader.degrees
 
@@ -322,7 +345,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
         from .diagram import lazy_diagrams
 
         transitions = Lazy(len(system.transitions), transition_items)
-        blocks = Lazy(len(sol.blocks), block_items)
+        blocks = Lazy(len(sol.blocks), block_items, block_texts)
         unknowns = Lazy(sum(1 for n in system.unknowns if n in values), unknown_items)
         diagrams = lazy_diagrams(sol, reader)
     else:

@@ -135,23 +135,27 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
         whole, out = out, []
         add = out.append
         shown = f.cache
-        for b in rep.blocks:
-            how = (f"linear, condition number {f(b['condition_number'])}"
-                   if b["method"] == "linear" else
-                   "integrated numerically from its inputs" if b["method"] == "integrated" else
-                   f"Newton, {b['iterations']} iterations, residual {fmt_tiny(b['residual'] or 0)}")
+        plain = getattr(rep.blocks, "texts", None)  # a lazy report's: tuples, no dicts
+        for index, unknowns, method, cond, iterations, residual, lines, matrix, rhs in (
+                plain() if plain is not None else
+                ((b["index"], b["unknowns"], b["method"], b["condition_number"],
+                  b["iterations"], b["residual"], b["lines"], b.get("matrix"), b.get("rhs"))
+                 for b in rep.blocks)):
+            how = (f"linear, condition number {shown[cond] if cond in shown else f(cond)}"
+                   if method == "linear" else
+                   "integrated numerically from its inputs" if method == "integrated" else
+                   f"Newton, {iterations} iterations, residual {fmt_tiny(residual or 0)}")
             # a block of thousands: its first and last unknowns and lines, and how many
-            unknowns, lines = b["unknowns"], b["lines"]
             if len(unknowns) == 1 and len(lines) == 1:  # as `abbreviate` shows one name
-                add(f"  block {b['index']}: {unknowns[0]} ({how}; lines {lines[0]})")
+                add(f"  block {index}: {unknowns[0]} ({how}; lines {lines[0]})")
             else:
                 names, n = abbreviate(unknowns)
                 lines, n_lines = abbreviate(lines)
                 lines = f"{n_lines} lines: {lines}" if n_lines else f"lines {lines}"
                 count = f"{n} unknowns; " if n else ""
-                add(f"  block {b['index']}: {names} ({count}{how}; {lines})")
-            if "matrix" in b:
-                _matrix(unknowns, b["matrix"], b["rhs"], f, out)
+                add(f"  block {index}: {names} ({count}{how}; {lines})")
+            if matrix is not None:
+                _matrix(unknowns, matrix, rhs, f, out)
         if out:
             whole.append("\n".join(out))
         out = whole
