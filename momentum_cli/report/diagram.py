@@ -252,6 +252,23 @@ class LazyDiagrams:
         d.reader = self.reader
         return d
 
+    def text(self, kind: str, key: str, indent: str = "") -> list | None:
+        """`of(kind, key).lines(indent)`, the same lines, made straight from the transition
+        where every application is the commonest (`_Builder.plain_lines`): no impulse or
+        diagram objects; None: no diagram."""
+        t = self.ts.get((kind, key))
+        if t is None:
+            return None
+        if self.shared is None:
+            self.shared = _Shared(self.sol)
+        b = _Builder(self.shared, t, self.reader)
+        got = b.plain_lines(indent) if PLAIN else None
+        if got is None:
+            d = b.build(lines_only=True)
+            d.reader = self.reader
+            got = d.lines(indent)
+        return got
+
     def __iter__(self):
         for t in self.sol.system.transitions:
             if t.kind in ("impact", "interval"):
@@ -378,6 +395,91 @@ class _Builder:
         return ImpulseDiagram(title, t.kind, t.key, t.before, t.after, bodies, impulses,
                               self._dropped(), self._surfaces(bodies), self._pins(),
                               self._links(where), self.notes)
+
+    def plain_lines(self, indent: str = "") -> list | None:
+        """`ImpulseDiagram.lines(indent)` of `build(lines_only=True)`, the same strings, for a
+        transition whose every application takes `_plain_impulses` (impulses alone, no
+        torque, a known arm): each impulse's line formatted where it is found (no
+        `DiagramImpulse`, no sort: grouped by body as found); None for any other."""
+        t = self.t
+        apps = t.impulses
+        monos = []
+        for a in apps:
+            if a.torque is not None:
+                return None
+            mono = _monomials(a.J)
+            if mono is None:
+                return None
+            tx, ty = type(a.arm.x), type(a.arm.y)
+            if not ((tx is Const or tx is Known) and (ty is Const or ty is Known)):
+                return None
+            monos.append(mono)
+        bodies = self._bodies(True)
+        self._place(bodies)
+        where = {b.name: b for b in bodies}
+        r = self.reader
+        got = _SHOWN.get(r)
+        if got is None:
+            got = _SHOWN[r] = ({m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
+                                ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+        (k, unit), f = got[0][False], got[1]
+        cache = _NUMS
+        if len(cache) > 4096:
+            cache.clear()
+        vals = self.values
+        contacts = self._contacts()
+        by_body: dict = {}
+        for a, mono in zip(apps, monos):
+            body = where[a.body]
+            p = a.point
+            if p.round_contact or p.located_by is not None:
+                arm = (a.arm.x.value, a.arm.y.value)
+            else:
+                arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
+            at, point = _where(a, body, arm)
+            head = None
+            contact = contacts.get(a.what)
+            for n in (mono if len(mono) == 1 else sorted(mono, key=str)):
+                d = mono[n]
+                size = math.hypot(*d)
+                if size == 0:
+                    continue
+                d = (d[0] / size, d[1] / size)
+                val = vals.get(n)
+                if head is None:  # where it acts: the same for each impulse of `a`
+                    x, y = at[0] / f, at[1] / f
+                    sx, sy = cache.get(x), cache.get(y)
+                    if sx is None:
+                        sx = cache[x] = fmt_num(_clean(x), SIG)
+                    if sy is None:
+                        sy = cache[y] = fmt_num(_clean(y), SIG)
+                    head = f" {unit} at {point} ({sx}, {sy}), "
+                    mine = by_body.get(a.body)
+                    if mine is None:
+                        mine = by_body[a.body] = []
+                if val is None:
+                    v = "?"
+                else:
+                    x = val * size / k
+                    v = cache.get(x)
+                    if v is None:
+                        v = cache[x] = fmt_num(_clean(x), SIG)
+                mine.append(f"{indent}    {_local(n)} = {v}{head}"
+                            f"{direction_words(d, _symbol(n, d, contact))}")
+        out = [f"{indent}Impulse diagram, {'impact' if t.kind == 'impact' else 'interval'} "
+               f"{t.before} -> {t.after}"]
+        add = out.append
+        for b in bodies:
+            mine = by_body.get(b.name)
+            if not mine:
+                add(f"{indent}  {b.name}: no impulse")
+                continue
+            add(f"{indent}  {b.name}:")
+            out += mine
+        for d in self._dropped():
+            on = f" ({d.body})" if d.body and d.body not in d.what else ""
+            add(f"{indent}  dropped: {d.what}{on}: {d.why}")
+        return out
 
     def _known_at(self, sid: str):
         """`known(body, q, sid)` for one state, its givens and its root looked up once

@@ -402,6 +402,16 @@ def diagram_for(rep: Report, t: dict):
     return cache[2].get((t["kind"], t["key"]))
 
 
+def diagram_lines(rep: Report, t: dict, indent: str = "") -> list | None:
+    """`diagram_for(rep, t).lines(indent)` (None: no diagram); a lazy report's made
+    straight from its transition (`LazyDiagrams.text`), without the diagram's objects."""
+    ds = rep.diagrams
+    if type(ds) is not list and hasattr(ds, "text"):
+        return ds.text(t["kind"], t["key"], indent)
+    d = diagram_for(rep, t)
+    return None if d is None else d.lines(indent)
+
+
 def forget_diagram_index() -> None:
     """Drop `diagram_for`'s index (it holds the last report's diagrams): once a report
     is rendered, so that its diagrams are freed with it."""

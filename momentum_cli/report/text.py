@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from ..numbers import fmt_num, fmt_tiny
 from .abbrev import abbreviate
-from .model import Report, diagram_for, equation_text
+from .model import Report, diagram_lines, equation_text
 
 
 _FORMATS: dict = {}  # (indent, column widths) -> (line format, rule): small tables recur
@@ -116,10 +116,9 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
         for t in rep.transitions:
             out = [""]
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
-            d = diagram_for(rep, t)
+            d = diagram_lines(rep, t, "  ")
             if d is not None:
-                out.append("\n".join(d.lines("  ")))
-                d = None  # a lazy report's diagram: freed before the equations are made
+                out.append("\n".join(d))
             for w in t["why"]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))
@@ -267,9 +266,9 @@ def render_brief(rep: Report, sig: int = 6, sensitivities: bool = True) -> str:
             continue
         out.append("")
         out.append(title)
-        d = diagram_for(rep, t) if t is not None else None
+        d = diagram_lines(rep, t, "  ") if t is not None else None
         if d is not None:  # the first step of a textbook solution
-            out.extend(d.lines("  "))
+            out.extend(d)
         out.extend(f"  why: {w}" for w in why)
         out.extend(_system(t) if t is not None else [])
         for r in rows:
