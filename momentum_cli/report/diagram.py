@@ -415,7 +415,7 @@ class _Builder:
                 return None
             monos.append(mono)
         bodies = self._bodies(True)
-        self._place(bodies)
+        self._place(bodies, notes=False)
         where = {b.name: b for b in bodies}
         r = self.reader
         got = _SHOWN.get(r)
@@ -548,9 +548,11 @@ class _Builder:
         return out
 
     # -- positions: known, or from the pins, joints and contacts that tie a body to another
-    def _place(self, bodies: list[DiagramBody]) -> None:
+    def _place(self, bodies: list[DiagramBody], notes: bool = True) -> None:
         """Known positions first; then what pins, welds and contacts tie to a placed body;
-        a group that nothing places starts at a schematic spot, in a row beside the rest."""
+        a group that nothing places starts at a schematic spot, in a row beside the rest.
+        `notes`: say what is drawn schematically (a drawing's; the text lines never read
+        them)."""
         if all(b.placed for b in bodies):  # every position known: nothing to tie
             return
         where = {b.name: b for b in bodies}
@@ -566,15 +568,16 @@ class _Builder:
             b = loose[0]
             missing = [q for q, v in (("x", b.x), ("y", b.y)) if math.isnan(v)]
             if len(missing) == 1:  # one coordinate given: the other one does not matter here
-                self.notes.append(f"{b.name}.{missing[0]} at state {self.t.before} is not "
-                                  "known: drawn at 0")
+                if notes:
+                    self.notes.append(f"{b.name}.{missing[0]} at state {self.t.before} is not "
+                                      "known: drawn at 0")
             else:
                 guessed.append(b.name)
             b.x = row if math.isnan(b.x) else b.x
             b.y = 0.0 if math.isnan(b.y) else b.y
             row = max(row, b.x) + 2.5 * size
             b.placed = True
-        if guessed:
+        if guessed and notes:
             self.notes.append(f"positions at state {self.t.before} are not known: "
                               f"{name_list(guessed, 'bodies')} drawn schematically"
                               + (" (the rest where contacts and joints put them)"

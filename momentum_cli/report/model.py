@@ -325,7 +325,9 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     shows: dict = {}  # (dim, unit) -> (factor, label): `reader.show` without its calls
     degrees = reader.degrees
 
-    def unknown_items():
+    def unknown_rows():
+        """(name, SI value, SI unit, value and unit as the reader reads them) of each
+        solved unknown: `unknown_items`' fields, and plain text's (`Lazy.texts`)."""
         for n, u in system.unknowns.items():
             if n in values:
                 x = values[n]  # `_finite(x)` without a call for a finite float
@@ -336,17 +338,26 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                     if fl is None:
                         fl = shows[u.dim, u.unit] = (reader.factor(u.dim),
                                                      reader.label(u.dim, u.unit))
-                    v, shown_unit = si / fl[0], fl[1]
+                    yield n, si, u.unit, si / fl[0], fl[1]
                 else:
-                    v, shown_unit = reader.show(si, u.dim, u.unit, u.qty == "angle")
-                yield dict(name=n, si_value=si, unit=u.unit, value=v, shown_unit=shown_unit)
+                    yield (n, si, u.unit, *reader.show(si, u.dim, u.unit, u.qty == "angle"))
+
+    def unknown_items():
+        for n, si, unit, v, shown_unit in unknown_rows():
+            yield dict(name=n, si_value=si, unit=unit, value=v, shown_unit=shown_unit)
+
+    def unknown_texts():
+        """What plain text reads of each unknown: (name, value, shown unit), no dict."""
+        for n, _si, _unit, v, shown_unit in unknown_rows():
+            yield n, v, shown_unit
 
     if lazy:
         from .diagram import lazy_diagrams
 
         transitions = Lazy(len(system.transitions), transition_items)
         blocks = Lazy(len(sol.blocks), block_items, block_texts)
-        unknowns = Lazy(sum(1 for n in system.unknowns if n in values), unknown_items)
+        unknowns = Lazy(sum(1 for n in system.unknowns if n in values), unknown_items,
+                        unknown_texts)
         diagrams = lazy_diagrams(sol, reader)
     else:
         from .diagram import build_diagrams
@@ -540,6 +551,18 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
     k = reader.factor(MOMENT) if reader is not None else 1.0
     J = reader.label(MOMENT, "J") if reader is not None else "J"
     system, values = sol.system, sol.values
+    nums: dict = {}  # (x, figures) -> fmt_num(x, figures), x != 0: a sequence repeats its Ts
+
+    def num(x: float, sig: int) -> str:
+        if x == 0:  # 0.0 and -0.0 are one key: printed each
+            return fmt_num(x, sig)
+        s = nums.get((x, sig))
+        if s is None:
+            if len(nums) > 4096:
+                nums.clear()
+            s = nums[x, sig] = fmt_num(x, sig)
+        return s
+
     for t in system.transitions:
         if t.kind != "impact":
             continue
@@ -571,10 +594,10 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
             names, n = abbreviate(t.bodies)
             of = f"T of {{{names}}}" + (f" ({n} bodies)" if n else "") + ": "
         out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", status,
-                               f"{of}T{t.before} = {fmt_num(a / k, sig)} {J}, T{t.after} = "
-                               f"{fmt_num(b / k, sig)} {J}, {what} "
-                               f"{fmt_num(abs(lost) / k if abs(lost) > tol else 0.0, sig)} {J} "
-                               f"({fmt_num(abs(frac) * 100 if abs(lost) > tol else 0.0, 4)} %)",
+                               f"{of}T{t.before} = {num(a / k, sig)} {J}, T{t.after} = "
+                               f"{num(b / k, sig)} {J}, {what} "
+                               f"{num(abs(lost) / k if abs(lost) > tol else 0.0, sig)} {J} "
+                               f"({num(abs(frac) * 100 if abs(lost) > tol else 0.0, 4)} %)",
                                _finite(frac)))
     return out
 

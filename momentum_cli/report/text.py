@@ -160,10 +160,12 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
         out = whole
         out.append("")
         out.append(f"Solution ({u.get('name', 'SI')})")
-        out.append("\n".join(table(["unknown", "value", "unit"],
-                                    [[x["name"], shown[v] if v in shown else f(v),
-                                      x.get("shown_unit", x["unit"])] for x in rep.unknowns
-                                     for v in (x.get("value", x["si_value"]),)])))
+        plain = getattr(rep.unknowns, "texts", None)  # a lazy report's: tuples, no dicts
+        out.append("\n".join(table(["unknown", "value", "unit"], [
+            [n, shown[v] if v in shown else f(v), unit] for n, v, unit in (
+                plain() if plain is not None else
+                ((x["name"], x.get("value", x["si_value"]), x.get("shown_unit", x["unit"]))
+                 for x in rep.unknowns))])))
         if rep.regimes:
             out.append("")
             out.append("Friction regimes")
