@@ -63,3 +63,35 @@ def test_law_names_drop_a_product_with_a_zero_known_factor():
              Mul((Known("k", 3.0), Add((a, Mul((Const(0.0), c))))))))
     assert statements._variables(e) == variables(e) == {"b", "c", "a"}
     assert list(statements._variables(e)) == list(variables(e))
+
+
+def test_terms_of_long_sums_by_the_last_terms_matcher_equal_their_walks(monkeypatch):
+    """`printer._term_printers(x, last)` (the term before's matcher tried first) gives
+    the leaves and printers the walk finds, term by term: the laws of chains and
+    cradles, and sums whose terms change shape (a matcher that must refuse)."""
+    from momentum_cli.report import printer
+
+    monkeypatch.setattr(printer, "COMPILE_AFTER", 0)
+    a, b, c = Var("a"), Var("b"), Var("c")
+    odd = Add((Mul((Known("m", 2.0), a)), Mul((Known("n", 3.0), b)), c,
+               Mul((Const(-1.0), a, b)), Mul((Known("p", 4.0), c)), Const(5.0),
+               Mul((Known("q", 1.5), Add((a, b))))))
+    sums = [odd]
+    for text in (chain_text(40), cradle_text(6, "simultaneous")):
+        sol = solve_scene(build(parse(Source("x.mom", text))))
+        for t in sol.system.transitions:
+            for law in getattr(t, "laws", ()) or ():
+                sums += [e for e in (law.lhs, law.rhs) if type(e) is Add]
+    n = 0
+    for e in sums:
+        last: list = [None, None]
+        for x in e.terms:
+            got = printer._term_printers(x, last)
+            want = printer._term_printers(x)
+            assert bool(got) == bool(want)
+            if got:
+                assert got[0] == want[0] and [type(y) for y in got[0]] == \
+                    [type(y) for y in want[0]]
+                assert got[1] is want[1]
+                n += 1
+    assert n > 100
