@@ -168,6 +168,9 @@ class ImpulseDiagram:
 
 
 _SHOWN: dict = {}  # reader -> the impulses' (factor, label) by moment, the length factor
+# (coefficients, component, contact normal) -> (size, words) of an impulse in a diagram's
+# text (`_Builder.plain_lines`): a pure function of the key, shared by all
+_DIRS: dict = {}
 _NUMS: dict = {}  # x -> its text in a diagram (a pure function of x: shared by all)
 
 
@@ -428,6 +431,7 @@ class _Builder:
             cache.clear()
         vals = self.values
         contacts = self._contacts()
+        dirs = _DIRS
         by_body: dict = {}
         for a, mono in zip(apps, monos):
             body = where[a.body]
@@ -439,12 +443,26 @@ class _Builder:
             at, point = _where(a, body, arm)
             head = None
             contact = contacts.get(a.what)
+            normal = contact.normal if contact is not None else None
             for n in (mono if len(mono) == 1 else sorted(mono, key=str)):
                 d = mono[n]
-                size = math.hypot(*d)
+                # its size and words: a function of the coefficients, the component and
+                # the contact's normal (`_symbol`), met again and again along a sequence
+                dk = (d, getattr(n, "comp", None), normal)
+                sw = dirs.get(dk)
+                if sw is None:
+                    size = math.hypot(*d)
+                    if size == 0:
+                        sw = (size, None)
+                    else:
+                        d = (d[0] / size, d[1] / size)
+                        sw = (size, direction_words(d, _symbol(n, d, contact)))
+                    if len(dirs) > 4096:
+                        dirs.clear()
+                    dirs[dk] = sw
+                size, words = sw
                 if size == 0:
                     continue
-                d = (d[0] / size, d[1] / size)
                 val = vals.get(n)
                 if head is None:  # where it acts: the same for each impulse of `a`
                     x, y = at[0] / f, at[1] / f
@@ -464,8 +482,7 @@ class _Builder:
                     v = cache.get(x)
                     if v is None:
                         v = cache[x] = fmt_num(_clean(x), SIG)
-                mine.append(f"{indent}    {_local(n)} = {v}{head}"
-                            f"{direction_words(d, _symbol(n, d, contact))}")
+                mine.append(f"{indent}    {_local(n)} = {v}{head}{words}")
         out = [f"{indent}Impulse diagram, {'impact' if t.kind == 'impact' else 'interval'} "
                f"{t.before} -> {t.after}"]
         add = out.append
