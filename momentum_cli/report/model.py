@@ -88,6 +88,8 @@ def _finite_all(xs) -> list:
 
 
 _NONE: frozenset = frozenset()
+_SI_UNIT = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
+            "omega": "rad/s"}  # a state quantity's SI unit (the knowns')
 
 
 def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
@@ -208,10 +210,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
             return Lazy(len(ks), lambda: map(row, ks), lambda: map(row_text, ks))
         return [rows[k] for k in ks]
 
+    k_mass, k_inertia = reader.factor(MASS), reader.factor(INERTIA)  # once, not per body
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
                    formula=b.inertia_formula, particle=b.is_particle,
-                   weight=b.weight_given, shown_mass=b.mass / reader.factor(MASS),
-                   shown_inertia=b.inertia / reader.factor(INERTIA))
+                   weight=b.weight_given, shown_mass=b.mass / k_mass,
+                   shown_inertia=b.inertia / k_inertia)
               for b in sc.bodies.values()]
     effects = []
     acc = reader.label(ACCELERATION)
@@ -233,15 +236,12 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     for sid, spec in sc.states.items():
         items = []
         for (body, q), (v, _) in spec.givens.items():
-            unit = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
-                    "omega": "rad/s"}[q]
-            items.append((f"{body}.{q}", *reader.show(v, STATE_DIMS[q], unit, q == "angle")))
+            items.append((f"{body}.{q}",
+                          *reader.show(v, STATE_DIMS[q], _SI_UNIT[q], q == "angle")))
         units = [u for _n, _v, u in items]
         for (body, q), hs in spec.hints.items():
             for rel, v, _ in hs:
-                si_unit = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
-                           "omega": "rad/s"}[q]
-                shown_v = reader.show(v, STATE_DIMS[q], si_unit, q == "angle")
+                shown_v = reader.show(v, STATE_DIMS[q], _SI_UNIT[q], q == "angle")
                 items.append((f"{body}.{q} {rel}", shown_v[0], "hint"))
                 units.append(shown_v[1])
         # items: (name, value, unit) in the reader's units, unit "hint" for a bound (its
