@@ -323,10 +323,19 @@ class _Shared:
             for (b, q), (v, _) in st.givens.items():
                 if q in POSITION:
                     self.placed.setdefault((b, q, r), v)
+        odd = False  # a value a lookup by "body.q@state" might find but `placed` lacks
         for k, v in sol.values.items():
-            if isinstance(k, Key) and k.kind is KeyKind.STATE and k.qty in POSITION and \
-                    k.state is not None:
-                self.placed.setdefault((k.body, k.qty, root(k.state)), v)
+            if isinstance(k, Key):
+                if k.kind is KeyKind.STATE and k.qty in POSITION:
+                    if k.state is not None:
+                        self.placed.setdefault((k.body, k.qty, root(k.state)), v)
+                    else:
+                        odd = True
+            else:
+                odd = True
+        # no position or angle known at any state (given or solved): every body's lookups
+        # in `_known_at` find nothing (its diagram places it by its ties)
+        self.unplaced = not self.placed and not odd
         self.parts: dict = {}  # body -> its parts as a diagram draws them (made once)
         sizes = [_extent(b) for b in sc.bodies.values()]
         self.size = max([x for x in sizes if x > 0] or [1.0])
@@ -538,6 +547,11 @@ class _Builder:
 
         out = []
         bodies = self.sc.bodies
+        if lines_only and self.shared.unplaced:  # nothing to look up: `ki` finds None
+            nan = math.nan
+            return [DiagramBody(name, b.kind, nan, nan, 0.0, False, (), None, None, None,
+                                None, b.is_particle)
+                    for name in self.t.bodies for b in (bodies[name],)]
         shapes = self.shared.parts
         for name in self.t.bodies:
             b = bodies[name]
