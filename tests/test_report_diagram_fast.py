@@ -1,5 +1,6 @@
 """The impulse diagrams' shortcut for the commonest application (`diagram.PLAIN`:
-impulses alone, a known arm) against `_impulses`' general steps: the same diagrams,
+impulses alone, a known arm; and the plain text made straight from a transition,
+`LazyDiagrams.text`) against `_impulses`' general steps: the same diagrams and lines,
 field by field (a float's bits through repr), on every example, chains, cradles
 (sequence and simultaneous) and scenegen scenes."""
 from __future__ import annotations
@@ -37,6 +38,11 @@ def _same(text_: str, name: str = "x.mom", monkeypatch=None) -> bool:
         lazy = diagram.lazy_diagrams(sol, reader)
         got[plain] = (repr(ds), [d.lines("  ") for d in ds],
                       [repr(lazy.of(d.kind, d.key)) for d in ds])
+        # the plain text made straight from each transition (`LazyDiagrams.text`, by
+        # `_Builder.plain_lines` where it applies) is the diagram's own lines
+        for indent in ("", "  "):
+            assert [lazy.text(d.kind, d.key, indent) for d in ds] == \
+                [d.lines(indent) for d in ds]
     assert got[True] == got[False]
     return True
 

@@ -168,6 +168,9 @@ class ImpulseDiagram:
 
 
 _SHOWN: dict = {}  # reader -> the impulses' (factor, label) by moment, the length factor
+# (coefficients, component, contact normal) -> (size, words) of an impulse in a diagram's
+# text (`_Builder.plain_lines`): a pure function of the key, shared by all
+_DIRS: dict = {}
 _NUMS: dict = {}  # x -> its text in a diagram (a pure function of x: shared by all)
 
 
@@ -252,6 +255,23 @@ class LazyDiagrams:
         d.reader = self.reader
         return d
 
+    def text(self, kind: str, key: str, indent: str = "") -> list | None:
+        """`of(kind, key).lines(indent)`, the same lines, made straight from the transition
+        where every application is the commonest (`_Builder.plain_lines`): no impulse or
+        diagram objects; None: no diagram."""
+        t = self.ts.get((kind, key))
+        if t is None:
+            return None
+        if self.shared is None:
+            self.shared = _Shared(self.sol)
+        b = _Builder(self.shared, t, self.reader)
+        got = b.plain_lines(indent) if PLAIN else None
+        if got is None:
+            d = b.build(lines_only=True)
+            d.reader = self.reader
+            got = d.lines(indent)
+        return got
+
     def __iter__(self):
         for t in self.sol.system.transitions:
             if t.kind in ("impact", "interval"):
@@ -303,10 +323,19 @@ class _Shared:
             for (b, q), (v, _) in st.givens.items():
                 if q in POSITION:
                     self.placed.setdefault((b, q, r), v)
+        odd = False  # a value a lookup by "body.q@state" might find but `placed` lacks
         for k, v in sol.values.items():
-            if isinstance(k, Key) and k.kind is KeyKind.STATE and k.qty in POSITION and \
-                    k.state is not None:
-                self.placed.setdefault((k.body, k.qty, root(k.state)), v)
+            if isinstance(k, Key):
+                if k.kind is KeyKind.STATE and k.qty in POSITION:
+                    if k.state is not None:
+                        self.placed.setdefault((k.body, k.qty, root(k.state)), v)
+                    else:
+                        odd = True
+            else:
+                odd = True
+        # no position or angle known at any state (given or solved): every body's lookups
+        # in `_known_at` find nothing (its diagram places it by its ties)
+        self.unplaced = not self.placed and not odd
         self.parts: dict = {}  # body -> its parts as a diagram draws them (made once)
         sizes = [_extent(b) for b in sc.bodies.values()]
         self.size = max([x for x in sizes if x > 0] or [1.0])
@@ -379,6 +408,105 @@ class _Builder:
                               self._dropped(), self._surfaces(bodies), self._pins(),
                               self._links(where), self.notes)
 
+    def plain_lines(self, indent: str = "") -> list | None:
+        """`ImpulseDiagram.lines(indent)` of `build(lines_only=True)`, the same strings, for a
+        transition whose every application takes `_plain_impulses` (impulses alone, no
+        torque, a known arm): each impulse's line formatted where it is found (no
+        `DiagramImpulse`, no sort: grouped by body as found); None for any other."""
+        t = self.t
+        apps = t.impulses
+        monos = []
+        for a in apps:
+            if a.torque is not None:
+                return None
+            mono = _monomials(a.J)
+            if mono is None:
+                return None
+            tx, ty = type(a.arm.x), type(a.arm.y)
+            if not ((tx is Const or tx is Known) and (ty is Const or ty is Known)):
+                return None
+            monos.append(mono)
+        bodies = self._bodies(True)
+        self._place(bodies, notes=False)
+        where = {b.name: b for b in bodies}
+        r = self.reader
+        got = _SHOWN.get(r)
+        if got is None:
+            got = _SHOWN[r] = ({m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
+                                ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+        (k, unit), f = got[0][False], got[1]
+        cache = _NUMS
+        if len(cache) > 4096:
+            cache.clear()
+        vals = self.values
+        contacts = self._contacts()
+        dirs = _DIRS
+        by_body: dict = {}
+        for a, mono in zip(apps, monos):
+            body = where[a.body]
+            p = a.point
+            if p.round_contact or p.located_by is not None:
+                arm = (a.arm.x.value, a.arm.y.value)
+            else:
+                arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
+            at, point = _where(a, body, arm)
+            head = None
+            contact = contacts.get(a.what)
+            normal = contact.normal if contact is not None else None
+            for n in (mono if len(mono) == 1 else sorted(mono, key=str)):
+                d = mono[n]
+                # its size and words: a function of the coefficients, the component and
+                # the contact's normal (`_symbol`), met again and again along a sequence
+                dk = (d, getattr(n, "comp", None), normal)
+                sw = dirs.get(dk)
+                if sw is None:
+                    size = math.hypot(*d)
+                    if size == 0:
+                        sw = (size, None)
+                    else:
+                        d = (d[0] / size, d[1] / size)
+                        sw = (size, direction_words(d, _symbol(n, d, contact)))
+                    if len(dirs) > 4096:
+                        dirs.clear()
+                    dirs[dk] = sw
+                size, words = sw
+                if size == 0:
+                    continue
+                val = vals.get(n)
+                if head is None:  # where it acts: the same for each impulse of `a`
+                    x, y = at[0] / f, at[1] / f
+                    sx, sy = cache.get(x), cache.get(y)
+                    if sx is None:
+                        sx = cache[x] = fmt_num(_clean(x), SIG)
+                    if sy is None:
+                        sy = cache[y] = fmt_num(_clean(y), SIG)
+                    head = f" {unit} at {point} ({sx}, {sy}), "
+                    mine = by_body.get(a.body)
+                    if mine is None:
+                        mine = by_body[a.body] = []
+                if val is None:
+                    v = "?"
+                else:
+                    x = val * size / k
+                    v = cache.get(x)
+                    if v is None:
+                        v = cache[x] = fmt_num(_clean(x), SIG)
+                mine.append(f"{indent}    {_local(n)} = {v}{head}{words}")
+        out = [f"{indent}Impulse diagram, {'impact' if t.kind == 'impact' else 'interval'} "
+               f"{t.before} -> {t.after}"]
+        add = out.append
+        for b in bodies:
+            mine = by_body.get(b.name)
+            if not mine:
+                add(f"{indent}  {b.name}: no impulse")
+                continue
+            add(f"{indent}  {b.name}:")
+            out += mine
+        for d in self._dropped():
+            on = f" ({d.body})" if d.body and d.body not in d.what else ""
+            add(f"{indent}  dropped: {d.what}{on}: {d.why}")
+        return out
+
     def _known_at(self, sid: str):
         """`known(body, q, sid)` for one state, its givens and its root looked up once
         (a transition of 10^4 bodies asks for seven quantities of each)."""
@@ -419,6 +547,11 @@ class _Builder:
 
         out = []
         bodies = self.sc.bodies
+        if lines_only and self.shared.unplaced:  # nothing to look up: `ki` finds None
+            nan = math.nan
+            return [DiagramBody(name, b.kind, nan, nan, 0.0, False, (), None, None, None,
+                                None, b.is_particle)
+                    for name in self.t.bodies for b in (bodies[name],)]
         shapes = self.shared.parts
         for name in self.t.bodies:
             b = bodies[name]
@@ -446,9 +579,11 @@ class _Builder:
         return out
 
     # -- positions: known, or from the pins, joints and contacts that tie a body to another
-    def _place(self, bodies: list[DiagramBody]) -> None:
+    def _place(self, bodies: list[DiagramBody], notes: bool = True) -> None:
         """Known positions first; then what pins, welds and contacts tie to a placed body;
-        a group that nothing places starts at a schematic spot, in a row beside the rest."""
+        a group that nothing places starts at a schematic spot, in a row beside the rest.
+        `notes`: say what is drawn schematically (a drawing's; the text lines never read
+        them)."""
         if all(b.placed for b in bodies):  # every position known: nothing to tie
             return
         where = {b.name: b for b in bodies}
@@ -464,15 +599,16 @@ class _Builder:
             b = loose[0]
             missing = [q for q, v in (("x", b.x), ("y", b.y)) if math.isnan(v)]
             if len(missing) == 1:  # one coordinate given: the other one does not matter here
-                self.notes.append(f"{b.name}.{missing[0]} at state {self.t.before} is not "
-                                  "known: drawn at 0")
+                if notes:
+                    self.notes.append(f"{b.name}.{missing[0]} at state {self.t.before} is not "
+                                      "known: drawn at 0")
             else:
                 guessed.append(b.name)
             b.x = row if math.isnan(b.x) else b.x
             b.y = 0.0 if math.isnan(b.y) else b.y
             row = max(row, b.x) + 2.5 * size
             b.placed = True
-        if guessed:
+        if guessed and notes:
             self.notes.append(f"positions at state {self.t.before} are not known: "
                               f"{name_list(guessed, 'bodies')} drawn schematically"
                               + (" (the rest where contacts and joints put them)"

@@ -88,6 +88,8 @@ def _finite_all(xs) -> list:
 
 
 _NONE: frozenset = frozenset()
+_SI_UNIT = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
+            "omega": "rad/s"}  # a state quantity's SI unit (the knowns')
 
 
 def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
@@ -105,16 +107,29 @@ def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
             numeric_line(e, values, keep, system, reader, sig))
 
 
+def equation_text(index: int, principle: str, line, role: str, sym: str, num: str) -> str:
+    """One equation row as the plain report shows it: its number, principle, line (or
+    scene) and role, then its symbolic line and (where it differs) its numeric line."""
+    tail = f"\n      {sym}\n      {num}" if num != sym else f"\n      {sym}"
+    if line:
+        return f"  ({index + 1}) {principle} (line {line}){tail}" if role == "solved" \
+            else f"  ({index + 1}) {principle} (line {line}) [{role}]{tail}"
+    return f"  ({index + 1}) {principle} (scene){tail}" if role == "solved" else \
+        f"  ({index + 1}) {principle} (scene) [{role}]{tail}"
+
+
 class Lazy:
     """A list of the report made item by item each time it is read, never held whole: a
     big scene's report is streamed into its text while only the solution is alive (the
     rows, blocks and unknowns of 10^5 balls are half a gigabyte as objects). `make()`
     gives an iterator over the items; a copy (`list`, pickle) is a plain list."""
 
-    __slots__ = ("_n", "_make")
+    __slots__ = ("_n", "_make", "texts")
 
-    def __init__(self, n: int, make):
-        self._n, self._make = n, make
+    def __init__(self, n: int, make, texts=None):
+        """`texts`: None, or a function giving an iterator over the items' plain text
+        (`equation_text` of each row), made without the items (plain text reads no more)."""
+        self._n, self._make, self.texts = n, make, texts
 
     def __iter__(self):
         return self._make()
@@ -176,6 +191,14 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                                    reader, sig, shown),
                            e.kind, role[k], solves.get(k, []))
 
+    def row_text(k: int) -> str:
+        """`equation_text` of `row(k)`, without the row."""
+        e = eqs[k]
+        span = e.span
+        return equation_text(k, e.principle, span.line if span else None, role[k],
+                             *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
+                                     reader, sig, shown))
+
     by_group: dict[str, list[int]] = {}  # one pass over the equations, not one a transition
     for k, e in enumerate(eqs):
         by_group.setdefault(e.group, []).append(k)
@@ -184,13 +207,14 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
 
     def group_rows(ks: list):
         if lazy:  # made as read: a transition of 10^5 bodies is not held as rows
-            return Lazy(len(ks), lambda: map(row, ks))
+            return Lazy(len(ks), lambda: map(row, ks), lambda: map(row_text, ks))
         return [rows[k] for k in ks]
 
+    k_mass, k_inertia = reader.factor(MASS), reader.factor(INERTIA)  # once, not per body
     bodies = [dict(name=b.name, shape=b.kind, mass=b.mass, inertia=b.inertia,
                    formula=b.inertia_formula, particle=b.is_particle,
-                   weight=b.weight_given, shown_mass=b.mass / reader.factor(MASS),
-                   shown_inertia=b.inertia / reader.factor(INERTIA))
+                   weight=b.weight_given, shown_mass=b.mass / k_mass,
+                   shown_inertia=b.inertia / k_inertia)
               for b in sc.bodies.values()]
     effects = []
     acc = reader.label(ACCELERATION)
@@ -212,15 +236,12 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     for sid, spec in sc.states.items():
         items = []
         for (body, q), (v, _) in spec.givens.items():
-            unit = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
-                    "omega": "rad/s"}[q]
-            items.append((f"{body}.{q}", *reader.show(v, STATE_DIMS[q], unit, q == "angle")))
+            items.append((f"{body}.{q}",
+                          *reader.show(v, STATE_DIMS[q], _SI_UNIT[q], q == "angle")))
         units = [u for _n, _v, u in items]
         for (body, q), hs in spec.hints.items():
             for rel, v, _ in hs:
-                si_unit = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
-                           "omega": "rad/s"}[q]
-                shown_v = reader.show(v, STATE_DIMS[q], si_unit, q == "angle")
+                shown_v = reader.show(v, STATE_DIMS[q], _SI_UNIT[q], q == "angle")
                 items.append((f"{body}.{q} {rel}", shown_v[0], "hint"))
                 units.append(shown_v[1])
         # items: (name, value, unit) in the reader's units, unit "hint" for a bound (its
@@ -278,10 +299,35 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                 d["rhs"] = _finite_all(b.rhs)
             yield d
 
+    def block_texts():
+        """What plain text reads of each `block_items` dict, as a tuple (index, unknowns,
+        method, condition number, iterations, residual, lines, matrix or None, rhs or
+        None): no dict, no quality (JSON's)."""
+        for i, b in enumerate(sol.blocks):
+            ks = b.equations
+            if len(ks) == 1:
+                span = eqs[ks[0]].span
+                lines = [span.line] if span else []
+            else:
+                lines = sorted({eqs[k].span.line for k in ks if eqs[k].span})
+            x, r = b.cond, b.residual
+            unk = b.unknowns
+            if b.matrix is not None and len(unk) > 1:
+                matrix, rhs = [_finite_all(row) for row in b.matrix], _finite_all(b.rhs)
+            else:
+                matrix = rhs = None
+            yield (i + 1, unk if type(unk) is list else list(unk), b.method,
+                   (0.0 if x == 0 else x) if type(x) is float and x - x == 0.0 else _finite(x),
+                   b.iterations,
+                   (0.0 if r == 0 else r) if type(r) is float and r - r == 0.0 else _finite(r),
+                   lines, matrix, rhs)
+
     shows: dict = {}  # (dim, unit) -> (factor, label): `reader.show` without its calls
     degrees = reader.degrees
 
-    def unknown_items():
+    def unknown_rows():
+        """(name, SI value, SI unit, value and unit as the reader reads them) of each
+        solved unknown: `unknown_items`' fields, and plain text's (`Lazy.texts`)."""
         for n, u in system.unknowns.items():
             if n in values:
                 x = values[n]  # `_finite(x)` without a call for a finite float
@@ -292,17 +338,26 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                     if fl is None:
                         fl = shows[u.dim, u.unit] = (reader.factor(u.dim),
                                                      reader.label(u.dim, u.unit))
-                    v, shown_unit = si / fl[0], fl[1]
+                    yield n, si, u.unit, si / fl[0], fl[1]
                 else:
-                    v, shown_unit = reader.show(si, u.dim, u.unit, u.qty == "angle")
-                yield dict(name=n, si_value=si, unit=u.unit, value=v, shown_unit=shown_unit)
+                    yield (n, si, u.unit, *reader.show(si, u.dim, u.unit, u.qty == "angle"))
+
+    def unknown_items():
+        for n, si, unit, v, shown_unit in unknown_rows():
+            yield dict(name=n, si_value=si, unit=unit, value=v, shown_unit=shown_unit)
+
+    def unknown_texts():
+        """What plain text reads of each unknown: (name, value, shown unit), no dict."""
+        for n, _si, _unit, v, shown_unit in unknown_rows():
+            yield n, v, shown_unit
 
     if lazy:
         from .diagram import lazy_diagrams
 
         transitions = Lazy(len(system.transitions), transition_items)
-        blocks = Lazy(len(sol.blocks), block_items)
-        unknowns = Lazy(sum(1 for n in system.unknowns if n in values), unknown_items)
+        blocks = Lazy(len(sol.blocks), block_items, block_texts)
+        unknowns = Lazy(sum(1 for n in system.unknowns if n in values), unknown_items,
+                        unknown_texts)
         diagrams = lazy_diagrams(sol, reader)
     else:
         from .diagram import build_diagrams
@@ -356,6 +411,16 @@ def diagram_for(rep: Report, t: dict):
             index.setdefault((d.kind, d.key), d)  # the first, as a scan finds it
         cache[:] = [ds, len(ds), index]
     return cache[2].get((t["kind"], t["key"]))
+
+
+def diagram_lines(rep: Report, t: dict, indent: str = "") -> list | None:
+    """`diagram_for(rep, t).lines(indent)` (None: no diagram); a lazy report's made
+    straight from its transition (`LazyDiagrams.text`), without the diagram's objects."""
+    ds = rep.diagrams
+    if type(ds) is not list and hasattr(ds, "text"):
+        return ds.text(t["kind"], t["key"], indent)
+    d = diagram_for(rep, t)
+    return None if d is None else d.lines(indent)
 
 
 def forget_diagram_index() -> None:
@@ -486,6 +551,18 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
     k = reader.factor(MOMENT) if reader is not None else 1.0
     J = reader.label(MOMENT, "J") if reader is not None else "J"
     system, values = sol.system, sol.values
+    nums: dict = {}  # (x, figures) -> fmt_num(x, figures), x != 0: a sequence repeats its Ts
+
+    def num(x: float, sig: int) -> str:
+        if x == 0:  # 0.0 and -0.0 are one key: printed each
+            return fmt_num(x, sig)
+        s = nums.get((x, sig))
+        if s is None:
+            if len(nums) > 4096:
+                nums.clear()
+            s = nums[x, sig] = fmt_num(x, sig)
+        return s
+
     for t in system.transitions:
         if t.kind != "impact":
             continue
@@ -517,10 +594,10 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
             names, n = abbreviate(t.bodies)
             of = f"T of {{{names}}}" + (f" ({n} bodies)" if n else "") + ": "
         out.append(CheckReport(f"kinetic energy, impact {t.before} -> {t.after}", status,
-                               f"{of}T{t.before} = {fmt_num(a / k, sig)} {J}, T{t.after} = "
-                               f"{fmt_num(b / k, sig)} {J}, {what} "
-                               f"{fmt_num(abs(lost) / k if abs(lost) > tol else 0.0, sig)} {J} "
-                               f"({fmt_num(abs(frac) * 100 if abs(lost) > tol else 0.0, 4)} %)",
+                               f"{of}T{t.before} = {num(a / k, sig)} {J}, T{t.after} = "
+                               f"{num(b / k, sig)} {J}, {what} "
+                               f"{num(abs(lost) / k if abs(lost) > tol else 0.0, sig)} {J} "
+                               f"({num(abs(frac) * 100 if abs(lost) > tol else 0.0, 4)} %)",
                                _finite(frac)))
     return out
 

@@ -301,9 +301,12 @@ _LEAFY = (Add, Mul, Var, Const, Known)  # the nodes `_walk` tells apart from "ot
 
 def _matcher(key: tuple):
     """A function (lhs, rhs) -> the leaves `_walk` would list, or None where the tree is
-    not of shape `key` (the same node types, the same sizes, at every token)."""
-    code = ["def match(lhs, rhs):", "    L = []", "    put = L.append"]
-    pos = [0]
+    not of shape `key` (the same node types, the same sizes, at every token); for a key
+    of one expression (`_EXPR` first: a term of a long sum), a function of it."""
+    expr = key[0] == _EXPR
+    code = ["def match(e):" if expr else "def match(lhs, rhs):", "    L = []",
+            "    put = L.append"]
+    pos = [1 if expr else 0]
     n = [0]
 
     def var() -> str:
@@ -342,22 +345,42 @@ def _matcher(key: tuple):
                 emit(f"if type({x}) is Pow and {x}.exp < 0: return None")
             emit(f"put({x})")
 
-    node("lhs", None)
-    assert key[pos[0]] == _EQ
-    pos[0] += 1
-    node("rhs", None)
+    if expr:
+        node("e", None)
+    else:
+        node("lhs", None)
+        assert key[pos[0]] == _EQ
+        pos[0] += 1
+        node("rhs", None)
+    assert pos[0] == len(key)
     code.append("    return L")
     env = dict(Add=Add, Mul=Mul, Var=Var, Const=Const, Known=Known, Pow=Pow, LEAFY=_LEAFY)
     exec("\n".join(code), env)  # noqa: S102 - our own generated code
     return env["match"]
 
 
-def _term_printers(e):
-    """`printers` of one expression (a term of a long sum)."""
+def _term_printers(e, last: list | None = None):
+    """`printers` of one expression (a term of a long sum). `last`: [matcher, printers]
+    of the term met before, tried first (a long sum's terms are mostly of one shape: read
+    by its matcher, not walked); set to this term's where its shape is compiled."""
+    if last is not None and last[0] is not None:
+        leaves = last[0](e)
+        if leaves is not None:
+            return leaves, last[1]
     toks: list = [_EXPR]
-    leaves: list = []
+    leaves = []
     _walk(e, toks, leaves)
-    return _found(toks, leaves)
+    got = _found(toks, leaves)
+    if got and last is not None:
+        key = tuple(toks)
+        m = _MATCHERS.get(key)
+        if m is None:
+            if len(_MATCHERS) >= LIMIT:
+                _MATCHERS.clear()
+                _LAST.clear()
+            m = _MATCHERS[key] = _matcher(key)
+        last[:] = [m, got[1]]
+    return got
 
 
 def _found(toks: list, leaves: list):
@@ -410,8 +433,9 @@ def _side(e, values, keep, sig: int, six: dict, shown: dict) -> tuple[str, str]:
         return _txt(e, False, 6, None, False)[0], _si_text(e, values, keep, sig)[0]
     syms: list = []
     nums: list = []
+    last: list = [None, None]  # the shape met last: its matcher and printers
     for x in e.terms:
-        got = _term_printers(x)
+        got = _term_printers(x, last)
         if got:
             leaves, (sym, num) = got
             s, n = sym(leaves, None, None, 6, six)[0], num(leaves, values, keep, sig, shown)[0]

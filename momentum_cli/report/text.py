@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from ..numbers import fmt_num, fmt_tiny
 from .abbrev import abbreviate
-from .model import Report, diagram_for
+from .model import Report, diagram_lines, equation_text
 
 
 _FORMATS: dict = {}  # (indent, column widths) -> (line format, rule): small tables recur
@@ -116,10 +116,9 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
         for t in rep.transitions:
             out = [""]
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
-            d = diagram_for(rep, t)
+            d = diagram_lines(rep, t, "  ")
             if d is not None:
-                out.append("\n".join(d.lines("  ")))
-                d = None  # a lazy report's diagram: freed before the equations are made
+                out.append("\n".join(d))
             for w in t["why"]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))
@@ -135,32 +134,38 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
         whole, out = out, []
         add = out.append
         shown = f.cache
-        for b in rep.blocks:
-            how = (f"linear, condition number {f(b['condition_number'])}"
-                   if b["method"] == "linear" else
-                   "integrated numerically from its inputs" if b["method"] == "integrated" else
-                   f"Newton, {b['iterations']} iterations, residual {fmt_tiny(b['residual'] or 0)}")
+        plain = getattr(rep.blocks, "texts", None)  # a lazy report's: tuples, no dicts
+        for index, unknowns, method, cond, iterations, residual, lines, matrix, rhs in (
+                plain() if plain is not None else
+                ((b["index"], b["unknowns"], b["method"], b["condition_number"],
+                  b["iterations"], b["residual"], b["lines"], b.get("matrix"), b.get("rhs"))
+                 for b in rep.blocks)):
+            how = (f"linear, condition number {shown[cond] if cond in shown else f(cond)}"
+                   if method == "linear" else
+                   "integrated numerically from its inputs" if method == "integrated" else
+                   f"Newton, {iterations} iterations, residual {fmt_tiny(residual or 0)}")
             # a block of thousands: its first and last unknowns and lines, and how many
-            unknowns, lines = b["unknowns"], b["lines"]
             if len(unknowns) == 1 and len(lines) == 1:  # as `abbreviate` shows one name
-                add(f"  block {b['index']}: {unknowns[0]} ({how}; lines {lines[0]})")
+                add(f"  block {index}: {unknowns[0]} ({how}; lines {lines[0]})")
             else:
                 names, n = abbreviate(unknowns)
                 lines, n_lines = abbreviate(lines)
                 lines = f"{n_lines} lines: {lines}" if n_lines else f"lines {lines}"
                 count = f"{n} unknowns; " if n else ""
-                add(f"  block {b['index']}: {names} ({count}{how}; {lines})")
-            if "matrix" in b:
-                _matrix(unknowns, b["matrix"], b["rhs"], f, out)
+                add(f"  block {index}: {names} ({count}{how}; {lines})")
+            if matrix is not None:
+                _matrix(unknowns, matrix, rhs, f, out)
         if out:
             whole.append("\n".join(out))
         out = whole
         out.append("")
         out.append(f"Solution ({u.get('name', 'SI')})")
-        out.append("\n".join(table(["unknown", "value", "unit"],
-                                    [[x["name"], shown[v] if v in shown else f(v),
-                                      x.get("shown_unit", x["unit"])] for x in rep.unknowns
-                                     for v in (x.get("value", x["si_value"]),)])))
+        plain = getattr(rep.unknowns, "texts", None)  # a lazy report's: tuples, no dicts
+        out.append("\n".join(table(["unknown", "value", "unit"], [
+            [n, shown[v] if v in shown else f(v), unit] for n, v, unit in (
+                plain() if plain is not None else
+                ((x["name"], x.get("value", x["si_value"]), x.get("shown_unit", x["unit"]))
+                 for x in rep.unknowns))])))
         if rep.regimes:
             out.append("")
             out.append("Friction regimes")
@@ -263,9 +268,9 @@ def render_brief(rep: Report, sig: int = 6, sensitivities: bool = True) -> str:
             continue
         out.append("")
         out.append(title)
-        d = diagram_for(rep, t) if t is not None else None
+        d = diagram_lines(rep, t, "  ") if t is not None else None
         if d is not None:  # the first step of a textbook solution
-            out.extend(d.lines("  "))
+            out.extend(d)
         out.extend(f"  why: {w}" for w in why)
         out.extend(_system(t) if t is not None else [])
         for r in rows:
@@ -302,18 +307,14 @@ def _system(t: dict) -> list[str]:
 
 
 def _equations(rows, out: list) -> None:
-    """`_equation` of each row, appended to `out` (one loop, no list per row)."""
-    add = out.append  # one item per equation, its lines joined: the same text once joined
-    for r in rows:
-        role = r.role
-        sym, num = r.symbolic, r.numeric
-        tail = f"\n      {sym}\n      {num}" if num != sym else f"\n      {sym}"
-        if r.line:
-            add(f"  ({r.index + 1}) {r.principle} (line {r.line}){tail}" if role == "solved"
-                else f"  ({r.index + 1}) {r.principle} (line {r.line}) [{role}]{tail}")
-        else:
-            add(f"  ({r.index + 1}) {r.principle} (scene){tail}" if role == "solved" else
-                f"  ({r.index + 1}) {r.principle} (scene) [{role}]{tail}")
+    """`_equation` of each row, appended to `out` (one item per equation, its lines
+    joined: the same text once joined); a lazy report's rows as text, never made."""
+    texts = getattr(rows, "texts", None)
+    if texts is not None:
+        out += texts()
+        return
+    out += [equation_text(r.index, r.principle, r.line, r.role, r.symbolic, r.numeric)
+            for r in rows]
 
 
 def _equation(r) -> list[str]:
