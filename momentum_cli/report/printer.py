@@ -282,13 +282,7 @@ def printers(eq):
     _walk(rhs, toks, leaves)
     got = _found(toks, leaves)
     if got:
-        key = tuple(toks)
-        m = _MATCHERS.get(key)
-        if m is None:
-            if len(_MATCHERS) >= LIMIT:
-                _MATCHERS.clear()
-                _LAST.clear()
-            m = _MATCHERS[key] = _matcher(key)
+        m = _matcher_of(toks)
         last = _LAST.get(top)  # two shapes kept per top: a sequence alternates them
         _LAST[top] = ((m, got[1]),) if last is None else ((m, got[1]), last[0])
     return got
@@ -372,15 +366,20 @@ def _term_printers(e, last: list | None = None):
     _walk(e, toks, leaves)
     got = _found(toks, leaves)
     if got and last is not None:
-        key = tuple(toks)
-        m = _MATCHERS.get(key)
-        if m is None:
-            if len(_MATCHERS) >= LIMIT:
-                _MATCHERS.clear()
-                _LAST.clear()
-            m = _MATCHERS[key] = _matcher(key)
-        last[:] = [m, got[1]]
+        last[:] = [_matcher_of(toks), got[1]]
     return got
+
+
+def _matcher_of(toks: list):
+    """The matcher of the shape `toks`, made once (the tables bounded: cleared at LIMIT)."""
+    key = tuple(toks)
+    m = _MATCHERS.get(key)
+    if m is None:
+        if len(_MATCHERS) >= LIMIT:
+            _MATCHERS.clear()
+            _LAST.clear()
+        m = _MATCHERS[key] = _matcher(key)
+    return m
 
 
 def _found(toks: list, leaves: list):
