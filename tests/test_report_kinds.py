@@ -137,3 +137,38 @@ def test_kind_ids_are_handed_down_only_by_the_whole_impact_path(monkeypatch):
     assert len(set(ids)) <= 2 and None not in ids
     monkeypatch.setattr(impact_phase, "TEMPLATE", False)
     assert set(_kinds(cradle)) == {None}
+
+
+# impacts of round and point particles (a kind's gaps between its bodies are its radii;
+# a particle's only point is its centre), kinds met again after others
+_POINTS = """problem "kinds of round and point particles"
+
+body p1: particle(mass = 1 kg, radius = 50 mm)
+body p2: particle(mass = 1 kg)
+body p3: particle(mass = 1 kg, radius = 50 mm)
+body p4: particle(mass = 1 kg)
+body p5: particle(mass = 1 kg, radius = 50 mm)
+
+state 1: p1.v = (1 m/s, 0), p2 at rest, p3 at rest, p4 at rest, p5 at rest
+state 2
+state 3
+state 4
+state 5
+
+impact 1 -> 2:
+    contact k1: p2 with p1 normal (1, 0): restitution 0.5, smooth
+impact 2 -> 3:
+    contact k2: p3 with p2 normal (1, 0): restitution 0.5, smooth
+impact 3 -> 4:
+    contact k3: p4 with p3 normal (1, 0): restitution 0.5, smooth
+impact 4 -> 5:
+    contact k4: p5 with p4 normal (1, 0): restitution 0.5, smooth
+
+find p5.vx@5
+"""
+
+
+def test_kinds_of_round_and_point_particles_equal_the_full_path(monkeypatch):
+    ids = _kinds(_POINTS)
+    assert None not in ids and len(set(ids)) < len(ids)  # a kind met twice
+    assert _same(_POINTS, monkeypatch)

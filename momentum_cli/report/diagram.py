@@ -341,6 +341,11 @@ class _Shared:
         # (impact kind, its contacts' points) -> where each application acts, when no
         # position is known (`_Builder.plain_lines`): a kind's bodies are placed alike
         self.kinds: dict = {}
+        # every contact point at its body's G or a round body's rim, none located by an
+        # unknown: a kind's contacts place its bodies alike whatever their points
+        self.still_points = all(
+            p is None or (p.located_by is None and (p.round_contact or not any(p.offset)))
+            for tr in sc.transitions for c in tr.contacts for p in (c.a, c.b))
         sizes = [_extent(b) for b in sc.bodies.values()]
         self.size = max([x for x in sizes if x > 0] or [1.0])
 
@@ -440,10 +445,11 @@ class _Builder:
         gkey = ats = None
         if kid is not None and KINDS and sh.unplaced and not self.sc.joints and \
                 self.spec is not None:
-            gkey = (kid, tuple([(c.a.offset, c.a.round_contact, c.a.located_by is None,
-                                 None if c.b is None else
-                                 (c.b.body is None, c.b.offset, c.b.round_contact))
-                                for c in self.spec.contacts]))
+            gkey = kid if sh.still_points else \
+                (kid, tuple([(c.a.offset, c.a.round_contact, c.a.located_by is None,
+                              None if c.b is None else
+                              (c.b.body is None, c.b.offset, c.b.round_contact))
+                             for c in self.spec.contacts]))
             ats = sh.kinds.get(gkey)
         if ats is None:
             bodies = self._bodies(True)
