@@ -341,6 +341,7 @@ class _Shared:
         # (impact kind, its contacts' points) -> where each application acts, when no
         # position is known (`_Builder.plain_lines`): a kind's bodies are placed alike
         self.kinds: dict = {}
+        self.own = len(self.specs) == len(sc.transitions)  # no two transitions of one key
         # every contact point at its body's G or a round body's rim, none located by an
         # unknown: a kind's contacts place its bodies alike whatever their points
         self.still_points = all(
@@ -444,7 +445,7 @@ class _Builder:
         kid = getattr(t, "kind_id", None)
         gkey = ats = None
         if kid is not None and KINDS and sh.unplaced and not self.sc.joints and \
-                self.spec is not None:
+                self.spec is not None and sh.own:
             gkey = kid if sh.still_points else \
                 (kid, tuple([(c.a.offset, c.a.round_contact, c.a.located_by is None,
                               None if c.b is None else
