@@ -123,6 +123,9 @@ class TransitionInfo:
     bodies: tuple[str, ...] = ()  # the bodies it moves (whose T its energy and T_lost cover)
     laws: list = field(default_factory=list)  # system_laws.SystemLaw: shown, not solved
     impulses: list = field(default_factory=list)  # Applied: each impulse on a body (diagrams)
+    # impact_phase: its whole-impact plan's number (one per kind in a process: the same
+    # trees, texts and contact geometry up to names and numbers); None: made otherwise
+    kind_id: int | None = None
 
 
 @record

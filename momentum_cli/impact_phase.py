@@ -36,6 +36,7 @@ _IMPACT_WORD = str(_IMPACT)
 _IMPULSE_UNIT = si_label(IMPULSE)
 _PLANS: dict = {}  # whole-impact kind -> _plan's answer (a few kinds: bounded below)
 _LIMIT = 512
+_KINDS = 0  # plans made so far in this process (each plan's number)
 
 
 def fits(comp, t) -> bool:
@@ -255,7 +256,7 @@ def _replay(comp, t, key: str) -> None:
         plan = _plan(comp, sources, moved, pkey)
         if len(_PLANS) < _LIMIT:
             _PLANS[pkey] = plan
-    trees, dirs, why_fn, law_fn = plan
+    trees, dirs, why_fn, law_fn, kind_id = plan
     out = trees(*leaves)
     # the outputs in the order _impulse_phase makes them
     group = f"{_IMPACT_WORD} {i} -> {j}"  # f"{t.kind} ...", without the enum's __str__
@@ -343,7 +344,7 @@ def _replay(comp, t, key: str) -> None:
         texts = linear_texts(sources, moved, None)
         laws = linear_laws(comp, moved, i, j, *texts, rows=out[pos])
     comp.transitions.append(comp.TransitionInfo(t.kind, key, i, j, span, why, contacts_info,
-                                                tuple(energy), names, laws, applied))
+                                                tuple(energy), names, laws, applied, kind_id))
 
 
 def _plan(comp, sources, moved, pkey) -> tuple:
@@ -371,7 +372,9 @@ def _plan(comp, sources, moved, pkey) -> tuple:
         why_fn = lambda vals: [f.format(*vals) for f in why_fmts]  # noqa: E731
     if law_fmts and law_fn is None:
         law_fn = lambda vals: [f.format(*vals) for f in [law_fmts[1]] + law_fmts[2]]  # noqa: E731
-    return (f or _builder(*args), dirs, why_fn, law_fn)
+    global _KINDS
+    _KINDS += 1  # a new number per plan made: equal numbers, one pkey (see TransitionInfo)
+    return (f or _builder(*args), dirs, why_fn, law_fn, _KINDS)
 
 
 def _memo_leaves(memo, nb: int) -> int:

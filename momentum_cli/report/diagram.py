@@ -20,6 +20,7 @@ from .reader import Reader
 
 POSITION = ("x", "y", "angle")  # unchanged by an impact
 PLAIN = True  # tests turn it off: every application by `_impulses`' general steps
+KINDS = True  # tests turn it off: every transition's bodies placed (no per-kind places)
 SIG = 4  # significant figures in the diagram (short lines, stable drawings)
 UNIT = {False: "N*s", True: "N*m*s"}
 
@@ -337,6 +338,15 @@ class _Shared:
         # in `_known_at` find nothing (its diagram places it by its ties)
         self.unplaced = not self.placed and not odd
         self.parts: dict = {}  # body -> its parts as a diagram draws them (made once)
+        # (impact kind, its contacts' points) -> where each application acts, when no
+        # position is known (`_Builder.plain_lines`): a kind's bodies are placed alike
+        self.kinds: dict = {}
+        self.own = len(self.specs) == len(sc.transitions)  # no two transitions of one key
+        # every contact point at its body's G or a round body's rim, none located by an
+        # unknown: a kind's contacts place its bodies alike whatever their points
+        self.still_points = all(
+            p is None or (p.located_by is None and (p.round_contact or not any(p.offset)))
+            for tr in sc.transitions for c in tr.contacts for p in (c.a, c.b))
         sizes = [_extent(b) for b in sc.bodies.values()]
         self.size = max([x for x in sizes if x > 0] or [1.0])
 
@@ -426,9 +436,31 @@ class _Builder:
             if not ((tx is Const or tx is Known) and (ty is Const or ty is Known)):
                 return None
             monos.append(mono)
-        bodies = self._bodies(True)
-        self._place(bodies, notes=False)
-        where = {b.name: b for b in bodies}
+        # an impact of one compiled kind (`TransitionInfo.kind_id`: the same contacts'
+        # normals, radii and bodies by index) with no position known anywhere and no
+        # joint: its bodies are placed by its contacts alone, as every impact of its kind
+        # (and the same points' offsets) places them: where each application acts is
+        # read from the first one's (its places are the same floats)
+        sh = self.shared
+        kid = getattr(t, "kind_id", None)
+        gkey = ats = None
+        if kid is not None and KINDS and sh.unplaced and not self.sc.joints and \
+                self.spec is not None and sh.own:
+            gkey = kid if sh.still_points else \
+                (kid, tuple([(c.a.offset, c.a.round_contact, c.a.located_by is None,
+                              None if c.b is None else
+                              (c.b.body is None, c.b.offset, c.b.round_contact))
+                             for c in self.spec.contacts]))
+            ats = sh.kinds.get(gkey)
+        if ats is None:
+            bodies = self._bodies(True)
+            self._place(bodies, notes=False)
+            where = {b.name: b for b in bodies}
+            names = [b.name for b in bodies]
+            made: list | None = [] if gkey is not None else None
+        else:
+            names = t.bodies
+            made = None
         r = self.reader
         got = _SHOWN.get(r)
         if got is None:
@@ -442,14 +474,24 @@ class _Builder:
         contacts = self._contacts()
         dirs = _DIRS
         by_body: dict = {}
-        for a, mono in zip(apps, monos):
-            body = where[a.body]
+        for k_app, (a, mono) in enumerate(zip(apps, monos)):
             p = a.point
-            if p.round_contact or p.located_by is not None:
-                arm = (a.arm.x.value, a.arm.y.value)
-            else:
-                arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
-            at, point = _where(a, body, arm)
+            if ats is None:
+                body = where[a.body]
+                if p.round_contact or p.located_by is not None:
+                    arm = (a.arm.x.value, a.arm.y.value)
+                else:
+                    arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
+                at, point = _where(a, body, arm)
+                if made is not None:
+                    made.append(at)
+            else:  # `_where`'s name of the point, its place the kind's
+                at = ats[k_app]
+                if p.round_contact and p.name == a.body:  # its arm: the known one
+                    point = f"{a.body}'s contact point" if \
+                        (a.arm.x.value, a.arm.y.value) != (0.0, 0.0) else f"{a.body}'s centre"
+                else:
+                    point = "G" if p.name == a.body else p.name
             head = None
             contact = contacts.get(a.what)
             normal = contact.normal if contact is not None else None
@@ -495,13 +537,15 @@ class _Builder:
         out = [f"{indent}Impulse diagram, {'impact' if t.kind == 'impact' else 'interval'} "
                f"{t.before} -> {t.after}"]
         add = out.append
-        for b in bodies:
-            mine = by_body.get(b.name)
+        for name in names:
+            mine = by_body.get(name)
             if not mine:
-                add(f"{indent}  {b.name}: no impulse")
+                add(f"{indent}  {name}: no impulse")
                 continue
-            add(f"{indent}  {b.name}:")
+            add(f"{indent}  {name}:")
             out += mine
+        if made is not None and len(sh.kinds) < 4096:
+            sh.kinds[gkey] = made
         for d in self._dropped():
             on = f" ({d.body})" if d.body and d.body not in d.what else ""
             add(f"{indent}  dropped: {d.what}{on}: {d.why}")
