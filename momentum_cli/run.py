@@ -159,9 +159,13 @@ def _shed(sol) -> None:
     """Free what only the solve reads (the structure's incidence sets and matching,
     one or two entries per equation) before the report is built: the report, the
     expectations and the sensitivities read the blocks and the redundant and
-    undetermined equations, never these."""
+    undetermined equations, never these. Each equation's residual tree (lhs - rhs,
+    made for analyse and the solve) goes too: the report prints lhs and rhs, and
+    `Equation.residual` makes it again for a reader that asks."""
     st = sol.structure
     st.incidence, st.match_eq, st.match_var, st.block_of_var = [], {}, {}, {}
+    for e in sol.system.equations:
+        e._residual = None
 
 
 def _sensitivities(source: Source, overrides, sol) -> dict:
@@ -190,17 +194,18 @@ def _failed(source: Source, diagnostics) -> FileResult:
 
 def _instant_phases(sol) -> None:
     """A phase whose duration comes out exactly 0 (its end condition already holds at
-    its start) is legal but odd: a warning at the phase says so."""
+    its start) is legal but odd: a warning at the phase says so (the durations picked
+    before sorting: a big scene's values are ~3 a body)."""
 
     sc = sol.system.scene
     phases = list(sc.transitions) + list(sc.burns) + list(sc.gains)
-    for name, v in sorted(sol.values.items()):
-        if getattr(name, "kind", None) == "duration" and v == 0:
-            span = next((p.span for p in phases
-                         if f"{p.before}->{p.after}" == name.transition), None)
-            sol.diagnostics.append(Diagnostic(
-                "warning", "instant-phase", f"{name} = 0 s: the phase's end condition already "
-                "holds at its start, so it takes no time and changes nothing", span))
+    for name, v in sorted((n, v) for n, v in sol.values.items()
+                          if getattr(n, "kind", None) == "duration" and v == 0):
+        span = next((p.span for p in phases
+                     if f"{p.before}->{p.after}" == name.transition), None)
+        sol.diagnostics.append(Diagnostic(
+            "warning", "instant-phase", f"{name} = 0 s: the phase's end condition already "
+            "holds at its start, so it takes no time and changes nothing", span))
 
 
 def _too_deep(source: Source) -> FileResult:
