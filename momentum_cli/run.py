@@ -159,13 +159,10 @@ def _shed(sol) -> None:
     """Free what only the solve reads (the structure's incidence sets and matching,
     one or two entries per equation) before the report is built: the report, the
     expectations and the sensitivities read the blocks and the redundant and
-    undetermined equations, never these. Each equation's residual tree (lhs - rhs,
-    made for analyse and the solve) goes too: the report prints lhs and rhs, and
-    `Equation.residual` makes it again for a reader that asks."""
+    undetermined equations, never these. (Not the residual trees: the report's
+    momentum-residual check reads most of them again.)"""
     st = sol.structure
     st.incidence, st.match_eq, st.match_var, st.block_of_var = [], {}, {}, {}
-    for e in sol.system.equations:
-        e._residual = None
 
 
 def _sensitivities(source: Source, overrides, sol) -> dict:
