@@ -135,7 +135,7 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         with _NoCyclicGC():
             scene = _build_scene(source, overrides)
             sol = solve_scene(scene, solve_all, precision=precision)
-            _shed(sol)
+            _shed(sol, sensitivity)
             _instant_phases(sol)
             rep = build_report(source.name, sol, sig, units, lazy=lazy)
             if sensitivity:
@@ -155,14 +155,19 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         return _too_deep(source)
 
 
-def _shed(sol) -> None:
+def _shed(sol, sensitivity: bool = False) -> None:
     """Free what only the solve reads (the structure's incidence sets and matching,
     one or two entries per equation) before the report is built: the report, the
     expectations and the sensitivities read the blocks and the redundant and
     undetermined equations, never these. (Not the residual trees: the report's
-    momentum-residual check reads most of them again.)"""
+    momentum-residual check reads most of them again.) The unknowns' sizes and error
+    bounds (two entries an unknown, read by the answers, made already) go too, the sizes
+    kept for `--sensitivity`: the report reuses their memory."""
     st = sol.structure
     st.incidence, st.match_eq, st.match_var, st.block_of_var = [], {}, {}, {}
+    sol.errors = None
+    if not sensitivity:
+        sol.size = None
 
 
 def _sensitivities(source: Source, overrides, sol) -> dict:
