@@ -162,12 +162,16 @@ def _shed(sol, sensitivity: bool = False) -> None:
     undetermined equations, never these. (Not the residual trees: the report's
     momentum-residual check reads most of them again.) The unknowns' sizes and error
     bounds (two entries an unknown, read by the answers, made already) go too, the sizes
-    kept for `--sensitivity`: the report reuses their memory."""
+    kept for `--sensitivity`, and a one-unknown block's 1x1 matrix and right side (the
+    report shows a block's matrix from two unknowns on): the report reuses their memory."""
     st = sol.structure
     st.incidence, st.match_eq, st.match_var, st.block_of_var = [], {}, {}, {}
     sol.errors = None
     if not sensitivity:
         sol.size = None
+    for b in sol.blocks:
+        if len(b.unknowns) == 1:
+            b.matrix = b.rhs = None
 
 
 def _sensitivities(source: Source, overrides, sol) -> dict:
