@@ -163,7 +163,9 @@ def _shed(sol, sensitivity: bool = False) -> None:
     momentum-residual check reads most of them again.) The unknowns' sizes and error
     bounds (two entries an unknown, read by the answers, made already) go too, the sizes
     kept for `--sensitivity`, and a one-unknown block's 1x1 matrix and right side (the
-    report shows a block's matrix from two unknowns on): the report reuses their memory."""
+    report shows a block's matrix from two unknowns on), and each answer's second form
+    (`FindSpec.alt`, read once for the answers: T_lost as the sum of the contacts'
+    losses): the report reuses their memory."""
     st = sol.structure
     st.incidence, st.match_eq, st.match_var, st.block_of_var = [], {}, {}, {}
     sol.errors = None
@@ -172,6 +174,8 @@ def _shed(sol, sensitivity: bool = False) -> None:
     for b in sol.blocks:
         if len(b.unknowns) == 1:
             b.matrix = b.rhs = None
+    for f in sol.system.finds:
+        f.alt = None
 
 
 def _sensitivities(source: Source, overrides, sol) -> dict:
