@@ -27,6 +27,7 @@ from .elements.kinds import EquationKind, KeyKind, PhaseKind, TransitionKind
 from .energy_groups import energy_groups, split_joints
 from . import impact_contacts, impact_phase
 from .expr import (
+    NEG_ONE,
     V2,
     ZERO,
     Add,
@@ -765,7 +766,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                                        ("y", v1.y, v2.y, [J.y for J in lin[b]])):
                 rhs = add_all(jsum)
                 if type(a1) in _NAMED and type(a2) in _NAMED and type(m) in _NAMED:
-                    lhs = Mul((m, Add((a2, Mul((Const(-1.0), a1))))))  # mul(m, a2 - a1)
+                    lhs = Mul((m, Add((a2, Mul((NEG_ONE, a1))))))  # mul(m, a2 - a1)
                 else:
                     lhs = mul(m, add(a2, neg(a1)))
                 self.eq(lhs, rhs, f"linear impulse-momentum {comp}: {b}", group, t.span)

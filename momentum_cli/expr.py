@@ -120,6 +120,9 @@ class Fn(E):
 
 ZERO = Const(0.0)
 ONE = Const(1.0)
+# -1 shared as ZERO and ONE are: a big scene's every difference and negation holds one
+# (report/reader.py gives 0, 1 and -1 no dimension by id: they may be shared)
+NEG_ONE = Const(-1.0)
 
 FUNCS = {
     "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin,
@@ -180,7 +183,7 @@ def add_all(terms) -> E:
         else:
             flat.append(t)
     if const != 0.0 or keeps(const) or not flat:
-        flat.append(Const(const))
+        flat.append(ZERO if const == 0.0 and type(const) is float else Const(const))
     return flat[0] if len(flat) == 1 else Add(tuple(flat))
 
 
@@ -189,8 +192,8 @@ def neg(a: E) -> E:
     if t is Const:
         return Const(-a.value)
     if t is not Mul:  # what mul(Const(-1.0), a) gives, without the call
-        return Mul((Const(-1.0), a))
-    return mul(Const(-1.0), a)
+        return Mul((NEG_ONE, a))
+    return mul(NEG_ONE, a)
 
 
 def mul(a: E, b: E) -> E:

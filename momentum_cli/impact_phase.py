@@ -16,7 +16,7 @@ from . import impact_contacts, system_laws, tree_template, why_texts
 from .elements.base import ImpulseSource
 from .elements.keys import impulse_key, parameter_key
 from .elements.kinds import Component, KeyKind, TransitionKind
-from .expr import V2, Add, Const, Known, Mul, Var, add, add_all, mul, neg
+from .expr import NEG_ONE, V2, Add, Const, Known, Mul, Var, add, add_all, mul, neg
 from .impact_contacts import ZERO_V2
 from .system_laws import _momenta_builder, _plain_dirs, linear_head, linear_laws
 from .tree_template import template
@@ -79,7 +79,7 @@ def stamp(comp, t, key: str) -> None:
         for comp_, a1, a2, rhs in (("x", v1.x, v2.x, add_all([J.x for J in Js])),
                                    ("y", v1.y, v2.y, add_all([J.y for J in Js]))):
             if named and type(a1) in _NAMED and type(a2) in _NAMED:
-                lhs = Mul((m, Add((a2, Mul((Const(-1.0), a1))))))
+                lhs = Mul((m, Add((a2, Mul((NEG_ONE, a1))))))
             else:
                 lhs = mul(m, add(a2, neg(a1)))
             p = f"linear impulse-momentum {comp_}: {b}"
@@ -424,7 +424,7 @@ def _builder(shape, nb: int, memo, dirs):
             for a1, a2, rhs in ((a1x, a2x, add_all([J.x for J in Js])),
                                 (a1y, a2y, add_all([J.y for J in Js]))):
                 if type(m) in _NAMED and type(a1) in _NAMED and type(a2) in _NAMED:
-                    lhs = Mul((m, Add((a2, Mul((Const(-1.0), a1))))))
+                    lhs = Mul((m, Add((a2, Mul((NEG_ONE, a1))))))
                 else:
                     lhs = mul(m, add(a2, neg(a1)))
                 out += (lhs, rhs)

@@ -135,7 +135,7 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         with _NoCyclicGC():
             scene = _build_scene(source, overrides)
             sol = solve_scene(scene, solve_all, precision=precision)
-            _shed(sol)
+            _shed(sol, sensitivity)
             _instant_phases(sol)
             rep = build_report(source.name, sol, sig, units, lazy=lazy)
             if sensitivity:
@@ -155,13 +155,27 @@ def solve_source(source: Source, solve_all: bool = False, sig: int = 6,
         return _too_deep(source)
 
 
-def _shed(sol) -> None:
+def _shed(sol, sensitivity: bool = False) -> None:
     """Free what only the solve reads (the structure's incidence sets and matching,
     one or two entries per equation) before the report is built: the report, the
     expectations and the sensitivities read the blocks and the redundant and
-    undetermined equations, never these."""
+    undetermined equations, never these. (Not the residual trees: the report's
+    momentum-residual check reads most of them again.) The unknowns' sizes and error
+    bounds (two entries an unknown, read by the answers, made already) go too, the sizes
+    kept for `--sensitivity`, and a one-unknown block's 1x1 matrix and right side (the
+    report shows a block's matrix from two unknowns on), and each answer's second form
+    (`FindSpec.alt`, read once for the answers: T_lost as the sum of the contacts'
+    losses): the report reuses their memory."""
     st = sol.structure
     st.incidence, st.match_eq, st.match_var, st.block_of_var = [], {}, {}, {}
+    sol.errors = None
+    if not sensitivity:
+        sol.size = None
+    for b in sol.blocks:
+        if len(b.unknowns) == 1:
+            b.matrix = b.rhs = None
+    for f in sol.system.finds:
+        f.alt = None
 
 
 def _sensitivities(source: Source, overrides, sol) -> dict:
@@ -190,17 +204,18 @@ def _failed(source: Source, diagnostics) -> FileResult:
 
 def _instant_phases(sol) -> None:
     """A phase whose duration comes out exactly 0 (its end condition already holds at
-    its start) is legal but odd: a warning at the phase says so."""
+    its start) is legal but odd: a warning at the phase says so (the durations picked
+    before sorting: a big scene's values are ~3 a body)."""
 
     sc = sol.system.scene
     phases = list(sc.transitions) + list(sc.burns) + list(sc.gains)
-    for name, v in sorted(sol.values.items()):
-        if getattr(name, "kind", None) == "duration" and v == 0:
-            span = next((p.span for p in phases
-                         if f"{p.before}->{p.after}" == name.transition), None)
-            sol.diagnostics.append(Diagnostic(
-                "warning", "instant-phase", f"{name} = 0 s: the phase's end condition already "
-                "holds at its start, so it takes no time and changes nothing", span))
+    for name, v in sorted((n, v) for n, v in sol.values.items()
+                          if getattr(n, "kind", None) == "duration" and v == 0):
+        span = next((p.span for p in phases
+                     if f"{p.before}->{p.after}" == name.transition), None)
+        sol.diagnostics.append(Diagnostic(
+            "warning", "instant-phase", f"{name} = 0 s: the phase's end condition already "
+            "holds at its start, so it takes no time and changes nothing", span))
 
 
 def _too_deep(source: Source) -> FileResult:

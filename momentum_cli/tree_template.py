@@ -77,7 +77,9 @@ class _Gen:
             # each node made as its class's __init__ makes it, without the call (a third
             # faster): object.__new__, then its slots set in order
             t = type(x)
-            if t is Const:
+            if t is Const and type(x.value) is float and x.value in (0.0, 1.0, -1.0):
+                src = self.cap(x)  # shared by every replay, as ZERO is (see expr.NEG_ONE)
+            elif t is Const:
                 return self.node(k, "Const", f".value = {self.cap(x.value)}")
             elif t is Add:
                 return self.node(k, "Add",

@@ -19,7 +19,10 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def _sharing(system) -> list:
     """Every node of the system's trees as the index of its first appearance: the same
-    list means the same sharing of nodes (the report tells numbers apart by identity)."""
+    list means the same sharing of nodes (the report tells numbers apart by identity;
+    not 0, 1 and -1, which the replays share as expr.ZERO is)."""
+    from momentum_cli.expr import Const
+
     seen: dict = {}
     out: list = []
 
@@ -28,6 +31,9 @@ def _sharing(system) -> list:
         while stack:
             x = stack.pop()
             if x is None:
+                continue
+            if type(x) is Const and x.value in (0.0, 1.0, -1.0):
+                out.append("Const")  # shared or not: the report gives 0, 1, -1 no dimension
                 continue
             k = id(x)
             if k in seen:

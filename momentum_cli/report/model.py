@@ -163,7 +163,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     solves, keeps = {}, {}
     for b in sol.blocks:
         unk = list(b.unknowns)
-        keep = set(unk)
+        keep = set(unk) if len(unk) > 1 else tuple(unk)  # only `in` reads it: 1 name, no set
         for k in b.equations:
             solves[k], keeps[k] = unk, keep
     role = {}
