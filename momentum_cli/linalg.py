@@ -34,6 +34,7 @@ BIG = 5000  # square sparse blocks from this size: LAPACK's banded LU (banded.py
 #   on chains: break-even near 5,000 unknowns)
 EPS = 2.0**-53
 SINGULAR_COND = 1e15  # equilibrated condition numbers beyond this are numerically singular
+HADAMARD_COND = 1e12  # `_step_dense`: a condition bound below this is far from singular
 
 Rows = list[dict[int, float]]
 
@@ -608,7 +609,67 @@ def _step_dense(J: list[list[float]], r: list[float], n: int) -> list[float] | N
     """lstsq_small's square solve: `equilibrate` then `_gauss_jordan` on the dense rows,
     the very same float operations in the same order (bit-identical x; None where
     _gauss_jordan raises SingularError), without building sparse rows: Newton takes
-    thousands of these steps on 3- and 5-unknown blocks."""
+    thousands of these steps on 3- and 5-unknown blocks.
+
+    The inverse is not formed: Gauss-Jordan on [A | b] (every column takes its own
+    operations, so b's are those of [A | b | I]), and the condition number is bounded
+    above by Hadamard's inequality, ||A^-1||_1 <= n * prod_k |a_k|_2 / min_k |a_k|_2 /
+    |det A| (a cofactor is a minor, at most the product of its rows' norms), det A the
+    product of the pivots. A bound below HADAMARD_COND (1000 times under SINGULAR_COND:
+    the computed det and the computed inverse of a matrix that well conditioned are off
+    by far less) means `_gauss_jordan` would not call it singular either; otherwise the
+    long way decides (`_step_dense_full`)."""
+    pow2 = _pow2
+    R = []
+    for row in J:  # row scales: the largest nonzero entry (equilibrate)
+        vals = [abs(v) for v in row if v != 0.0]
+        R.append(pow2(max(vals)) if vals else 1.0)
+    C = [0.0] * n
+    for i, row in enumerate(J):
+        ri = R[i]
+        for j, v in enumerate(row):
+            if v != 0.0:
+                a = abs(v) / ri
+                if a > C[j]:
+                    C[j] = a
+    C = [pow2(x) for x in C]
+    A = [[v / R[i] / C[j] if v != 0.0 else 0.0 for j, v in enumerate(row)]
+         for i, row in enumerate(J)]
+    # column sums in row order, as `_cond` adds them (zip and map: no Python-level loop)
+    norm1 = max([sum(map(abs, col)) for col in zip(*A)], default=0.0)
+    M = [A[i] + [r[i] / R[i]] for i in range(n)]
+    det = 1.0
+    for col in range(n):  # Gauss-Jordan with partial pivoting on [A | b]
+        piv, best = col, abs(M[col][col])
+        for i in range(col + 1, n):
+            a = abs(M[i][col])
+            if a > best:  # max(): the first of equal magnitudes
+                piv, best = i, a
+        if M[piv][col] == 0.0:
+            return None
+        M[col], M[piv] = M[piv], M[col]
+        p = M[col][col]
+        det *= p
+        rowp = [x / p for x in M[col]]
+        M[col] = rowp
+        for i in range(n):
+            if i != col:
+                Mi = M[i]
+                f = Mi[col]
+                if f != 0.0:
+                    M[i] = [a - f * b for a, b in zip(Mi, rowp)]
+    norms = [math.sqrt(math.fsum([v * v for v in row])) for row in A]
+    hadamard = float(n) / min(norms)
+    for v in norms:
+        hadamard *= v
+    if norm1 * hadamard <= HADAMARD_COND * abs(det) < math.inf:  # not for nan, inf, det 0
+        return [M[j][n] / C[j] for j in range(n)]
+    return _step_dense_full(J, r, n)
+
+
+def _step_dense_full(J: list[list[float]], r: list[float], n: int) -> list[float] | None:
+    """`_step_dense` the long way: Gauss-Jordan on [A | b | I], the inverse's 1-norm for
+    the condition number (`_step_dense` falls back to it when its bound is not enough)."""
     R = []
     for row in J:  # row scales: the largest nonzero entry (equilibrate)
         vals = [abs(v) for v in row if v != 0.0]

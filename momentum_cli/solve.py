@@ -974,6 +974,7 @@ def _singular(eqs, names, cond=None, exact=False) -> ProblemError:
 
 SPREAD = (0.7, -0.7, 2.0, -2.0, 0.3, -1.3, 1.1, -0.4)
 DEDUPE_STARTS = True  # Newton runs once from each distinct start (False: from every one)
+EARLY_STOP = True  # a start stops where it has met a root found before (False: runs on)
 
 
 def _starts(system: System, names: list[str], values, eqs=()) -> list[list[float]]:
@@ -1041,7 +1042,8 @@ def _newton(system: System, block, eqs: list[Equation], names: list[str], values
         if key in tried and DEDUPE_STARTS:
             continue
         tried.add(key)
-        r = _newton_from(F, J, names, values, x0, lowered)
+        known = [y for y, _ in roots] if EARLY_STOP else ()
+        r = _newton_from(F, J, names, values, x0, lowered, known)
         if r is None:
             continue
         x, iters = r
@@ -1127,9 +1129,17 @@ def _overdetermined(system: System, eqs, roots, why, broken, show) -> None:
                               _statements_note([e, *eqs], system)])
 
 
-def _newton_from(F, J, names, values, x0, lowered=(None, None)):
+def _newton_from(F, J, names, values, x0, lowered=(None, None), known=()):
     """Damped Newton from x0; (x, iterations) on convergence, else None. `lowered`:
-    F's and J's `lowered.lower` functions (or None: evaluate walks the trees)."""
+    F's and J's `lowered.lower` functions (or None: evaluate walks the trees).
+
+    `known`: roots found from earlier starts. An iterate that has come within a hundredth
+    of `_close`'s tolerance of one of them, by a last step within a tenth of it, stops
+    there: its limit would be dropped as that root's duplicate, and it is (x is `_close`
+    to the root). Safe: Newton's next steps depend on the iterate alone, and from there
+    the rest of the path is at most about the last step (quadratic convergence makes it
+    far shorter; a double root converges linearly with ratio 1/2, the steps summing to
+    about the last one), so the limit stays within 0.11 of the tolerance of that root."""
     from .linalg import lstsq_small
 
     env = dict(values)
@@ -1175,9 +1185,25 @@ def _newton_from(F, J, names, values, x0, lowered=(None, None)):
             resid(x)
             return (x, it) if norm0 <= 1e-10 * scale else None
         x, r = xn, rn
-        if max(abs(step * d) for d in dx) <= 1e-14 * scale:
+        moved = max(abs(step * d) for d in dx)
+        if moved <= 1e-14 * scale:
+            return x, it
+        if known and moved <= 1e-8 * scale + 1e-10 and _near_known(x, step, dx, known):
             return x, it
     return (x, 100) if max(abs(v) for v in r) < 1e-9 * max(1.0, max(abs(v) for v in x)) else None
+
+
+def _near_known(x, step, dx, known) -> bool:
+    """`_newton_from`'s early stop: x within a hundredth of `_close`'s tolerance of a known
+    root, component by component, and the last step within a tenth of it."""
+    for y in known:
+        for a, b, d in zip(x, y, dx):
+            tol = 1e-7 * abs(b) + 1e-9
+            if abs(a - b) > 0.01 * tol or abs(step * d) > 0.1 * tol:
+                break
+        else:
+            return True
+    return False
 
 
 def _transition_span(system: System, name: str):
