@@ -612,59 +612,58 @@ def _step_dense(J: list[list[float]], r: list[float], n: int) -> list[float] | N
     thousands of these steps on 3- and 5-unknown blocks.
 
     The inverse is not formed: Gauss-Jordan on [A | b] (every column takes its own
-    operations, so b's are those of [A | b | I]), and the condition number is bounded
-    above by Hadamard's inequality, ||A^-1||_1 <= n * prod_k |a_k|_2 / min_k |a_k|_2 /
-    |det A| (a cofactor is a minor, at most the product of its rows' norms), det A the
-    product of the pivots. A bound below HADAMARD_COND (1000 times under SINGULAR_COND:
-    the computed det and the computed inverse of a matrix that well conditioned are off
-    by far less) means `_gauss_jordan` would not call it singular either; otherwise the
-    long way decides (`_step_dense_full`)."""
-    pow2 = _pow2
-    R = []
-    for row in J:  # row scales: the largest nonzero entry (equilibrate)
-        vals = [abs(v) for v in row if v != 0.0]
-        R.append(pow2(max(vals)) if vals else 1.0)
-    C = [0.0] * n
-    for i, row in enumerate(J):
-        ri = R[i]
-        for j, v in enumerate(row):
-            if v != 0.0:
-                a = abs(v) / ri
-                if a > C[j]:
-                    C[j] = a
-    C = [pow2(x) for x in C]
-    A = [[v / R[i] / C[j] if v != 0.0 else 0.0 for j, v in enumerate(row)]
-         for i, row in enumerate(J)]
-    # column sums in row order, as `_cond` adds them (zip and map: no Python-level loop)
-    norm1 = max([sum(map(abs, col)) for col in zip(*A)], default=0.0)
-    M = [A[i] + [r[i] / R[i]] for i in range(n)]
+    operations, so b's are those of [A | b | I]; a column once eliminated is dropped, its
+    entries are read no more). Equilibrated, every |a_ij| < 2, so ||A||_1 < 2n and, by
+    Hadamard's inequality on the cofactors, ||A^-1||_1 <= n (2 sqrt(n))^(n-1) / |det A|,
+    det A the product of the pivots. A condition bound below HADAMARD_COND (1000 times
+    under SINGULAR_COND: the computed det and the computed inverse of a matrix that well
+    conditioned are off by far less) means `_gauss_jordan` would not call it singular
+    either; otherwise, or if J holds inf or nan, the long way decides (`_step_dense_full`)."""
+    if not math.isfinite(sum(map(sum, J))):
+        return _step_dense_full(J, r, n)
+    frexp, ldexp = math.frexp, math.ldexp
+    aJ = [list(map(abs, row)) for row in J]
+    R = []  # row scales, then column scales: `_pow2` of the largest magnitude (equilibrate)
+    for row in aJ:
+        m = max(row)
+        R.append(ldexp(1.0, frexp(m)[1] - 1) if m != 0.0 else 1.0)
+    C = []
+    for col in zip(*aJ):
+        m = max([a / ri for a, ri in zip(col, R)])
+        C.append(ldexp(1.0, frexp(m)[1] - 1) if m != 0.0 else 1.0)
+    M = [[v / ri / cj if v != 0.0 else 0.0 for v, cj in zip(row, C)] + [rv / ri]
+         for row, ri, rv in zip(J, R, r)]
     det = 1.0
-    for col in range(n):  # Gauss-Jordan with partial pivoting on [A | b]
-        piv, best = col, abs(M[col][col])
+    for col in range(n):  # Gauss-Jordan with partial pivoting; M's rows hold columns col..n
+        piv, best = col, abs(M[col][0])
         for i in range(col + 1, n):
-            a = abs(M[i][col])
+            a = abs(M[i][0])
             if a > best:  # max(): the first of equal magnitudes
                 piv, best = i, a
-        if M[piv][col] == 0.0:
+        Mc = M[piv]
+        p = Mc[0]
+        if p == 0.0:
             return None
-        M[col], M[piv] = M[piv], M[col]
-        p = M[col][col]
+        M[piv] = M[col]
         det *= p
-        rowp = [x / p for x in M[col]]
-        M[col] = rowp
+        rowp = [x / p for x in Mc]
+        del rowp[0]
         for i in range(n):
             if i != col:
                 Mi = M[i]
-                f = Mi[col]
+                f = Mi[0]
                 if f != 0.0:
-                    M[i] = [a - f * b for a, b in zip(Mi, rowp)]
-    norms = [math.sqrt(math.fsum([v * v for v in row])) for row in A]
-    hadamard = float(n) / min(norms)
-    for v in norms:
-        hadamard *= v
-    if norm1 * hadamard <= HADAMARD_COND * abs(det) < math.inf:  # not for nan, inf, det 0
-        return [M[j][n] / C[j] for j in range(n)]
+                    M[i] = [a - f * b for a, b in zip(Mi[1:], rowp)]
+                else:
+                    del Mi[0]
+        M[col] = rowp
+    if n <= SMALL and _HADAMARD[n] <= HADAMARD_COND * abs(det) < math.inf:
+        return [row[0] / cj for row, cj in zip(M, C)]
     return _step_dense_full(J, r, n)
+
+
+_HADAMARD = [math.inf] + [2.0 * n * n * (2.0 * math.sqrt(n)) ** (n - 1) * (1 + 1e-9)
+                          for n in range(1, SMALL + 1)]  # the bound's numerator, by n
 
 
 def _step_dense_full(J: list[list[float]], r: list[float], n: int) -> list[float] | None:
