@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from operator import truediv
 from fractions import Fraction
 
 from .records import record
@@ -622,15 +623,11 @@ def _step_dense(J: list[list[float]], r: list[float], n: int) -> list[float] | N
     if not math.isfinite(sum(map(sum, J))):
         return _step_dense_full(J, r, n)
     frexp, ldexp = math.frexp, math.ldexp
-    aJ = [list(map(abs, row)) for row in J]
-    R = []  # row scales, then column scales: `_pow2` of the largest magnitude (equilibrate)
-    for row in aJ:
-        m = max(row)
-        R.append(ldexp(1.0, frexp(m)[1] - 1) if m != 0.0 else 1.0)
-    C = []
-    for col in zip(*aJ):
-        m = max([a / ri for a, ri in zip(col, R)])
-        C.append(ldexp(1.0, frexp(m)[1] - 1) if m != 0.0 else 1.0)
+    # row scales, then column scales: `_pow2` of the largest magnitude (equilibrate)
+    R = [ldexp(1.0, frexp(m)[1] - 1) if m != 0.0 else 1.0
+         for m in [max(map(abs, row)) for row in J]]
+    C = [ldexp(1.0, frexp(m)[1] - 1) if m != 0.0 else 1.0
+         for m in [max(map(truediv, map(abs, col), R)) for col in zip(*J)]]
     M = [[v / ri / cj if v != 0.0 else 0.0 for v, cj in zip(row, C)] + [rv / ri]
          for row, ri, rv in zip(J, R, r)]
     det = 1.0

@@ -1148,8 +1148,7 @@ def _newton_from(F, J, names, values, x0, lowered=(None, None), known=()):
     isfinite = math.isfinite
 
     def resid(xv):
-        for n, v in zip(names, xv):
-            env[n] = v
+        env.update(zip(names, xv))
         try:
             out = fast_f(env)[0] if fast_f is not None else [evaluate(f, env) for f in F]
         except (ValueError, ZeroDivisionError, OverflowError):
@@ -1162,6 +1161,7 @@ def _newton_from(F, J, names, values, x0, lowered=(None, None), known=()):
     r = resid(x)
     if r is None:
         return None
+    norm_r = norm(r)
     for it in range(1, 101):
         scale = max(1.0, max(map(abs, x)))
         if max(map(abs, r)) == 0.0:
@@ -1174,12 +1174,14 @@ def _newton_from(F, J, names, values, x0, lowered=(None, None), known=()):
             return None
         if not all(map(isfinite, dx)):
             return None
-        step, norm0 = 1.0, norm(r)
+        step, norm0 = 1.0, norm_r
         while step > 1e-6:
             xn = [a + step * d for a, d in zip(x, dx)]
             rn = resid(xn)
-            if rn is not None and norm(rn) < norm0 * (1 - 1e-4 * step):
-                break
+            if rn is not None:
+                norm_r = norm(rn)
+                if norm_r < norm0 * (1 - 1e-4 * step):
+                    break
             step /= 2
         else:
             resid(x)
