@@ -122,3 +122,30 @@ def test_step_near_the_singular_bound(seed):
                 for v in J[i]]
         r = [rng.uniform(-1, 1) for _ in range(n)]
         assert repr(linalg._step_dense(J, r, n)) == repr(_reference(J, r)), (J, r)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_early_stop_on_random_systems(seed):
+    """Random systems of two and three unknowns (quadratic, some with a cosine term): the
+    roots and their iterations with and without the early stop."""
+    import random
+
+    from momentum_cli.expr import Const, Fn
+
+    rng = random.Random(seed)
+    for _ in range(15):
+        n = rng.choice([2, 3])
+        xs = [Var(f"x{i}") for i in range(n)]
+        F = []
+        for _k in range(n):
+            f = Const(rng.uniform(-2, 2))
+            for i in range(n):
+                f = f + rng.uniform(-2, 2) * xs[i]
+                if rng.random() < 0.5:
+                    f = f + rng.uniform(-1, 1) * xs[i] * xs[rng.randrange(n)]
+            if rng.random() < 0.2:
+                f = f + 0.3 * Fn("cos", xs[0])
+            F.append(f)
+        starts = [[rng.uniform(-3, 3) for _ in range(n)] for _ in range(8)]
+        names = [v.name for v in xs]
+        assert repr(_roots(F, names, starts, True)) == repr(_roots(F, names, starts, False))
