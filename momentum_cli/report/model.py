@@ -21,12 +21,16 @@ from .treecode import evaluate as tval
 from .treecode import value_and_magnitude as tv_and_m
 from .reader import (
     STATE_DIMS,
+    angle_names,
     direction,
     is_angle,
     numeric_line,
     reader_for,
+    si_lines,
     symbolic_line,
 )
+
+PRINTERS_FROM = 64  # equations in a scene from which its rows go through printer.lines
 
 
 @record
@@ -95,14 +99,18 @@ _SI_UNIT = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
 def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
            shown: tuple) -> tuple[str, str]:
     """(symbolic, numeric) line of one equation: an integration's as it integrated;
-    in SI and radians by the printer compiled for the equation's shape (printer.py).
+    in SI and radians by the printer compiled for the equation's shape (printer.py),
+    where a scene is big enough to meet its shapes often (`shown[2]`); else, and in SI
+    in degrees (`shown[3]`: the angles' test), by one walk printing both lines.
     `shown`: the numbers printed so far, to 6 and to `sig` figures (value -> text)."""
     if integrated:
         return e.text(), e.text(numeric=True)
-    if reader.system != "us" and not reader.degrees:
-        got = lines(e, values, keep, sig, shown[0], shown[1])
-        if got is not None:
-            return got
+    if reader.system != "us":
+        if shown[2]:
+            got = lines(e, values, keep, sig, shown[0], shown[1])
+            if got is not None:
+                return got
+        return si_lines(e, values, keep, sig, shown[0], shown[1], shown[3])
     return (symbolic_line(e, system, reader, sig),
             numeric_line(e, values, keep, system, reader, sig))
 
@@ -181,8 +189,12 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     # an integration's rows print what it integrated and its result (integration.py)
     integrated = {k for integ in system.integrations for k in integ.equations}
     six: dict = {}
-    shown = (six, six if sig == 6 else {})
     eqs = system.equations
+    # the printers compiled per shape pay off where shapes recur many times (a big scene);
+    # a small file's rows are printed by the walk (its shapes, met a few times a file,
+    # would not be compiled: printers() would only walk the tree to count them)
+    shown = (six, six if sig == 6 else {}, len(eqs) >= PRINTERS_FROM and not reader.degrees,
+             angle_names(system) if reader.degrees else None)
 
     def row(k: int) -> EquationRow:
         e = eqs[k]
