@@ -104,3 +104,23 @@ def test_the_report_takes_the_walk_and_the_printers_alike(monkeypatch):
             assert walk == printed, (name, units)
             n += 1
     assert n > 150
+
+
+def test_the_checks_take_the_walks_and_the_compiled_trees_alike(monkeypatch):
+    """The residual and energy checks of every example and big scene with their trees by
+    treecode (compiled at first sight) and by the walks: the same checks, value for value."""
+    from helpers import solved_scenes
+
+    from momentum_cli.report import model, treecode
+
+    monkeypatch.setattr(treecode, "COMPILE_AFTER", 0)
+    n = 0
+    for _name, sol, _keeps in solved_scenes():
+        got = []
+        for start in (10**9, 0):
+            monkeypatch.setattr(model, "TREECODE_FROM", start)
+            got.append([(c.name, c.status, c.detail, c.value) for c in
+                        model._residual_checks(sol) + model._energy_checks(sol, 4)])
+        assert got[0] == got[1]
+        n += len(got[0])
+    assert n > 100

@@ -31,6 +31,10 @@ from .reader import (
 )
 
 PRINTERS_FROM = 64  # equations in a scene from which its rows go through printer.lines
+# equations in a scene from which its checks' trees go through treecode (compiled per
+# shape: a long sequence's like trees); a small file's few trees are walked (their shapes,
+# met a few times, cost a compile each: 3x the walks over a batch of small files)
+TREECODE_FROM = 64
 
 
 @record
@@ -575,15 +579,16 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
             s = nums[x, sig] = fmt_num(x, sig)
         return s
 
+    coded = len(system.equations) >= TREECODE_FROM
     for t in system.transitions:
         if t.kind != "impact":
             continue
         T1, T2 = t.energy
         try:  # one walk each; a failure is "not solved" only where a name is missing
-            a = tval(T1, values)  # by the shape's code (treecode.py), or walked
+            a = tval(T1, values) if coded else None  # by the shape's code (treecode.py)
             if a is None:
                 a = evaluate(T1, values)
-            b = tval(T2, values)
+            b = tval(T2, values) if coded else None
             if b is None:
                 b = evaluate(T2, values)
         except (KeyError, ValueError, ZeroDivisionError, OverflowError):
@@ -660,6 +665,7 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
     system, values = sol.system, sol.values
     worst = 0.0
     n = 0
+    coded = len(system.equations) >= TREECODE_FROM
     for b in sol.blocks:
         for k in b.equations:
             e = system.equations[k]
@@ -667,7 +673,8 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
                 continue
             try:
                 res = e.residual
-                got = tv_and_m(res, values)  # by the shape's code (treecode.py), or walked
+                # by the shape's code (treecode.py), or walked
+                got = tv_and_m(res, values) if coded else None
                 r, s = got if got is not None else value_and_magnitude(res, values)
                 r = abs(r)
             except KeyError:  # it also holds an unknown no equation determines
