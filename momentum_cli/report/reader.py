@@ -462,8 +462,8 @@ def _pleaf(f: E, values, keep, sig: int, six: dict, shown: dict, angle):
 
 def _pair(e: E, values, keep, sig: int, six: dict, shown: dict, angle):
     """(symbolic text, precedence, numeric text, precedence) of `e`: `expr._txt(e, False,
-    6)` and `_si_text(e, values, keep, sig, angle)` in one walk of its sums, products
-    and leaves (any other node by the two walks)."""
+    6)` and `_si_text(e, values, keep, sig, angle)` in one walk (a node of another type
+    than these by the two walks)."""
     t = type(e)
     if t is Add:
         ss: list = []
@@ -530,6 +530,17 @@ def _pair(e: E, values, keep, sig: int, six: dict, shown: dict, angle):
         return ssign + s, (_ADD if ssign else _MUL), nsign + n, (_ADD if nsign else _MUL)
     if t is Const or t is Var or t is Known:
         return _pleaf(e, values, keep, sig, six, shown, angle)[:4]
+    if t is Pow:
+        s, sp, n, np_ = _pair(e.base, values, keep, sig, six, shown, angle)
+        return (*_pow_txt(s, sp, e.exp, 6), *_pow_txt(n, np_, e.exp, sig))
+    if t is Fn:
+        x = e.arg
+        tx = type(x)
+        if angle is not None and (tx is Var or tx is Known):  # an angle without parentheses
+            s, n = x.name, _si_leaf(x, values, keep, sig, angle, True)[0]
+        else:
+            s, _, n, _ = _pair(x, values, keep, sig, six, shown, angle)
+        return f"{e.name}({s})", _ATOM, f"{e.name}({n})", _ATOM
     s, sp = _txt(e, False, 6, None, False)
     n, np_ = _si_text(e, values, keep, sig, angle)
     return s, sp, n, np_
