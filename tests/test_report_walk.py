@@ -124,3 +124,25 @@ def test_the_checks_take_the_walks_and_the_compiled_trees_alike(monkeypatch):
         assert got[0] == got[1]
         n += len(got[0])
     assert n > 100
+
+
+def test_both_lines_with_the_numbers_placed_once_equal_each_line_alone():
+    """`reader.lines_in` (a US line's numbers placed once for its two lines) against
+    `symbolic_line` and `numeric_line`, on every equation of the examples, in US, SI and
+    the file's units."""
+    from helpers import solved_scenes
+
+    from momentum_cli.report.reader import lines_in, numeric_line, reader_for, symbolic_line
+
+    n = 0
+    for name, sol, keeps in solved_scenes():
+        system, values = sol.system, sol.values
+        for units in ("us", "file", "si"):
+            reader = reader_for(units, system.scene.file_units)
+            for k, e in enumerate(system.equations):
+                keep = keeps.get(k, set())
+                want = (symbolic_line(e, system, reader, 4),
+                        numeric_line(e, values, keep, system, reader, 4))
+                assert lines_in(e, values, keep, system, reader, 4) == want, (name, k)
+                n += 1
+    assert n > 3000

@@ -24,10 +24,9 @@ from .reader import (
     angle_names,
     direction,
     is_angle,
-    numeric_line,
+    lines_in,
     reader_for,
     si_lines,
-    symbolic_line,
 )
 
 PRINTERS_FROM = 64  # equations in a scene from which its rows go through printer.lines
@@ -115,8 +114,7 @@ def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
             if got is not None:
                 return got
         return si_lines(e, values, keep, sig, shown[0], shown[1], shown[3])
-    return (symbolic_line(e, system, reader, sig),
-            numeric_line(e, values, keep, system, reader, sig))
+    return lines_in(e, values, keep, system, reader, sig)
 
 
 def equation_text(index: int, principle: str, line, role: str, sym: str, num: str) -> str:

@@ -235,23 +235,14 @@ def symbolic_line(eq, system, reader: Reader, sig: int = 6) -> str:
 
 
 def numeric_line(eq, values: dict, keep: set, system, reader: Reader, sig: int = 6,
-                 symbolic: bool = False) -> str:
+                 symbolic: bool = False, placed: tuple | None = None) -> str:
     """`lhs = rhs` with every value that is known here substituted (the givens and what
     earlier blocks solved), the unknowns in `keep` by name, in the reader's units.
 
     In US units every bare number is converted by the dimension its place needs; a line
-    whose numbers cannot all be placed is shown in SI and says so."""
-    memo: dict = {}
-    slots: dict = {}
-    scale = reader.system == "us"
-    if scale:
-        dl, dr = _dim_up(eq.lhs, system, memo), _dim_up(eq.rhs, system, memo)
-        d = dl if dl is not None else dr
-        _dim_down(eq.lhs, d, system, memo, slots)
-        _dim_down(eq.rhs, d, system, memo, slots)
-        # a number that no dimension reaches is a pure number only if the line is one
-        if any(v is None for v in slots.values()):
-            scale = False
+    whose numbers cannot all be placed is shown in SI and says so. `placed`: `_placed`
+    of the line, made already (by `lines_in`)."""
+    scale, memo, slots = placed if placed is not None else _placed(eq, system, reader)
     r = reader if scale else Reader("si", reader.degrees)
     if symbolic and not scale:
         return eq.text()
@@ -267,6 +258,33 @@ def numeric_line(eq, values: dict, keep: set, system, reader: Reader, sig: int =
     if reader.system == "us" and not scale:
         text += "   (SI)"
     return text
+
+
+def _placed(eq, system, reader: Reader) -> tuple:
+    """(scale, memo, slots): whether the line's numbers are converted to the reader's
+    units (US, every bare number placed), the nodes' dimensions, the numbers' dimensions."""
+    memo: dict = {}
+    slots: dict = {}
+    scale = reader.system == "us"
+    if scale:
+        dl, dr = _dim_up(eq.lhs, system, memo), _dim_up(eq.rhs, system, memo)
+        d = dl if dl is not None else dr
+        _dim_down(eq.lhs, d, system, memo, slots)
+        _dim_down(eq.rhs, d, system, memo, slots)
+        # a number that no dimension reaches is a pure number only if the line is one
+        if any(v is None for v in slots.values()):
+            scale = False
+    return scale, memo, slots
+
+
+def lines_in(eq, values: dict, keep: set, system, reader: Reader, sig: int = 6):
+    """(`symbolic_line(eq, ...)`, `numeric_line(eq, values, keep, ...)`), the numbers'
+    dimensions placed once for the two (a US line's)."""
+    if reader.system != "us":
+        return eq.text(), numeric_line(eq, values, keep, system, reader, sig)
+    placed = _placed(eq, system, reader)
+    return (numeric_line(eq, {}, set(), system, reader, sig, True, placed),
+            numeric_line(eq, values, keep, system, reader, sig, False, placed))
 
 
 # ---- the numeric line in SI and radians: one walk that prints and substitutes ---------------

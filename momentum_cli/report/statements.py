@@ -27,7 +27,7 @@ from ..expr import (
 from ..numbers import fmt_num
 from ..units import INERTIA, LENGTH, MASS, VELOCITY
 from .printer import lines
-from .reader import Reader, numeric_line, si_lines, symbolic_line
+from .reader import Reader, lines_in, si_lines
 
 
 class _Eq:
@@ -197,8 +197,7 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6,
                            angle if reader.degrees else None) \
                 if angle is not None or not reader.degrees else None
         if got is None:
-            got = (symbolic_line(eq, system, reader, sig),
-                   numeric_line(eq, vals, keep, system, reader, sig))
+            got = lines_in(eq, vals, keep, system, reader, sig)
         out.append(dict(kind=law.kind, principle=law.principle, why=law.why, steps=steps,
                         symbolic=got[0], numeric=got[1], result=result))
     return out
