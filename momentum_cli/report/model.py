@@ -523,15 +523,17 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
     file asks for: a component that is round-off around zero has no meaningful
     relative error, and only exact arithmetic can tell it from a tiny true value.
     """
-    asked: set[str] = set()
-    for f in sol.system.finds:
-        variables(f.expr, asked)
+    asked: set[str] | None = None  # the answers' unknowns: read once a block has a bound
     out = []
     texts: dict = {}
     for b in sol.blocks:
         q = b.quality
         if q is None or len(b.unknowns) < 2:
             continue
+        if asked is None:
+            asked = set()
+            for f in sol.system.finds:
+                variables(f.expr, asked)
         name = f"error estimate, block {', '.join(b.unknowns[:3])}" + \
             ("..." if len(b.unknowns) > 3 else "")
         comps = q.components or [q.bound] * len(b.unknowns)
