@@ -426,6 +426,7 @@ class _Builder:
         t = self.t
         apps = t.impulses
         monos = []
+        known_arms = True  # every arm a number (else read as `_impulses` evaluates it)
         for a in apps:
             if a.torque is not None:
                 return None
@@ -434,7 +435,7 @@ class _Builder:
                 return None
             tx, ty = type(a.arm.x), type(a.arm.y)
             if not ((tx is Const or tx is Known) and (ty is Const or ty is Known)):
-                return None
+                known_arms = False
             monos.append(mono)
         # an impact of one compiled kind (`TransitionInfo.kind_id`: the same contacts'
         # normals, radii and bodies by index) with no position known anywhere and no
@@ -445,7 +446,7 @@ class _Builder:
         kid = getattr(t, "kind_id", None)
         gkey = ats = None
         if kid is not None and KINDS and sh.unplaced and not self.sc.joints and \
-                self.spec is not None and sh.own:
+                self.spec is not None and sh.own and known_arms:
             gkey = kid if sh.still_points else \
                 (kid, tuple([(c.a.offset, c.a.round_contact, c.a.located_by is None,
                               None if c.b is None else
@@ -479,7 +480,8 @@ class _Builder:
             if ats is None:
                 body = where[a.body]
                 if p.round_contact or p.located_by is not None:
-                    arm = (a.arm.x.value, a.arm.y.value)
+                    arm = (a.arm.x.value, a.arm.y.value) if known_arms else \
+                        _arm(a.arm, vals)
                 else:
                     arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
                 at, point = _where(a, body, arm)
@@ -979,6 +981,24 @@ def _monomials(J) -> dict | None:
     if my[0] is not None and my[0] != mx[0]:
         out[my[0]] = (0.0, my[1])
     return out
+
+
+def _arm(arm, vals) -> tuple:
+    """The arm of an application whose arm is a tree and whose J is `_monomials`' (its
+    names impulses), as `_Builder._impulses` evaluates it: an unknown nothing solved (an
+    angle not needed) reads 0; (0, 0) where it cannot be evaluated."""
+    ax, ay = arm.x, arm.y
+    names = variables(ax)
+    variables(ay, names)
+    over = {}
+    for n in names:
+        if n not in vals and n not in over and not _impulse(n):
+            over[n] = 0.0
+    base = _Over(vals, over) if over else vals
+    try:
+        return (evaluate(ax, base), evaluate(ay, base))
+    except (KeyError, ValueError, ZeroDivisionError):
+        return (0.0, 0.0)
 
 
 class _Over(dict):
