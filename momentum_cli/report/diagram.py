@@ -8,6 +8,7 @@ configuration at the start of the transition, for the terminal list and the SVG 
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 from ..elements.keys import Key
 from ..elements.kinds import Component, JointKind, KeyKind, Tangential
@@ -342,13 +343,22 @@ class _Shared:
         # position is known (`_Builder.plain_lines`): a kind's bodies are placed alike
         self.kinds: dict = {}
         self.own = len(self.specs) == len(sc.transitions)  # no two transitions of one key
-        # every contact point at its body's G or a round body's rim, none located by an
-        # unknown: a kind's contacts place its bodies alike whatever their points
-        self.still_points = all(
+
+    @cached_property
+    def still_points(self) -> bool:
+        """Every contact point at its body's G or a round body's rim, none located by an
+        unknown: a kind's contacts place its bodies alike whatever their points (read
+        where a kind's places are looked up, not for every solution)."""
+        return all(
             p is None or (p.located_by is None and (p.round_contact or not any(p.offset)))
-            for tr in sc.transitions for c in tr.contacts for p in (c.a, c.b))
-        sizes = [_extent(b) for b in sc.bodies.values()]
-        self.size = max([x for x in sizes if x > 0] or [1.0])
+            for tr in self.sol.system.scene.transitions for c in tr.contacts
+            for p in (c.a, c.b))
+
+    @cached_property
+    def size(self) -> float:
+        """A length for schematic spacing (read only where a body is placed by a tie)."""
+        sizes = [_extent(b) for b in self.sol.system.scene.bodies.values()]
+        return max([x for x in sizes if x > 0] or [1.0])
 
 
 def _where(a, body: DiagramBody, arm) -> tuple:
@@ -900,7 +910,7 @@ class _Builder:
                                            "phases")
                 out.append(Dropped(None, f"{jt.kind} {jt.label}", why))
         for c in (self.spec.contacts if self.spec else ()):
-            if c.normal is not None and Tangential(c.mode) is Tangential.SMOOTH:
+            if c.normal is not None and _smooth(c.mode):
                 out.append(Dropped(c.a.body, f"friction at {c.label}",
                                    "smooth contact: no tangential impulse"))
         return out
@@ -1039,6 +1049,19 @@ def _rim(b: DiagramBody, p: tuple) -> float:
                 1e-9 * max(1.0, dims["radius"]):
             return dims["radius"]
     return 0.0
+
+
+_SMOOTH: dict = {}  # a contact's mode -> whether it is smooth (the enum's lookup once)
+
+
+def _smooth(mode) -> bool:
+    """`Tangential(mode) is Tangential.SMOOTH`, each mode looked up once."""
+    got = _SMOOTH.get(mode)
+    if got is None:
+        got = Tangential(mode) is Tangential.SMOOTH
+        if len(_SMOOTH) < 64:
+            _SMOOTH[mode] = got
+    return got
 
 
 def _impulse(n) -> bool:

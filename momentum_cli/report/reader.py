@@ -610,6 +610,10 @@ _WORDS = {"omega": ("counterclockwise", "clockwise"), "vx": ("to the right", "to
           "vy": ("upward", "downward")}
 
 
+_JXY = re.compile(r"^J(x|y)\[")  # an impulse component along x or y
+_HM = re.compile(r"^(H|M)\[")  # an angular momentum or angular impulse
+
+
 def direction(name: str, value: float | None, system) -> str | None:
     """`clockwise`, `to the left`, `downward`...: the sign of a velocity component, an
     angular velocity or an impulse component along x or y, in the words of a textbook
@@ -621,9 +625,9 @@ def direction(name: str, value: float | None, system) -> str | None:
     if qty is None:
         m = _STATE.match(name)
         qty = m.group(1) if m else None
-    if qty is None and re.match(r"^J(x|y)\[", name):
+    if qty is None and _JXY.match(name):
         qty = "v" + name[1]
-    if qty is None and re.match(r"^(H|M)\[", name):
+    if qty is None and _HM.match(name):
         qty = "omega"
     words = _WORDS.get(qty)
     if words is None:
