@@ -86,7 +86,8 @@ def test_one_walk_equals_the_two_walks_on_every_example_and_big_scene():
 
 def test_the_report_takes_the_walk_and_the_printers_alike(monkeypatch):
     """Whole plain reports of the examples (lazy, as a batch renders them) with every
-    scene's rows through the printers (compiled at first sight), and through the one walk, are the same text."""
+    scene's rows through the printers (compiled at first sight), and through the one
+    walk, are the same text."""
     from helpers import solved_scenes
 
     from momentum_cli.report import model, printer

@@ -111,10 +111,7 @@ class ImpulseDiagram:
         # the reader's factors and labels once (as `show` gives them), numbers through
         # one cache: the same few values recur along a chain
         r = self.reader
-        got = _SHOWN.get(r)
-        if got is None:
-            got = _SHOWN[r] = ({m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
-                                ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+        got = _SHOWN.get((r.system, r.degrees)) or _shown(r)
         shown, f = got
         cache = _NUMS
         if len(cache) > 4096:
@@ -169,7 +166,16 @@ class ImpulseDiagram:
             lines=self.lines())
 
 
-_SHOWN: dict = {}  # reader -> the impulses' (factor, label) by moment, the length factor
+# a reader's (system, degrees) -> the impulses' (factor, label) by moment, the length factor
+_SHOWN: dict = {}
+
+
+def _shown(r: Reader) -> tuple:
+    """`_SHOWN` of reader `r`, made (keyed by its fields: a record's hash is slow)."""
+    got = _SHOWN[r.system, r.degrees] = (
+        {m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
+         ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+    return got
 # (coefficients, component, contact normal) -> (size, words) of an impulse in a diagram's
 # text (`_Builder.plain_lines`): a pure function of the key, shared by all
 _DIRS: dict = {}
@@ -473,10 +479,7 @@ class _Builder:
             names = t.bodies
             made = None
         r = self.reader
-        got = _SHOWN.get(r)
-        if got is None:
-            got = _SHOWN[r] = ({m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
-                                ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+        got = _SHOWN.get((r.system, r.degrees)) or _shown(r)
         (k, unit), f = got[0][False], got[1]
         cache = _NUMS
         if len(cache) > 4096:
