@@ -435,23 +435,24 @@ class _Builder:
                               self._links(where), self.notes)
 
     def plain_lines(self, indent: str = "") -> list | None:
-        """`ImpulseDiagram.lines(indent)` of `build(lines_only=True)`, the same strings, for a
-        transition whose every application takes `_plain_impulses` (impulses alone, no
-        torque, a known arm): each impulse's line formatted where it is found (no
-        `DiagramImpulse`, no sort: grouped by body as found); None for any other."""
+        """`ImpulseDiagram.lines(indent)` of `build(lines_only=True)`, the same strings: each
+        impulse's line formatted where it is found (no diagram, no sort: grouped by body
+        as found); an application that takes `_plain_impulses` (impulses alone, no torque)
+        without `DiagramImpulse`s, any other by `_impulses`."""
         t = self.t
         apps = t.impulses
         monos = []
         known_arms = True  # every arm a number (else read as `_impulses` evaluates it)
         for a in apps:
-            if a.torque is not None:
-                return None
-            mono = _monomials(a.J)
+            # None: an application with a torque, or whose J is not `_monomials`' (a
+            # weight's m*g*t): its impulses by `_impulses`' general steps, laid out here
+            mono = _monomials(a.J) if a.torque is None else None
             if mono is None:
-                return None
-            tx, ty = type(a.arm.x), type(a.arm.y)
-            if not ((tx is Const or tx is Known) and (ty is Const or ty is Known)):
                 known_arms = False
+            else:
+                tx, ty = type(a.arm.x), type(a.arm.y)
+                if not ((tx is Const or tx is Known) and (ty is Const or ty is Known)):
+                    known_arms = False
             monos.append(mono)
         # an impact of one compiled kind (`TransitionInfo.kind_id`: the same contacts'
         # normals, radii and bodies by index) with no position known anywhere and no
@@ -489,6 +490,9 @@ class _Builder:
         dirs = _DIRS
         by_body: dict = {}
         for k_app, (a, mono) in enumerate(zip(apps, monos)):
+            if mono is None:  # as `ImpulseDiagram.lines` lays out `_impulses`' own
+                self._general_lines(a, where[a.body], by_body, indent, got)
+                continue
             p = a.point
             if ats is None:
                 body = where[a.body]
@@ -565,6 +569,38 @@ class _Builder:
             on = f" ({d.body})" if d.body and d.body not in d.what else ""
             add(f"{indent}  dropped: {d.what}{on}: {d.why}")
         return out
+
+    def _general_lines(self, a, body: DiagramBody, by_body: dict, indent: str,
+                       shown: tuple) -> None:
+        """The lines of application `a`'s impulses by `_impulses`, added to `by_body`,
+        each as `ImpulseDiagram.lines` writes it (`shown`: `_SHOWN` of the reader)."""
+        units, f = shown
+        cache = _NUMS
+        for i in self._impulses(a, body):
+            k, unit = units[i.moment]
+            if i.value is None:
+                v = "?"
+            else:
+                x = i.value / k
+                v = cache.get(x)
+                if v is None:
+                    v = cache[x] = fmt_num(_clean(x), SIG)
+            if i.moment:
+                where = f" on {i.body}"
+            elif i.at is None:
+                where = f" at {i.point} {_xy(None)}"
+            else:
+                x, y = i.at[0] / f, i.at[1] / f
+                sx, sy = cache.get(x), cache.get(y)
+                if sx is None:
+                    sx = cache[x] = fmt_num(_clean(x), SIG)
+                if sy is None:
+                    sy = cache[y] = fmt_num(_clean(y), SIG)
+                where = f" at {i.point} ({sx}, {sy})"
+            mine = by_body.get(i.body)
+            if mine is None:
+                mine = by_body[i.body] = []
+            mine.append(f"{indent}    {i.name} = {v} {unit}{where}, {i.words}")
 
     def _known_at(self, sid: str):
         """`known(body, q, sid)` for one state, its givens and its root looked up once
