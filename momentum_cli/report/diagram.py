@@ -8,6 +8,7 @@ configuration at the start of the transition, for the terminal list and the SVG 
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 from ..elements.keys import Key
 from ..elements.kinds import Component, JointKind, KeyKind, Tangential
@@ -110,10 +111,7 @@ class ImpulseDiagram:
         # the reader's factors and labels once (as `show` gives them), numbers through
         # one cache: the same few values recur along a chain
         r = self.reader
-        got = _SHOWN.get(r)
-        if got is None:
-            got = _SHOWN[r] = ({m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
-                                ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+        got = _SHOWN.get((r.system, r.degrees)) or _shown(r)
         shown, f = got
         cache = _NUMS
         if len(cache) > 4096:
@@ -168,7 +166,16 @@ class ImpulseDiagram:
             lines=self.lines())
 
 
-_SHOWN: dict = {}  # reader -> the impulses' (factor, label) by moment, the length factor
+# a reader's (system, degrees) -> the impulses' (factor, label) by moment, the length factor
+_SHOWN: dict = {}
+
+
+def _shown(r: Reader) -> tuple:
+    """`_SHOWN` of reader `r`, made (keyed by its fields: a record's hash is slow)."""
+    got = _SHOWN[r.system, r.degrees] = (
+        {m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
+         ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+    return got
 # (coefficients, component, contact normal) -> (size, words) of an impulse in a diagram's
 # text (`_Builder.plain_lines`): a pure function of the key, shared by all
 _DIRS: dict = {}
@@ -342,13 +349,22 @@ class _Shared:
         # position is known (`_Builder.plain_lines`): a kind's bodies are placed alike
         self.kinds: dict = {}
         self.own = len(self.specs) == len(sc.transitions)  # no two transitions of one key
-        # every contact point at its body's G or a round body's rim, none located by an
-        # unknown: a kind's contacts place its bodies alike whatever their points
-        self.still_points = all(
+
+    @cached_property
+    def still_points(self) -> bool:
+        """Every contact point at its body's G or a round body's rim, none located by an
+        unknown: a kind's contacts place its bodies alike whatever their points (read
+        where a kind's places are looked up, not for every solution)."""
+        return all(
             p is None or (p.located_by is None and (p.round_contact or not any(p.offset)))
-            for tr in sc.transitions for c in tr.contacts for p in (c.a, c.b))
-        sizes = [_extent(b) for b in sc.bodies.values()]
-        self.size = max([x for x in sizes if x > 0] or [1.0])
+            for tr in self.sol.system.scene.transitions for c in tr.contacts
+            for p in (c.a, c.b))
+
+    @cached_property
+    def size(self) -> float:
+        """A length for schematic spacing (read only where a body is placed by a tie)."""
+        sizes = [_extent(b) for b in self.sol.system.scene.bodies.values()]
+        return max([x for x in sizes if x > 0] or [1.0])
 
 
 def _where(a, body: DiagramBody, arm) -> tuple:
@@ -419,22 +435,24 @@ class _Builder:
                               self._links(where), self.notes)
 
     def plain_lines(self, indent: str = "") -> list | None:
-        """`ImpulseDiagram.lines(indent)` of `build(lines_only=True)`, the same strings, for a
-        transition whose every application takes `_plain_impulses` (impulses alone, no
-        torque, a known arm): each impulse's line formatted where it is found (no
-        `DiagramImpulse`, no sort: grouped by body as found); None for any other."""
+        """`ImpulseDiagram.lines(indent)` of `build(lines_only=True)`, the same strings: each
+        impulse's line formatted where it is found (no diagram, no sort: grouped by body
+        as found); an application that takes `_plain_impulses` (impulses alone, no torque)
+        without `DiagramImpulse`s, any other by `_impulses`."""
         t = self.t
         apps = t.impulses
         monos = []
+        known_arms = True  # every arm a number (else read as `_impulses` evaluates it)
         for a in apps:
-            if a.torque is not None:
-                return None
-            mono = _monomials(a.J)
+            # None: an application with a torque, or whose J is not `_monomials`' (a
+            # weight's m*g*t): its impulses by `_impulses`' general steps, laid out here
+            mono = _monomials(a.J) if a.torque is None else None
             if mono is None:
-                return None
-            tx, ty = type(a.arm.x), type(a.arm.y)
-            if not ((tx is Const or tx is Known) and (ty is Const or ty is Known)):
-                return None
+                known_arms = False
+            else:
+                tx, ty = type(a.arm.x), type(a.arm.y)
+                if not ((tx is Const or tx is Known) and (ty is Const or ty is Known)):
+                    known_arms = False
             monos.append(mono)
         # an impact of one compiled kind (`TransitionInfo.kind_id`: the same contacts'
         # normals, radii and bodies by index) with no position known anywhere and no
@@ -445,7 +463,7 @@ class _Builder:
         kid = getattr(t, "kind_id", None)
         gkey = ats = None
         if kid is not None and KINDS and sh.unplaced and not self.sc.joints and \
-                self.spec is not None and sh.own:
+                self.spec is not None and sh.own and known_arms:
             gkey = kid if sh.still_points else \
                 (kid, tuple([(c.a.offset, c.a.round_contact, c.a.located_by is None,
                               None if c.b is None else
@@ -462,10 +480,7 @@ class _Builder:
             names = t.bodies
             made = None
         r = self.reader
-        got = _SHOWN.get(r)
-        if got is None:
-            got = _SHOWN[r] = ({m: (r.factor(d), r.label(d, UNIT[m])) for m, d in
-                                ((False, IMPULSE), (True, ANGULAR_IMPULSE))}, r.factor(LENGTH))
+        got = _SHOWN.get((r.system, r.degrees)) or _shown(r)
         (k, unit), f = got[0][False], got[1]
         cache = _NUMS
         if len(cache) > 4096:
@@ -475,11 +490,15 @@ class _Builder:
         dirs = _DIRS
         by_body: dict = {}
         for k_app, (a, mono) in enumerate(zip(apps, monos)):
+            if mono is None:  # as `ImpulseDiagram.lines` lays out `_impulses`' own
+                self._general_lines(a, where[a.body], by_body, indent, got)
+                continue
             p = a.point
             if ats is None:
                 body = where[a.body]
                 if p.round_contact or p.located_by is not None:
-                    arm = (a.arm.x.value, a.arm.y.value)
+                    arm = (a.arm.x.value, a.arm.y.value) if known_arms else \
+                        _arm(a.arm, vals)
                 else:
                     arm = (0.0, 0.0) if body.particle else _rot(p.offset, body.angle)
                 at, point = _where(a, body, arm)
@@ -550,6 +569,38 @@ class _Builder:
             on = f" ({d.body})" if d.body and d.body not in d.what else ""
             add(f"{indent}  dropped: {d.what}{on}: {d.why}")
         return out
+
+    def _general_lines(self, a, body: DiagramBody, by_body: dict, indent: str,
+                       shown: tuple) -> None:
+        """The lines of application `a`'s impulses by `_impulses`, added to `by_body`,
+        each as `ImpulseDiagram.lines` writes it (`shown`: `_SHOWN` of the reader)."""
+        units, f = shown
+        cache = _NUMS
+        for i in self._impulses(a, body):
+            k, unit = units[i.moment]
+            if i.value is None:
+                v = "?"
+            else:
+                x = i.value / k
+                v = cache.get(x)
+                if v is None:
+                    v = cache[x] = fmt_num(_clean(x), SIG)
+            if i.moment:
+                where = f" on {i.body}"
+            elif i.at is None:
+                where = f" at {i.point} {_xy(None)}"
+            else:
+                x, y = i.at[0] / f, i.at[1] / f
+                sx, sy = cache.get(x), cache.get(y)
+                if sx is None:
+                    sx = cache[x] = fmt_num(_clean(x), SIG)
+                if sy is None:
+                    sy = cache[y] = fmt_num(_clean(y), SIG)
+                where = f" at {i.point} ({sx}, {sy})"
+            mine = by_body.get(i.body)
+            if mine is None:
+                mine = by_body[i.body] = []
+            mine.append(f"{indent}    {i.name} = {v} {unit}{where}, {i.words}")
 
     def _known_at(self, sid: str):
         """`known(body, q, sid)` for one state, its givens and its root looked up once
@@ -898,7 +949,7 @@ class _Builder:
                                            "phases")
                 out.append(Dropped(None, f"{jt.kind} {jt.label}", why))
         for c in (self.spec.contacts if self.spec else ()):
-            if c.normal is not None and Tangential(c.mode) is Tangential.SMOOTH:
+            if c.normal is not None and _smooth(c.mode):
                 out.append(Dropped(c.a.body, f"friction at {c.label}",
                                    "smooth contact: no tangential impulse"))
         return out
@@ -981,6 +1032,24 @@ def _monomials(J) -> dict | None:
     return out
 
 
+def _arm(arm, vals) -> tuple:
+    """The arm of an application whose arm is a tree and whose J is `_monomials`' (its
+    names impulses), as `_Builder._impulses` evaluates it: an unknown nothing solved (an
+    angle not needed) reads 0; (0, 0) where it cannot be evaluated."""
+    ax, ay = arm.x, arm.y
+    names = variables(ax)
+    variables(ay, names)
+    over = {}
+    for n in names:
+        if n not in vals and n not in over and not _impulse(n):
+            over[n] = 0.0
+    base = _Over(vals, over) if over else vals
+    try:
+        return (evaluate(ax, base), evaluate(ay, base))
+    except (KeyError, ValueError, ZeroDivisionError):
+        return (0.0, 0.0)
+
+
 class _Over(dict):
     """Values with a few overridden (a dict over another, without copying it)."""
 
@@ -1019,6 +1088,19 @@ def _rim(b: DiagramBody, p: tuple) -> float:
                 1e-9 * max(1.0, dims["radius"]):
             return dims["radius"]
     return 0.0
+
+
+_SMOOTH: dict = {}  # a contact's mode -> whether it is smooth (the enum's lookup once)
+
+
+def _smooth(mode) -> bool:
+    """`Tangential(mode) is Tangential.SMOOTH`, each mode looked up once."""
+    got = _SMOOTH.get(mode)
+    if got is None:
+        got = Tangential(mode) is Tangential.SMOOTH
+        if len(_SMOOTH) < 64:
+            _SMOOTH[mode] = got
+    return got
 
 
 def _impulse(n) -> bool:

@@ -21,12 +21,19 @@ from .treecode import evaluate as tval
 from .treecode import value_and_magnitude as tv_and_m
 from .reader import (
     STATE_DIMS,
+    angle_names,
     direction,
     is_angle,
-    numeric_line,
+    lines_in,
     reader_for,
-    symbolic_line,
+    si_lines,
 )
+
+PRINTERS_FROM = 64  # equations in a scene from which its rows go through printer.lines
+# equations in a scene from which its checks' trees go through treecode (compiled per
+# shape: a long sequence's like trees); a small file's few trees are walked (their shapes,
+# met a few times, cost a compile each: 3x the walks over a batch of small files)
+TREECODE_FROM = 64
 
 
 @record
@@ -95,16 +102,19 @@ _SI_UNIT = {"x": "m", "y": "m", "angle": "rad", "vx": "m/s", "vy": "m/s",
 def _lines(e, integrated: bool, values, keep, system, reader, sig: int,
            shown: tuple) -> tuple[str, str]:
     """(symbolic, numeric) line of one equation: an integration's as it integrated;
-    in SI and radians by the printer compiled for the equation's shape (printer.py).
+    in SI and radians by the printer compiled for the equation's shape (printer.py),
+    where a scene is big enough to meet its shapes often (`shown[2]`); else, and in SI
+    in degrees (`shown[3]`: the angles' test), by one walk printing both lines.
     `shown`: the numbers printed so far, to 6 and to `sig` figures (value -> text)."""
     if integrated:
         return e.text(), e.text(numeric=True)
-    if reader.system != "us" and not reader.degrees:
-        got = lines(e, values, keep, sig, shown[0], shown[1])
-        if got is not None:
-            return got
-    return (symbolic_line(e, system, reader, sig),
-            numeric_line(e, values, keep, system, reader, sig))
+    if reader.system != "us":
+        if shown[2]:
+            got = lines(e, values, keep, sig, shown[0], shown[1])
+            if got is not None:
+                return got
+        return si_lines(e, values, keep, sig, shown[0], shown[1], shown[3])
+    return lines_in(e, values, keep, system, reader, sig)
 
 
 def equation_text(index: int, principle: str, line, role: str, sym: str, num: str) -> str:
@@ -181,8 +191,12 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     # an integration's rows print what it integrated and its result (integration.py)
     integrated = {k for integ in system.integrations for k in integ.equations}
     six: dict = {}
-    shown = (six, six if sig == 6 else {})
     eqs = system.equations
+    # the printers compiled per shape pay off where shapes recur many times (a big scene);
+    # a small file's rows are printed by the walk (its shapes, met a few times a file,
+    # would not be compiled: printers() would only walk the tree to count them)
+    shown = (six, six if sig == 6 else {}, len(eqs) >= PRINTERS_FROM and not reader.degrees,
+             angle_names(system) if reader.degrees else None)
 
     def row(k: int) -> EquationRow:
         e = eqs[k]
@@ -509,15 +523,17 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
     file asks for: a component that is round-off around zero has no meaningful
     relative error, and only exact arithmetic can tell it from a tiny true value.
     """
-    asked: set[str] = set()
-    for f in sol.system.finds:
-        variables(f.expr, asked)
+    asked: set[str] | None = None  # the answers' unknowns: read once a block has a bound
     out = []
     texts: dict = {}
     for b in sol.blocks:
         q = b.quality
         if q is None or len(b.unknowns) < 2:
             continue
+        if asked is None:
+            asked = set()
+            for f in sol.system.finds:
+                variables(f.expr, asked)
         name = f"error estimate, block {', '.join(b.unknowns[:3])}" + \
             ("..." if len(b.unknowns) > 3 else "")
         comps = q.components or [q.bound] * len(b.unknowns)
@@ -563,15 +579,16 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
             s = nums[x, sig] = fmt_num(x, sig)
         return s
 
+    coded = len(system.equations) >= TREECODE_FROM
     for t in system.transitions:
         if t.kind != "impact":
             continue
         T1, T2 = t.energy
         try:  # one walk each; a failure is "not solved" only where a name is missing
-            a = tval(T1, values)  # by the shape's code (treecode.py), or walked
+            a = tval(T1, values) if coded else None  # by the shape's code (treecode.py)
             if a is None:
                 a = evaluate(T1, values)
-            b = tval(T2, values)
+            b = tval(T2, values) if coded else None
             if b is None:
                 b = evaluate(T2, values)
         except (KeyError, ValueError, ZeroDivisionError, OverflowError):
@@ -648,6 +665,7 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
     system, values = sol.system, sol.values
     worst = 0.0
     n = 0
+    coded = len(system.equations) >= TREECODE_FROM
     for b in sol.blocks:
         for k in b.equations:
             e = system.equations[k]
@@ -655,7 +673,8 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
                 continue
             try:
                 res = e.residual
-                got = tv_and_m(res, values)  # by the shape's code (treecode.py), or walked
+                # by the shape's code (treecode.py), or walked
+                got = tv_and_m(res, values) if coded else None
                 r, s = got if got is not None else value_and_magnitude(res, values)
                 r = abs(r)
             except KeyError:  # it also holds an unknown no equation determines

@@ -27,11 +27,13 @@ from ..expr import (
 from ..numbers import fmt_num
 from ..units import INERTIA, LENGTH, MASS, VELOCITY
 from .printer import lines
-from .reader import Reader, numeric_line, symbolic_line
+from .reader import Reader, lines_in, si_lines
 
 
 class _Eq:
     """An equation-like pair for the printers (lhs, rhs, text)."""
+
+    _texts = None  # as an Equation's: nothing printed yet
 
     def __init__(self, lhs, rhs):
         self.lhs, self.rhs = lhs, rhs
@@ -144,7 +146,10 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6,
     if numbers is None:
         six: dict = {}
         numbers = (six, six if sig == 6 else {})
-    six, shown_numbers = numbers
+    six, shown_numbers = numbers[0], numbers[1]
+    # build_report's: whether its scene is big enough for the printers, the angles' test
+    # (else the printers for SI in radians, as `lines` decides)
+    printers, angle = (numbers[2], numbers[3]) if len(numbers) > 2 else (si, None)
     for law in getattr(t, "laws", ()) or ():
         steps, result = [], []
         rhs = law.rhs
@@ -186,10 +191,13 @@ def statements(t, values: dict, system, reader: Reader, sig: int = 6,
             steps.append(f"I_{p['point']} = I_G + m*d^2 = {f(I_G)} + {f(m)}*{f(d)}^2 = {f(I_O)} "
                           f"{reader.label(INERTIA)} (parallel axes: {p['body']}'s G is "
                           f"{f(d)} {reader.label(LENGTH)} from {p['point']})")
-        got = lines(eq, vals, keep, sig, six, shown_numbers) if si else None
+        got = lines(eq, vals, keep, sig, six, shown_numbers) if si and printers else None
+        if got is None and reader.system != "us":
+            got = si_lines(eq, vals, keep, sig, six, shown_numbers,
+                           angle if reader.degrees else None) \
+                if angle is not None or not reader.degrees else None
         if got is None:
-            got = (symbolic_line(eq, system, reader, sig),
-                   numeric_line(eq, vals, keep, system, reader, sig))
+            got = lines_in(eq, vals, keep, system, reader, sig)
         out.append(dict(kind=law.kind, principle=law.principle, why=law.why, steps=steps,
                         symbolic=got[0], numeric=got[1], result=result))
     return out
