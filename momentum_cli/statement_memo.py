@@ -30,8 +30,8 @@ def parse(text: str, parse_text, loops=None):
     not match (something before the first statement, a `\\` continuation at the end
     of a statement, a statement that does not parse alone) is left to the whole parse, which also reports errors.
     Written-out loops: a node's span is mapped to the file through the lines' origins
-    (loops.Expansion.at), so their key holds those origins too, and no template is
-    made from them or used for them (its columns are the expanded text's).
+    (loops.Expansion.at), so their key holds those origins too; their templates hold the
+    nodes with the expanded text's spans (parsed with no map), mapped for each file.
     """
     lines = text.split("\n")
     if lines[-1] == "":
@@ -61,23 +61,40 @@ def parse(text: str, parse_text, loops=None):
             key = (a, chunk, tuple([(o.line, o.text, o.where) for o in loops.origins[a:b]]))
         nodes = table.get(key)
         if nodes is None:
-            if loops is None:
-                shape, literals = statement_template.shape(a, chunk)
-                nodes = statement_template.made(shape, literals)  # new numbers, same nodes
-                if nodes is not None:
-                    out.extend(nodes)
-                    continue
+            shape, literals = statement_template.shape(a, chunk)
+            raw = statement_template.made(shape, literals)  # new numbers, same nodes
+            if raw is not None:
+                out.extend(raw if loops is None else statement_template.mapped(raw, loops.at))
+                continue
             try:
-                nodes = tuple(parse_text("\n" * a + chunk))
+                if loops is None:
+                    nodes = raw = tuple(parse_text("\n" * a + chunk))
+                else:
+                    raw = _raw_parse(parse_text, "\n" * a + chunk)
+                    nodes = statement_template.mapped(raw, loops.at)
             except Exception:  # an error, or a cut that does not fit: the whole parse's
                 return None
             if len(table) >= LIMIT:
                 table.clear()
             table[key] = nodes
-            if loops is None:
-                statement_template.remember(shape, literals, nodes)
+            statement_template.remember(shape, literals, raw)
         out.extend(nodes)
     return out
+
+
+def _raw_parse(parse_text, text: str) -> tuple:
+    """The nodes of an expanded chunk with their spans in the expanded text: the parse
+    with syntax's map to the file switched off (statement_template.mapped maps them, as
+    the parser would have, span by span)."""
+    from . import syntax
+
+    spans = syntax._SPANS
+    before = spans[0]
+    spans[0] = None
+    try:
+        return tuple(parse_text(text))
+    finally:
+        spans[0] = before
 
 
 _units: dict = {}  # id(statement) -> (statement, its unit strings), for the table's

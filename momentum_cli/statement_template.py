@@ -164,5 +164,25 @@ def made(key, literals):
         return None
 
 
+def mapped(nodes, at) -> tuple:
+    """Nodes parsed from expanded loops with their spans in the expanded text, with each
+    span mapped to the file by `at` (loops.Expansion.at, which the parser calls for each
+    span it makes while the map is on): the nodes that parse gives."""
+    from .source import Span
+
+    def conv(node):
+        t = type(node)
+        if t is Span:
+            return at(node.line, node.column, node.end_line, node.end_column)
+        if t is tuple or t is list:
+            return t([conv(x) for x in node])
+        fields = getattr(t, "_fields", None)
+        if not fields:
+            return node
+        return t(*[conv(getattr(node, f)) for f in fields])
+
+    return tuple([conv(n) for n in nodes])
+
+
 class _Inside(Exception):
     """A node's column falls inside a literal whose length changed."""
