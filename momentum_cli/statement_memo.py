@@ -64,7 +64,9 @@ def parse(text: str, parse_text, loops=None):
             shape, literals = statement_template.shape(a, chunk)
             raw = statement_template.made(shape, literals)  # new numbers, same nodes
             if raw is not None:
-                out.extend(raw if loops is None else statement_template.mapped(raw, loops.at))
+                nodes = raw if loops is None else statement_template.mapped(raw, loops.at)
+                _same_units(nodes, statement_template.template(shape).nodes)
+                out.extend(nodes)
                 continue
             try:
                 if loops is None:
@@ -98,6 +100,16 @@ def _raw_parse(parse_text, text: str) -> tuple:
 
 
 _units: dict = {}  # id(statement) -> (statement, its unit strings), for the table's
+
+
+def _same_units(made, like) -> None:
+    """Statements made from a template's (`like`) hold its units (only numbers, titles
+    and columns differ): each takes that one's list in `units`' table, if walked."""
+    memo = _units
+    for n, o in zip(made, like):
+        hit = memo.get(id(o))
+        if hit is not None and hit[0] is o and len(memo) < LIMIT:
+            memo[id(n)] = (n, hit[1])
 
 
 def units(doc, walk) -> list:

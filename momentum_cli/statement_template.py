@@ -94,6 +94,10 @@ def clear() -> None:
     _shapes.clear()
 
 
+def template(key) -> Template | None:
+    return _shapes.get(key)
+
+
 def made(key, literals):
     """The nodes of a chunk of shape `key` with these literals, from the template of its
     shape, or None (no template; a literal the nodes do not hold as a number or title
