@@ -56,10 +56,7 @@ def parse(text: str, parse_text, loops=None, by_lines: bool = False):
     if by_lines:
         from . import syntax
 
-        statement = syntax_lines.statement
-
-        def rest(chunk, line):  # spans in the expanded text, for written-out loops
-            return _raw_parse(parse_text, "\n" * (line - 1) + chunk)
+        read = syntax_lines.read
     for k in range(len(heads) - 1):
         a, b = heads[k], heads[k + 1]
         chunk = "\n".join(lines[a:b]) + "\n"
@@ -76,9 +73,9 @@ def parse(text: str, parse_text, loops=None, by_lines: bool = False):
                 _same_units(nodes, statement_template.template(shape).nodes)
                 out.extend(nodes)
                 continue
-            try:
-                raw = tuple(statement(lines, a, b, rest, syntax)) if by_lines else \
-                    _raw_parse(parse_text, "\n" * a + chunk)
+            try:  # spans in the text read (the expanded one: mapped to the file)
+                raw = read(lines, a, b, syntax) if by_lines else None
+                raw = _raw_parse(parse_text, "\n" * a + chunk) if raw is None else (raw,)
                 nodes = raw if loops is None else statement_template.mapped(raw, loops.at)
             except Exception:  # an error, or a cut that does not fit: the whole parse's
                 return None

@@ -133,8 +133,12 @@ def made(key, literals):
                 raise _Inside
         return c + d
 
+    leaves, fields_of = _LEAVES, _FIELDS
+
     def conv(node):
         t = type(node)
+        if t in leaves:
+            return node
         if t is Span:
             if node.line not in shifts and node.end_line not in shifts:
                 return node
@@ -144,23 +148,38 @@ def made(key, literals):
             return Span(node.line, col(node.line, node.column), node.end_line, end,
                         node.where)
         if t is tuple or t is list:
-            items = [conv(x) for x in node]
-            if all(x is y for x, y in zip(items, node)):
-                return node
-            return t(items)
-        fields = getattr(t, "_fields", None)
+            items = None
+            for k, x in enumerate(node):
+                y = conv(x)
+                if y is not x:
+                    if items is None:
+                        items = list(node)
+                    items[k] = y
+            return node if items is None else t(items)
+        fields = fields_of.get(t)
+        if fields is None:
+            fields = fields_of[t] = getattr(t, "_fields", None) or ()
         if not fields:
             return node
-        vals = [conv(getattr(node, f)) for f in fields]
+        vals = None
+        for k, f in enumerate(fields):
+            x = getattr(node, f)
+            y = conv(x)
+            if y is not x:
+                if vals is None:
+                    vals = [getattr(node, g) for g in fields]
+                vals[k] = y
         if t is Num:
             v = values.get((node.span.line, node.span.column))
             if v is not None:
+                if vals is None:
+                    vals = [getattr(node, g) for g in fields]
                 vals[fields.index("value")] = v
         elif t is Problem and title is not None and node.span.line == title[0]:
+            if vals is None:
+                vals = [getattr(node, g) for g in fields]
             vals[fields.index("title")] = title[1]
-        if all(x is getattr(node, f) for x, f in zip(vals, fields)):
-            return node
-        return t(*vals)
+        return node if vals is None else t(*vals)
 
     try:
         return tuple(conv(n) for n in tpl.nodes)
@@ -186,6 +205,10 @@ def mapped(nodes, at) -> tuple:
         return t(*[conv(getattr(node, f)) for f in fields])
 
     return tuple([conv(n) for n in nodes])
+
+
+_LEAVES = frozenset((str, float, int, bool, type(None)))  # never a node: returned as they are
+_FIELDS: dict = {}  # node type -> its fields (() for a type that is not a record)
 
 
 class _Inside(Exception):

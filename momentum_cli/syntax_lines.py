@@ -182,21 +182,21 @@ def parse(text: str, rest, syntax):
     return out
 
 
-def statement(lines, a: int, b: int, rest, syntax) -> list:
-    """The nodes of the statement on lines[a:b] (0-based, a file's lines cut as `parse`
-    cuts them), as `parse` of that file gives them: `rest(chunk, line)` parses a form
-    not recognised here (statement_memo's per-statement parse in a batch)."""
+def read(lines, a: int, b: int, syntax):
+    """The node of the statement on lines[a:b] (0-based, a file's lines cut as `parse`
+    cuts them), as `parse` of that file gives it, or None: not a form read here (in a
+    batch, statement_memo reads each new statement so, its shape's builder once made)."""
     if _SETUP[0] is not syntax:
         setup(syntax)
     if b == a + 1:
         s = lines[a]
         hit = _SHAPES.get(s.encode().translate(_MASK))
         if hit.__class__ is _FUNCTION:
-            return [hit(s, b)]
+            return hit(s, b)
     try:
-        return [_statement(lines, a, b)]
+        return _statement(lines, a, b)
     except _No:
-        return rest("\n".join(lines[a:b]) + "\n", a + 1)
+        return None
 
 
 def _block(lines, a, b) -> list:
