@@ -1,0 +1,67 @@
+"""The front of a batch remembers what depends only on a file's literals and structure,
+across files: the same scenes (scene._LITERALS: the SI value of a literal number, vector
+or direction) as building each file with nothing remembered, on every example and on
+variants with their numbers changed (zeros and signs too)."""
+from __future__ import annotations
+
+import random
+import re
+from pathlib import Path
+
+from momentum_cli import scene
+from momentum_cli.diagnostics import ProblemError
+from momentum_cli.source import Source
+from momentum_cli.syntax import parse
+
+ROOT = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = sorted(p for p in list(ROOT.glob("*.mom")) + list(ROOT.glob("simulate/*.mom")) +
+                  list(ROOT.glob("hard/*.mom")) if "cradle_1000" not in p.name)
+NUMBER = re.compile(r"(?<=[=(,] )(-?\d+\.?\d*)(?=[ ,)\n])")
+TEXTS = ["0", "-0", "0.0", "1", "-1", "2.5", "-2.5", "1e-3", "450", "0.045"]
+
+
+def variant(text: str, rng: random.Random) -> str:
+    return NUMBER.sub(lambda m: rng.choice(TEXTS) if rng.random() < 0.4 else m.group(1), text)
+
+
+class _Forgets(dict):
+    def __setitem__(self, key, value):
+        pass
+
+
+def built(doc):
+    try:
+        return repr(scene.build(doc))  # repr: -0.0 and 0.0 differ, Const by its value
+    except ProblemError as exc:
+        return [(d.code, d.message, d.span) for d in exc.diagnostics]
+
+
+def test_scenes_with_literals_remembered_equal_scenes_built_afresh():
+    rng = random.Random(5)
+    docs = []
+    for p in EXAMPLES:
+        text = p.read_text(encoding="utf-8")
+        for t in [text] + [variant(text, rng) for _ in range(3)]:
+            try:
+                docs.append((p.name, parse(Source(p.name, t))))
+            except ProblemError:
+                pass
+    for k, (a, b) in enumerate([("pos = (1 m, 0)", "v = (1 m, 0)"), ("x = 2 m", "vx = 2 m"),
+                                ("v = (0, 3 m/s)", "v = (0, -3 m/s)")]):
+        # one literal in two places: a dimension (or a sign) apart, an error or not
+        text = (f'body ball: particle(mass = 1 kg)\nstate 1: ball.{a}\nstate 2: ball.{b}\n'
+                'find ball.vx@2\n')
+        docs.append((f"two places {k}", parse(Source("t.mom", text))))
+    scene._LITERALS.clear()
+    warm = [built(d) for _, d in docs]  # each file meets what the files before left
+    assert len(scene._LITERALS) > 50
+    kept = scene._LITERALS
+    scene._LITERALS = _Forgets()  # nothing remembered: each literal evaluated where it is
+    try:
+        fresh = [built(d) for _, d in docs]
+    finally:
+        scene._LITERALS = kept
+        kept.clear()
+    for (name, _), w, f in zip(docs, warm, fresh):
+        assert w == f, name
+    assert sum(isinstance(w, str) for w in warm) > len(EXAMPLES)
