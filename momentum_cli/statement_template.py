@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import re
 
+from .source import Span
+
 # a number as the grammar's NUMBER reads it (not inside a name: `b12`), or a string
 _LITERAL = re.compile(r'"[^"\n]*"|(?<![A-Za-z_0-9.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?')
 LIMIT = 4096
@@ -75,11 +77,15 @@ def _first_string(literals, line):
 
 def _scan(node, Num, Problem, starts, titles) -> None:
     t = type(node)
+    if t in _LEAVES:
+        return
     if t is tuple or t is list:
         for x in node:
             _scan(x, Num, Problem, starts, titles)
         return
-    fields = getattr(t, "_fields", None)
+    fields = _FIELDS.get(t)
+    if fields is None:
+        fields = _FIELDS[t] = getattr(t, "_fields", None) or ()
     if not fields:
         return
     if t is Num:
@@ -121,7 +127,6 @@ def made(key, literals):
             shifts.setdefault(line, []).append((col + len(old), col, len(new) - len(old)))
     if not values and title is None:
         return None  # the same text (never: the exact table has it)
-    from .source import Span
     from .syntax import Num, Problem
 
     def col(line, c):
@@ -191,15 +196,19 @@ def mapped(nodes, at) -> tuple:
     """Nodes parsed from expanded loops with their spans in the expanded text, with each
     span mapped to the file by `at` (loops.Expansion.at, which the parser calls for each
     span it makes while the map is on): the nodes that parse gives."""
-    from .source import Span
+    leaves, fields_of = _LEAVES, _FIELDS
 
     def conv(node):
         t = type(node)
+        if t in leaves:
+            return node
         if t is Span:
             return at(node.line, node.column, node.end_line, node.end_column)
         if t is tuple or t is list:
             return t([conv(x) for x in node])
-        fields = getattr(t, "_fields", None)
+        fields = fields_of.get(t)
+        if fields is None:
+            fields = fields_of[t] = getattr(t, "_fields", None) or ()
         if not fields:
             return node
         return t(*[conv(getattr(node, f)) for f in fields])
@@ -208,7 +217,8 @@ def mapped(nodes, at) -> tuple:
 
 
 _LEAVES = frozenset((str, float, int, bool, type(None)))  # never a node: returned as they are
-_FIELDS: dict = {}  # node type -> its fields (() for a type that is not a record)
+_FIELDS: dict = {Span: ()}  # node type -> its fields to walk (() for a leaf, a Span:
+# its own fields are numbers; made and mapped meet a Span before they look here)
 
 
 class _Inside(Exception):
