@@ -11,9 +11,11 @@ from __future__ import annotations
 import re
 
 from . import statement_template, syntax_lines  # imported before a batch forks its workers
+from .unit_system import may_name
 
 LIMIT = 8192  # statements kept; a batch of variants repeats a few hundred
 _table: dict = {}
+_may: dict = {}  # the table's key -> unit_system.may_name of its statement's text
 _JOINS = re.compile(r".*\\[\t \f]*$").match  # a line the grammar joins to the next
 
 
@@ -52,7 +54,9 @@ def parse(text: str, parse_text, loops=None, by_lines: bool = False):
             if h and _JOINS(lines[h - 1]):
                 return None
     table = _table
-    out: list = []
+    out = Statements()
+    mays = _may
+    may = "°" in text  # unit_system.may_name of the text: of its statements, or a `°`
     if by_lines:
         from . import syntax
 
@@ -72,6 +76,7 @@ def parse(text: str, parse_text, loops=None, by_lines: bool = False):
                 nodes = raw if loops is None else statement_template.mapped(raw, loops.at)
                 _same_units(nodes, statement_template.template(shape).nodes)
                 out.extend(nodes)
+                may = may or may_name(chunk)
                 continue
             try:  # spans in the text read (the expanded one: mapped to the file)
                 raw = read(lines, a, b, syntax) if by_lines else None
@@ -81,10 +86,22 @@ def parse(text: str, parse_text, loops=None, by_lines: bool = False):
                 return None
             if len(table) >= LIMIT:
                 table.clear()
+                mays.clear()
             table[key] = nodes
+            mays[key] = may_name(chunk)
             statement_template.remember(shape, literals, raw)
         out.extend(nodes)
+        may = may or mays[key]
+    out.si_text = not may
     return out
+
+
+class Statements(list):
+    """parse's statement nodes, and the document's `si_text` (unit_system.may_name of
+    the text, from its statements': a name starts after a line's start or a non-word
+    character, so none spans two statements; the lines before the first are comments)."""
+
+    __slots__ = ("si_text",)
 
 
 def _raw_parse(parse_text, text: str) -> tuple:
@@ -156,6 +173,7 @@ class hooked:
 
 def clear() -> None:
     _table.clear()
+    _may.clear()
     statement_template.clear()
     _units.clear()
 

@@ -817,8 +817,10 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         finally:
             _SPANS[0] = None
         if nodes is not None:
-            return Document(source, tuple(_plus_minus(s, source.text) for s in nodes),
-                            _si_text(text))
+            si = getattr(nodes, "si_text", None)  # the batch's table has it per statement
+            return Document(source, tuple([s if type(s) is not Expect else
+                                           _plus_minus(s, source.text) for s in nodes]),
+                            _si_text(text) if si is None else si)
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
     try:

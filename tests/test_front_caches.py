@@ -65,3 +65,45 @@ def test_scenes_with_literals_remembered_equal_scenes_built_afresh():
     for (name, _), w, f in zip(docs, warm, fresh):
         assert w == f, name
     assert sum(isinstance(w, str) for w in warm) > len(EXAMPLES)
+
+
+def test_si_text_from_the_statements_equals_the_texts():
+    """A batch's documents take `si_text` from their statements' (statement_memo keeps
+    unit_system.may_name of each): the same as of the whole text, on every example, its
+    variants and texts where a unit name sits at a statement's edge, in a title, in a
+    comment, or a `°` before the first statement."""
+    from momentum_cli import statement_memo
+    from momentum_cli.unit_system import may_name
+
+    base = "body a: particle(mass = 1 kg)\nstate 1: a.vx = 2 m/s\nfind a.vx@1\n"
+    texts = [base, "# 30° tilt\n" + base, 'problem "ft lb"\n' + base,
+             base.replace("find a.vx@1", "find a.vx@1 in ft/s"),
+             base + "# in ft\n", base.replace("2 m/s", "2 ft/s"),
+             base.replace("state 1: a.vx = 2 m/s", "state 1: a.vx = 2 m/s  # 2 mph"),
+             base.replace("1 kg", "1 slug"), "\n\n" + base + "find a.vx@1 in mph\n"]
+    rng = random.Random(9)
+    for p in EXAMPLES:
+        text = p.read_text(encoding="utf-8")
+        texts += [text, variant(text, rng)]
+    sources = [Source(f"f{k}.mom", t) for k, t in enumerate(texts)]
+    with statement_memo.enabled():
+        batch = []
+        for s in sources + sources:  # twice: the second time from the table
+            try:
+                batch.append(parse(s).si_text)
+            except ProblemError:
+                batch.append(None)
+    whole = []
+    for s in sources + sources:
+        try:
+            d = parse(s)
+        except ProblemError:
+            whole.append(None)
+            continue
+        from momentum_cli.loops import expand
+
+        e = expand(s.text)
+        assert d.si_text == (not may_name(e.text if e else s.text))
+        whole.append(d.si_text)
+    assert batch == whole
+    assert False in whole and True in whole
