@@ -975,8 +975,8 @@ class _Builder:
         return spec
 
     def _qty(self, body: Body, qty: str, span: Span) -> None:
-        names = list(STATE_QTYS) + list(VECTOR_QTYS)
         if qty not in STATE_QTYS and qty not in VECTOR_QTYS:
+            names = list(STATE_QTYS) + list(VECTOR_QTYS)
             raise ProblemError(f"'{qty}' is not a state quantity" + did_you_mean(qty, names),
                                span, code="name", notes=["a state gives x, y, pos, angle, v, vx, "
                                                          "vy or omega of a body"])
