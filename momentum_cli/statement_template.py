@@ -16,6 +16,7 @@ from .source import Span
 
 # a number as the grammar's NUMBER reads it (not inside a name: `b12`), or a string
 _LITERAL = re.compile(r'"[^"\n]*"|(?<![A-Za-z_0-9.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?')
+_RUNS = re.compile(r"[0-9]+").sub
 LIMIT = 4096
 _shapes: dict = {}  # (first line, the chunk with its literals blanked) -> Template
 
@@ -31,8 +32,8 @@ class Template:
 
 
 def shape(a: int, chunk: str):
-    """(key, literals): the chunk with every literal blanked (numbers `\\0`, strings
-    `\\1`), and each literal as (line, 1-based column, text)."""
+    """(key, literals): the chunk with every literal blanked (numbers `\\0` and their
+    form, strings `\\1`), and each literal as (line, 1-based column, text)."""
     lits = []
     parts = []
     pos = 0
@@ -46,7 +47,9 @@ def shape(a: int, chunk: str):
         text = m.group()
         lits.append((line, s - line_start + 1, text))
         parts.append(chunk[pos:s])
-        parts.append("\1" if text[0] == '"' else "\0")
+        # a number keeps its form (digit runs as 0: `2`, `2.5`, `.5`, `1e-7` differ): in
+        # `m/s^2` the 2 is the unit's, in `m/s^.5` a number, which a template would hold
+        parts.append("\1" if text[0] == '"' else "\0" + _RUNS("0", text) + "\0")
         pos = m.end()
     parts.append(chunk[pos:])
     return (a, "".join(parts)), lits

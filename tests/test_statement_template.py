@@ -141,8 +141,8 @@ def test_loops_use_templates(by_lines):
         return fast.parse(text, line)
 
     variants = [LOOPS, LOOPS.replace("0.1 kg", "0.1255 kg").replace('"a row"', '"a row 2"'),
-                LOOPS.replace("restitution 0.9", "restitution 1").replace("0.1 kg", "7 kg"),
-                LOOPS.replace("(v0, 0)", "(v0, 0.5)")]
+                LOOPS.replace("restitution 0.9", "restitution 0.75").replace("0.1 kg", "17.5 kg"),
+                LOOPS.replace("(v0, 0)", "(v0, 25)")]  # numbers of the same form
     with statement_memo.enabled():
         for k, text in enumerate(variants):
             n = len(calls)
@@ -158,3 +158,21 @@ def test_loops_use_templates(by_lines):
             want = syntax.parse(Source("a.mom", text)).statements
             assert tuple(got) == want
             assert any(s.span.where for s in got)  # spans in loops carry their iteration
+
+
+@pytest.mark.parametrize("first, then", [
+    ("m/s^.5 into", "m/s^2 into"),  # a number after the unit, then the unit's own power
+    ("m/s^2 into", "m/s^.5 into"),
+    ("m/s^1e-07 into", "m/s^2 into"),  # an error, then a unit
+    ("(0.4 m, 0)", "(0.4 m, 0.5)"),
+    ("(0.4 m, 0)", "(4 m, 5e-1)"),
+])
+def test_a_number_of_another_form_is_not_made_from_a_template(first, then):
+    """A template holds what its numbers' form tokenizes to: `m/s^2` is a unit, `m/s^.5`
+    a unit to a power; a number of another form (dot, exponent) is parsed, not made."""
+    assert first in BASE or then in BASE
+    a, b = BASE.replace("m/s^2 into", first), BASE.replace("m/s^2 into", then)
+    if "(0.4 m, 0)" in (first, then):
+        a, b = BASE.replace("(0.4 m, 0)", first), BASE.replace("(0.4 m, 0)", then)
+    whole, batch = both([Source("a.mom", a), Source("b.mom", b), Source("c.mom", a)])
+    assert whole == batch
