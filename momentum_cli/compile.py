@@ -170,7 +170,18 @@ def _chronological(phases: list) -> list:
     """Phases ordered so that one starting at state S comes after every phase ending at
     S (a burn's start mass is what they left; the unknowns of a state are made by the
     phase that ends there, so the structure never depends on the order of the file's
-    statements); else file order. Kahn's topological sort, O(N log N)."""
+    statements); else file order. Kahn's topological sort, O(N log N); file order itself
+    when no phase starts where it or a later one ends (the common file: one pass)."""
+    ends: set = set()
+    for p in reversed(phases):
+        ends.add(p.after)
+        if p.before in ends:
+            return _kahn(phases)
+    return list(phases)
+
+
+def _kahn(phases: list) -> list:
+    """_chronological by Kahn's sort: the ready phase of least file index first."""
     import heapq
 
     pending: dict = defaultdict(int)  # state -> phases ending there, not yet placed

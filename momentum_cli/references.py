@@ -15,7 +15,7 @@ from .diagnostics import ProblemError, did_you_mean
 from .elements.keys import duration_key
 from .elements.kinds import EquationKind, KeyKind, TransitionKind
 from .expr import V2, Const, E, Known, Var, add, add_all, mul, neg, power
-from .quantity import Evaluator, Q
+from .quantity import Evaluator, Q, unit_readings
 from .records import record
 from .scene import STATE_QTYS, PointOn, TransitionSpec
 from .source import Span
@@ -32,6 +32,7 @@ from .units import (
     Dim,
     describe,
     si_label,
+    suggest_unit,
 )
 
 
@@ -283,9 +284,6 @@ class ReferencesMixin:
             self.eq(a.value, b.value, "equation", "user equations", ue.span, user)
 
     def _finds(self) -> list[FindSpec]:
-        from .quantity import unit_readings
-        from .units import suggest_unit
-
         ev = self._evaluator()
         out = []
         for item in self.scene.finds:

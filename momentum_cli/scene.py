@@ -290,6 +290,10 @@ def build(doc: S.Document) -> Scene:
 
 
 _LEAF: dict = {}  # statement class -> whether no class derives from it
+# the value of a literal number or vector in SI (its number, sign, unit and dimension: a
+# batch of variants repeats most of them), and of a literal direction; an error is not kept
+_LITERALS: dict = {}
+LITERALS_LIMIT = 4096
 
 
 class _Kinds:
@@ -338,8 +342,6 @@ class _Builder:
         self.points: dict[str, PointOn] = {}
         self.surfaces: dict[str, Surface] = {}
         self.user_unknowns: dict[str, tuple[Dim, str, Span]] = {}
-        self._literals: dict[tuple, float] = {}  # value()'s answers for literal numbers
-        self._directions: dict[tuple, tuple[float, float]] = {}  # unit_vector's, literal ones
 
     # ---- names in constant expressions
     def _resolve_constant(self, ref: S.Ref, expect) -> Q:
@@ -367,9 +369,12 @@ class _Builder:
             # file repeats a few: `restitution 0.5`, `mass = 2 kg`); errors are not kept
             x = node.value
             key = (x, math.copysign(1.0, x), node.unit, dim)
-            hit = self._literals.get(key)
+            hit = _LITERALS.get(key)
             if hit is None:
-                hit = self._literals[key] = self._value(node, dim, what)
+                hit = self._value(node, dim, what)
+                if len(_LITERALS) >= LITERALS_LIMIT:
+                    _LITERALS.clear()
+                _LITERALS[key] = hit
             return hit
         return self._value(node, dim, what)
 
@@ -385,6 +390,22 @@ class _Builder:
         return v
 
     def vector(self, node, dim: Dim, what: str, ranged: bool = True) -> tuple[float, float]:
+        if type(node) is S.VecLit and type(node.x) is S.Num and type(node.y) is S.Num and \
+                type(node.x.value) is float and type(node.y.value) is float:
+            # a literal vector such as (0, 3 m/s): once per numbers, units and dimension
+            a, b = node.x, node.y
+            key = (a.value, math.copysign(1.0, a.value), a.unit, b.value,
+                   math.copysign(1.0, b.value), b.unit, dim, ranged)
+            hit = _LITERALS.get(key)
+            if hit is None:
+                hit = self._vector(node, dim, what, ranged)
+                if len(_LITERALS) >= LITERALS_LIMIT:
+                    _LITERALS.clear()
+                _LITERALS[key] = hit
+            return hit
+        return self._vector(node, dim, what, ranged)
+
+    def _vector(self, node, dim: Dim, what: str, ranged: bool) -> tuple[float, float]:
         q = self.ev(node, dim)
         if not q.is_vector:
             raise ProblemError(f"{what} needs a vector such as (1, 0); got a scalar", node.span,
@@ -404,9 +425,13 @@ class _Builder:
             a, b = node.x, node.y
             key = (a.value, math.copysign(1.0, a.value), a.unit, b.value,
                    math.copysign(1.0, b.value), b.unit)
-            hit = self._directions.get(key)
+            key = ("direction",) + key
+            hit = _LITERALS.get(key)
             if hit is None:
-                hit = self._directions[key] = self._unit_vector(node, what)
+                hit = self._unit_vector(node, what)
+                if len(_LITERALS) >= LITERALS_LIMIT:
+                    _LITERALS.clear()
+                _LITERALS[key] = hit
             return hit
         return self._unit_vector(node, what)
 
@@ -950,8 +975,8 @@ class _Builder:
         return spec
 
     def _qty(self, body: Body, qty: str, span: Span) -> None:
-        names = list(STATE_QTYS) + list(VECTOR_QTYS)
         if qty not in STATE_QTYS and qty not in VECTOR_QTYS:
+            names = list(STATE_QTYS) + list(VECTOR_QTYS)
             raise ProblemError(f"'{qty}' is not a state quantity" + did_you_mean(qty, names),
                                span, code="name", notes=["a state gives x, y, pos, angle, v, vx, "
                                                          "vy or omega of a body"])

@@ -12,8 +12,11 @@ from __future__ import annotations
 
 import re
 
+from .source import Span
+
 # a number as the grammar's NUMBER reads it (not inside a name: `b12`), or a string
 _LITERAL = re.compile(r'"[^"\n]*"|(?<![A-Za-z_0-9.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?')
+_RUNS = re.compile(r"[0-9]+").sub
 LIMIT = 4096
 _shapes: dict = {}  # (first line, the chunk with its literals blanked) -> Template
 
@@ -29,8 +32,8 @@ class Template:
 
 
 def shape(a: int, chunk: str):
-    """(key, literals): the chunk with every literal blanked (numbers `\\0`, strings
-    `\\1`), and each literal as (line, 1-based column, text)."""
+    """(key, literals): the chunk with every literal blanked (numbers `\\0` and their
+    form, strings `\\1`), and each literal as (line, 1-based column, text)."""
     lits = []
     parts = []
     pos = 0
@@ -44,7 +47,9 @@ def shape(a: int, chunk: str):
         text = m.group()
         lits.append((line, s - line_start + 1, text))
         parts.append(chunk[pos:s])
-        parts.append("\1" if text[0] == '"' else "\0")
+        # a number keeps its form (digit runs as 0: `2`, `2.5`, `.5`, `1e-7` differ): in
+        # `m/s^2` the 2 is the unit's, in `m/s^.5` a number, which a template would hold
+        parts.append("\1" if text[0] == '"' else "\0" + _RUNS("0", text) + "\0")
         pos = m.end()
     parts.append(chunk[pos:])
     return (a, "".join(parts)), lits
@@ -75,11 +80,15 @@ def _first_string(literals, line):
 
 def _scan(node, Num, Problem, starts, titles) -> None:
     t = type(node)
+    if t in _LEAVES:
+        return
     if t is tuple or t is list:
         for x in node:
             _scan(x, Num, Problem, starts, titles)
         return
-    fields = getattr(t, "_fields", None)
+    fields = _FIELDS.get(t)
+    if fields is None:
+        fields = _FIELDS[t] = getattr(t, "_fields", None) or ()
     if not fields:
         return
     if t is Num:
@@ -92,6 +101,10 @@ def _scan(node, Num, Problem, starts, titles) -> None:
 
 def clear() -> None:
     _shapes.clear()
+
+
+def template(key) -> Template | None:
+    return _shapes.get(key)
 
 
 def made(key, literals):
@@ -117,7 +130,6 @@ def made(key, literals):
             shifts.setdefault(line, []).append((col + len(old), col, len(new) - len(old)))
     if not values and title is None:
         return None  # the same text (never: the exact table has it)
-    from .source import Span
     from .syntax import Num, Problem
 
     def col(line, c):
@@ -129,8 +141,12 @@ def made(key, literals):
                 raise _Inside
         return c + d
 
+    leaves, fields_of = _LEAVES, _FIELDS
+
     def conv(node):
         t = type(node)
+        if t in leaves:
+            return node
         if t is Span:
             if node.line not in shifts and node.end_line not in shifts:
                 return node
@@ -140,28 +156,72 @@ def made(key, literals):
             return Span(node.line, col(node.line, node.column), node.end_line, end,
                         node.where)
         if t is tuple or t is list:
-            items = [conv(x) for x in node]
-            if all(x is y for x, y in zip(items, node)):
-                return node
-            return t(items)
-        fields = getattr(t, "_fields", None)
+            items = None
+            for k, x in enumerate(node):
+                y = conv(x)
+                if y is not x:
+                    if items is None:
+                        items = list(node)
+                    items[k] = y
+            return node if items is None else t(items)
+        fields = fields_of.get(t)
+        if fields is None:
+            fields = fields_of[t] = getattr(t, "_fields", None) or ()
         if not fields:
             return node
-        vals = [conv(getattr(node, f)) for f in fields]
+        vals = None
+        for k, f in enumerate(fields):
+            x = getattr(node, f)
+            y = conv(x)
+            if y is not x:
+                if vals is None:
+                    vals = [getattr(node, g) for g in fields]
+                vals[k] = y
         if t is Num:
             v = values.get((node.span.line, node.span.column))
             if v is not None:
+                if vals is None:
+                    vals = [getattr(node, g) for g in fields]
                 vals[fields.index("value")] = v
         elif t is Problem and title is not None and node.span.line == title[0]:
+            if vals is None:
+                vals = [getattr(node, g) for g in fields]
             vals[fields.index("title")] = title[1]
-        if all(x is getattr(node, f) for x, f in zip(vals, fields)):
-            return node
-        return t(*vals)
+        return node if vals is None else t(*vals)
 
     try:
         return tuple(conv(n) for n in tpl.nodes)
     except _Inside:
         return None
+
+
+def mapped(nodes, at) -> tuple:
+    """Nodes parsed from expanded loops with their spans in the expanded text, with each
+    span mapped to the file by `at` (loops.Expansion.at, which the parser calls for each
+    span it makes while the map is on): the nodes that parse gives."""
+    leaves, fields_of = _LEAVES, _FIELDS
+
+    def conv(node):
+        t = type(node)
+        if t in leaves:
+            return node
+        if t is Span:
+            return at(node.line, node.column, node.end_line, node.end_column)
+        if t is tuple or t is list:
+            return t([conv(x) for x in node])
+        fields = fields_of.get(t)
+        if fields is None:
+            fields = fields_of[t] = getattr(t, "_fields", None) or ()
+        if not fields:
+            return node
+        return t(*[conv(getattr(node, f)) for f in fields])
+
+    return tuple([conv(n) for n in nodes])
+
+
+_LEAVES = frozenset((str, float, int, bool, type(None)))  # never a node: returned as they are
+_FIELDS: dict = {Span: ()}  # node type -> its fields to walk (() for a leaf, a Span:
+# its own fields are numbers; made and mapped meet a Span before they look here)
 
 
 class _Inside(Exception):

@@ -778,7 +778,8 @@ LINES_BYTES = 32_000  # characters parsed in this process before syntax_lines is
 # its regexes and record makers cost ~30 ms to set up, and it saves ~1 ms per 1,000
 # characters (one small file alone is parsed faster by syntax_run)
 _READ = [0]
-# a hook: while run.solve_many solves a batch, statement_memo.parse(text, parse, loops)
+# a hook: while run.solve_many solves a batch, statement_memo.parse(text, parse, loops,
+# by_lines)
 # (the nodes of a text, or of a small file's loops written out, parsed statement by
 # statement through a table, or None)
 STATEMENTS: list = [None]
@@ -799,7 +800,7 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         hook = STATEMENTS[0] if loops is None or len(text) < FAST_BYTES else None
         try:
             if hook is not None:  # a batch: each distinct statement parsed once
-                nodes = hook(text, fast.parse, loops)
+                nodes = hook(text, fast.parse, loops, True)
             elif loops is None and _READ[0] >= LINES_BYTES:  # the common statement forms
                 import sys  # a line at a time, the rest by syntax_run
 
@@ -816,8 +817,10 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         finally:
             _SPANS[0] = None
         if nodes is not None:
-            return Document(source, tuple(_plus_minus(s, source.text) for s in nodes),
-                            _si_text(text))
+            si = getattr(nodes, "si_text", None)  # the batch's table has it per statement
+            return Document(source, tuple([s if type(s) is not Expect else
+                                           _plus_minus(s, source.text) for s in nodes]),
+                            _si_text(text) if si is None else si)
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
     try:

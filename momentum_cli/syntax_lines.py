@@ -182,6 +182,23 @@ def parse(text: str, rest, syntax):
     return out
 
 
+def read(lines, a: int, b: int, syntax):
+    """The node of the statement on lines[a:b] (0-based, a file's lines cut as `parse`
+    cuts them), as `parse` of that file gives it, or None: not a form read here (in a
+    batch, statement_memo reads each new statement so, its shape's builder once made)."""
+    if _SETUP[0] is not syntax:
+        setup(syntax)
+    if b == a + 1:
+        s = lines[a]
+        hit = _SHAPES.get(s.encode().translate(_MASK))
+        if hit.__class__ is _FUNCTION:
+            return hit(s, b)
+    try:
+        return _statement(lines, a, b)
+    except _No:
+        return None
+
+
 def _block(lines, a, b) -> list:
     """The indented content lines of a statement (line numbers, 0-based): one indentation
     for all, comments and blank lines left to the newline token."""

@@ -108,3 +108,71 @@ def test_templates_are_used():
     assert first is not None and second is not None and third is not None
     assert second == list(syntax.parse(Source("b.mom", changed)).statements)
     assert not statement_template._shapes  # emptied with the batch's tables
+
+
+LOOPS = ('problem "a row"\n'
+         'let v0 = 3 m/s\n'
+         'for i in 1..4:\n'
+         '    body b[i]: particle(mass = 0.1 kg * 2^(i-1), radius = 15 mm)\n'
+         'state 1 "start":\n'
+         '    b[1].v = (v0, 0)\n'
+         '    for i in 2..4:\n'
+         '        b[i] at rest\n'
+         'for i in 2..4:\n'
+         '    state i "after"\n'
+         'for i in 1..3:\n'
+         '    impact i -> i+1:\n'
+         '        contact c[i]: b[i+1] with b[i] normal (1, 0): restitution 0.9, smooth\n'
+         'find b[4].vx@4, J_n[c[3]]@3->4\n')
+
+
+@pytest.mark.parametrize("by_lines", [False, True])
+def test_loops_use_templates(by_lines):
+    """Written-out loops: a variant's statements whose numbers changed (inside a loop's
+    body too) are made from the templates, their spans mapped to the file (loop
+    iteration included) exactly as the whole parse maps them."""
+    from momentum_cli.loops import expand
+
+    calls = []
+    fast = syntax._fast_parser()
+
+    def counted(text, line=1):
+        calls.append(text)
+        return fast.parse(text, line)
+
+    variants = [LOOPS, LOOPS.replace("0.1 kg", "0.1255 kg").replace('"a row"', '"a row 2"'),
+                LOOPS.replace("restitution 0.9", "restitution 0.75").replace("0.1 kg", "17.5 kg"),
+                LOOPS.replace("(v0, 0)", "(v0, 25)")]  # numbers of the same form
+    with statement_memo.enabled():
+        for k, text in enumerate(variants):
+            n = len(calls)
+            loops = expand(text)
+            syntax._SPANS[0] = loops  # as syntax._parse_nodes sets it around the hook
+            try:
+                got = statement_memo.parse(loops.text, counted, loops, by_lines)
+            finally:
+                syntax._SPANS[0] = None
+            if k and not by_lines:
+                assert len(calls) == n, calls[n:]  # every changed statement made from a template
+            assert got is not None
+            want = syntax.parse(Source("a.mom", text)).statements
+            assert tuple(got) == want
+            assert any(s.span.where for s in got)  # spans in loops carry their iteration
+
+
+@pytest.mark.parametrize("first, then", [
+    ("m/s^.5 into", "m/s^2 into"),  # a number after the unit, then the unit's own power
+    ("m/s^2 into", "m/s^.5 into"),
+    ("m/s^1e-07 into", "m/s^2 into"),  # an error, then a unit
+    ("(0.4 m, 0)", "(0.4 m, 0.5)"),
+    ("(0.4 m, 0)", "(4 m, 5e-1)"),
+])
+def test_a_number_of_another_form_is_not_made_from_a_template(first, then):
+    """A template holds what its numbers' form tokenizes to: `m/s^2` is a unit, `m/s^.5`
+    a unit to a power; a number of another form (dot, exponent) is parsed, not made."""
+    assert first in BASE or then in BASE
+    a, b = BASE.replace("m/s^2 into", first), BASE.replace("m/s^2 into", then)
+    if "(0.4 m, 0)" in (first, then):
+        a, b = BASE.replace("(0.4 m, 0)", first), BASE.replace("(0.4 m, 0)", then)
+    whole, batch = both([Source("a.mom", a), Source("b.mom", b), Source("c.mom", a)])
+    assert whole == batch
