@@ -97,30 +97,57 @@ def fast_derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
 
 
 def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
-    """`_grad(e, w)` into `out`, returning `term_size(e)`."""
+    """`_grad(e, w)` into `out`, returning `term_size(e)`. Leaves inline (the walk runs
+    over every row of the bounds and every answer): the same products and sums as
+    tests/test_bounds_fused.py's two walks, in their order, with the same failures."""
     t = type(e)
     if t is Const or t is Known:
         return abs(e.value)
     if t is Var:
-        out[e.name] = out.get(e.name, 0.0) + w
-        return abs(values[e.name])
+        nm = e.name
+        out[nm] = out.get(nm, 0.0) + w
+        return abs(values[nm])
     if t is Add:
-        return sum([_grad_size(x, w, values, out) for x in e.terms])
+        sizes = []
+        for x in e.terms:
+            tx = type(x)
+            if tx is Const or tx is Known:
+                sizes.append(abs(x.value))
+            elif tx is Var:
+                nm = x.name
+                out[nm] = out.get(nm, 0.0) + w
+                sizes.append(abs(values[nm]))
+            else:
+                sizes.append(_grad_size(x, w, values, out))
+        return sum(sizes)
     if t is Mul:
         fs = e.factors
-        if any(is_zero(f) for f in fs):
-            return 0.0
-        vals = [evaluate(f, values) for f in fs]
+        for f in fs:  # `is_zero`: a zero number factor (not a traced one that keeps it)
+            tf = type(f)
+            if (tf is Const or tf is Known) and f.value == 0.0 and not keeps(f.value):
+                return 0.0
+        vals = [f.value if type(f) is Const or type(f) is Known else
+                values[f.name] if type(f) is Var else evaluate(f, values) for f in fs]
+        two = len(fs) == 2
         r = 1.0
         for i, f in enumerate(fs):
-            if type(f) is Const or type(f) is Known:
+            tf = type(f)
+            if tf is Const or tf is Known:
                 r *= abs(f.value)
                 continue
             k = w
-            for j, v in enumerate(vals):
-                if j != i:
-                    k *= v
-            r *= _grad_size(f, k, values, out)
+            if two:  # the loop below for two factors: the one other value
+                k *= vals[1 - i]
+            else:
+                for j, v in enumerate(vals):
+                    if j != i:
+                        k *= v
+            if tf is Var:
+                nm = f.name
+                out[nm] = out.get(nm, 0.0) + k
+                r *= abs(values[nm])
+            else:
+                r *= _grad_size(f, k, values, out)
         return r
     if t is Pow:
         if type(e.base) is not Const and type(e.base) is not Known:

@@ -144,7 +144,8 @@ def _solve_regimes(scene: Scene, regimes: dict, solve_all: bool, precision: str)
     results: dict = {}
     while True:
         system = compile_scene(scene, regimes, impulses)
-        with rowcode.remembered():  # each residual's shape: taken by analyse, read by solve
+        # each residual's shape: taken by analyse, read by solve (a small one: walked)
+        with rowcode.remembered(len(system.equations)):
             structure = analyse(system)
             pending = [s for s in system.path_laws if s.key not in impulses]
             if not pending:
