@@ -70,13 +70,7 @@ def _grad(e: E, w: float, values, out: dict[str, float]) -> None:
     elif t is Fn:
         if type(e.arg) is not Const and type(e.arg) is not Known:
             a = evaluate(e.arg, values)
-            d = {"sin": lambda: math.cos(a), "cos": lambda: -math.sin(a),
-                 "tan": lambda: 1 / math.cos(a) ** 2, "exp": lambda: math.exp(a),
-                 "asin": lambda: 1 / math.sqrt(1 - a * a),
-                 "acos": lambda: -1 / math.sqrt(1 - a * a), "atan": lambda: 1 / (1 + a * a),
-                 "ln": lambda: 1 / a, "log": lambda: 1 / a,
-                 "abs": lambda: math.copysign(1.0, a)}[e.name]()
-            _grad(e.arg, w * d, values, out)
+            _grad(e.arg, w * _DERIVATIVE[e.name](a), values, out)
 
 
 def derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
@@ -229,12 +223,22 @@ def term_size(e: E, values) -> float:
 def _fn_slope(e, values) -> float:
     """|f'(a)| of a function node at its argument."""
     a = evaluate(e.arg, values)
-    d = {"sin": lambda: math.cos(a), "cos": lambda: math.sin(a),
-         "tan": lambda: 1 / math.cos(a) ** 2, "exp": lambda: math.exp(a),
-         "asin": lambda: 1 / math.sqrt(1 - a * a), "acos": lambda: 1 / math.sqrt(1 - a * a),
-         "atan": lambda: 1 / (1 + a * a), "ln": lambda: 1 / a, "log": lambda: 1 / a,
-         "abs": lambda: 1.0}[e.name]
-    return abs(d())
+    return abs(_SLOPE[e.name](a))
+
+
+# each function's derivative at a (`_grad`) and its size |f'(a)| up to sign (`_fn_slope`),
+# made once, not as a table of closures per node walked
+_DERIVATIVE = {"sin": lambda a: math.cos(a), "cos": lambda a: -math.sin(a),
+               "tan": lambda a: 1 / math.cos(a) ** 2, "exp": lambda a: math.exp(a),
+               "asin": lambda a: 1 / math.sqrt(1 - a * a),
+               "acos": lambda a: -1 / math.sqrt(1 - a * a), "atan": lambda a: 1 / (1 + a * a),
+               "ln": lambda a: 1 / a, "log": lambda a: 1 / a,
+               "abs": lambda a: math.copysign(1.0, a)}
+_SLOPE = {"sin": lambda a: math.cos(a), "cos": lambda a: math.sin(a),
+          "tan": lambda a: 1 / math.cos(a) ** 2, "exp": lambda a: math.exp(a),
+          "asin": lambda a: 1 / math.sqrt(1 - a * a), "acos": lambda a: 1 / math.sqrt(1 - a * a),
+          "atan": lambda a: 1 / (1 + a * a), "ln": lambda a: 1 / a, "log": lambda a: 1 / a,
+          "abs": lambda a: 1.0}
 
 
 def size_of(e: E, values, size: dict[str, float], slope: dict[str, float] | None = None) -> float:
@@ -475,7 +479,11 @@ def _abs_inverse(A: list[dict[int, float]]) -> list[list[float]] | None:
     M = [[float(row.get(j, 0.0)) for j in range(n)] + [1.0 if i == j else 0.0 for j in range(n)]
          for i, row in enumerate(A)]
     for c in range(n):
-        p = max(range(c, n), key=lambda r: abs(M[r][c]))
+        p, big = c, abs(M[c][c])  # the first row of the largest |entry| (as max picks it)
+        for r in range(c + 1, n):
+            a = abs(M[r][c])
+            if a > big:
+                p, big = r, a
         if M[p][c] == 0.0 or not math.isfinite(M[p][c]):
             return None
         M[c], M[p] = M[p], M[c]

@@ -184,13 +184,17 @@ def _eliminate(A: Rows, n: int):
     """Gauss-Jordan with partial pivoting on [A | I], recorded: (steps, cond), each step
     (col, pivot row, pivot, ((row, factor), ...)); the inverse gives the cond. A
     right-hand side's column takes the same operations when `_replay`ed."""
-    norm1 = max((sum(abs(A[i].get(j, 0.0)) for i in range(n)) for j in range(n)), default=0.0)
     M = [[A[i].get(j, 0.0) for j in range(n)] + [1.0 if k == i else 0.0 for k in range(n)]
          for i in range(n)]
-    width = 2 * n
+    norm1 = max((sum([abs(M[i][j]) for i in range(n)]) for j in range(n)), default=0.0)
     steps = []
     for col in range(n):
-        piv = max(range(col, n), key=lambda i: abs(M[i][col]))
+        piv = col  # the first row of the largest |entry| (as max with a key picks it)
+        big = abs(M[col][col])
+        for i in range(col + 1, n):
+            a = abs(M[i][col])
+            if a > big:
+                piv, big = i, a
         if M[piv][col] == 0.0:
             raise SingularError(math.inf)
         M[col], M[piv] = M[piv], M[col]
@@ -203,8 +207,7 @@ def _eliminate(A: Rows, n: int):
                 f = M[i][col]
                 if f != 0.0:
                     ops.append((i, f))
-                    Mi = M[i]
-                    M[i] = [Mi[k] - f * rowp[k] for k in range(width)]
+                    M[i] = [a - f * b for a, b in zip(M[i], rowp)]
         steps.append((col, piv, p, tuple(ops)))
     inv_norm1 = max(sum(abs(M[i][n + j]) for i in range(n)) for j in range(n))
     cond = norm1 * inv_norm1
