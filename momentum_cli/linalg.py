@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from itertools import islice
 from fractions import Fraction
 
 from .records import record
@@ -73,11 +74,11 @@ def equilibrate(rows: Rows, b: list[float], n: int):
     Powers of two change no digit of any entry, so the exact and refined solves see
     the block's data exactly as given: (rows2, b2, r, c).
     """
-    r = [_pow2(max((abs(v) for v in row.values()), default=0.0)) for row in rows]
+    r = [_pow2(max(map(abs, row.values()), default=0.0)) for row in rows]
     c = [0.0] * n
-    for i, row in enumerate(rows):
+    for row, ri in zip(rows, r):
         for j, v in row.items():
-            a = abs(v) / r[i]
+            a = abs(v) / ri
             if a > c[j]:
                 c[j] = a
     c = [_pow2(x) for x in c]
@@ -186,7 +187,8 @@ def _eliminate(A: Rows, n: int):
     right-hand side's column takes the same operations when `_replay`ed."""
     M = [[A[i].get(j, 0.0) for j in range(n)] + [1.0 if k == i else 0.0 for k in range(n)]
          for i in range(n)]
-    norm1 = max((sum([abs(M[i][j]) for i in range(n)]) for j in range(n)), default=0.0)
+    # the columns' sums of |entries|, each down its rows in order (zip(*M): the columns)
+    norm1 = max((sum(map(abs, col)) for col in islice(zip(*M), n)), default=0.0)
     steps = []
     for col in range(n):
         piv = col  # the first row of the largest |entry| (as max with a key picks it)
@@ -209,7 +211,7 @@ def _eliminate(A: Rows, n: int):
                     ops.append((i, f))
                     M[i] = [a - f * b for a, b in zip(M[i], rowp)]
         steps.append((col, piv, p, tuple(ops)))
-    inv_norm1 = max(sum(abs(M[i][n + j]) for i in range(n)) for j in range(n))
+    inv_norm1 = max(sum(map(abs, col)) for col in islice(zip(*M), n, None))
     cond = norm1 * inv_norm1
     if not math.isfinite(cond) or cond > SINGULAR_COND:
         raise SingularError(cond)

@@ -102,3 +102,31 @@ def test_eliminations_equal_the_first_versions():
         singular += got[0] == "singular"
         assert _outcome(_abs_inverse, A) == _outcome(_abs_inverse_reference, A), A
     assert 100 < singular < 3900
+
+
+def _equilibrate_reference(rows, b, n):
+    from momentum_cli.linalg import _pow2
+
+    r = [_pow2(max((abs(v) for v in row.values()), default=0.0)) for row in rows]
+    c = [0.0] * n
+    for i, row in enumerate(rows):
+        for j, v in row.items():
+            a = abs(v) / r[i]
+            if a > c[j]:
+                c[j] = a
+    c = [_pow2(x) for x in c]
+    rows2 = [{j: v / r[i] / c[j] for j, v in row.items()} for i, row in enumerate(rows)]
+    return rows2, [b[i] / r[i] for i in range(len(b))], r, c
+
+
+def test_equilibrate_equals_the_first_version():
+    from momentum_cli.linalg import equilibrate
+
+    rng = random.Random(4)
+    for _ in range(3000):
+        n = rng.randint(1, 6)
+        A = _matrix(rng, n)
+        b = [rng.uniform(-3, 3) for _ in range(n)]
+        got, want = equilibrate(A, b, n), _equilibrate_reference(A, b, n)
+        assert _reprs([[list(row.items()) for row in got[0]], *got[1:]]) == \
+            _reprs([[list(row.items()) for row in want[0]], *want[1:]])
