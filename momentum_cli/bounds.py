@@ -85,7 +85,10 @@ def derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
 
 
 def fast_derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
-    """`derivatives_and_size` by rowcode's compiled walk where the tree has one."""
+    """`derivatives_and_size` by rowcode's compiled walk where the tree has one (none
+    within a small solve: `rowcode.remembered`)."""
+    if rowcode._PLAIN[0]:
+        return derivatives_and_size(e, values)
     got = rowcode.derivatives_and_size(e, values)
     return got if got is not None else derivatives_and_size(e, values)
 
@@ -111,6 +114,9 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
                 nm = x.name
                 out[nm] = out.get(nm, 0.0) + w
                 sizes.append(abs(values[nm]))
+            elif tx is Mul and len(x.factors) == 2 and type(x.factors[0]) in _LEAVES and \
+                    type(x.factors[1]) in _LEAVES:  # a number times a number or unknown
+                sizes.append(_leaf_pair(x, w, values, out))
             else:
                 sizes.append(_grad_size(x, w, values, out))
         return sum(sizes)
@@ -155,10 +161,46 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
     return term_size(e, values)
 
 
+_LEAVES = frozenset((Const, Known, Var))
+
+
+def _leaf_pair(x, w: float, values, out: dict[str, float]) -> float:
+    """`_grad_size(x, w)` of a product of two leaves (numbers or unknowns: the most
+    common term of a row, a mass times a velocity), the general product's steps written
+    out: the same operations in the same order."""
+    a, b = x.factors
+    ta, tb = type(a), type(b)
+    na = ta is Const or ta is Known
+    nb = tb is Const or tb is Known
+    if na and a.value == 0.0 and not keeps(a.value) or \
+            nb and b.value == 0.0 and not keeps(b.value):
+        return 0.0
+    va = a.value if na else values[a.name]
+    vb = b.value if nb else values[b.name]
+    r = 1.0
+    if na:
+        r *= abs(va)
+    else:
+        k = w
+        k *= vb
+        nm = a.name
+        out[nm] = out.get(nm, 0.0) + k
+        r *= abs(values[nm])
+    if nb:
+        r *= abs(vb)
+    else:
+        k = w
+        k *= va
+        nm = b.name
+        out[nm] = out.get(nm, 0.0) + k
+        r *= abs(values[nm])
+    return r
+
+
 def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, float], float]:
     """(`slopes(e)`, `size_of(e, values, size)`) with the tree walked once, not twice."""
-    got = rowcode.derivatives_and_size(e, values)
-    if got is None:
+    got = None if rowcode._PLAIN[0] else rowcode.derivatives_and_size(e, values)
+    if got is None and not rowcode._PLAIN[0]:
         got = rowcode.grad_size_big(e, values, _grad_size)
     dv, mag = got if got is not None else derivatives_and_size(e, values)
     return slopes_of(dv, mag, size)
