@@ -127,7 +127,7 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
             if (tf is Const or tf is Known) and f.value == 0.0 and not keeps(f.value):
                 return 0.0
         free = [f for f in fs if type(f) is not Const and type(f) is not Known]
-        if len(free) == 1 and type(free[0]) is Add and _flat_sum(free[0]):
+        if len(free) == 1 and type(free[0]) is Add:
             return _one_free(fs, free[0], w, values, out)
         vals = [f.value if type(f) is Const or type(f) is Known else
                 values[f.name] if type(f) is Var else evaluate(f, values) for f in fs]
@@ -164,28 +164,15 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
     return term_size(e, values)
 
 
-def _flat_sum(g) -> bool:
-    """Whether every term of the sum `g` is a leaf or a product of leaves (`_one_free`)."""
-    for x in g.terms:
-        tx = type(x)
-        if tx is Mul:
-            for f in x.factors:
-                if type(f) not in _LEAVES:
-                    return False
-        elif tx not in _LEAVES:
-            return False
-    return True
-
-
 def _one_free(fs, g, w: float, values, out: dict[str, float]) -> float:
-    """`_grad_size` of a product of numbers and one sum `g` of leaves and products of
-    leaves (a mass times a change of velocity): the same steps, without the general
-    step's `evaluate(g)`, whose value no other factor's weight reads. It is taken only
-    to fail as that step fails: where walking g fails (evaluated first: its failure
-    came first), and where g's size is not a float below 1e300: evaluating such a sum
-    fails only where the walk does (an unknown missing) or in its fsum (an overflow or
-    an inf minus an inf, which need terms of that size: a leaf's or a product of
-    leaves' size is its value's magnitude)."""
+    """`_grad_size` of a product of numbers and one sum `g` (a mass times a change of
+    velocity): the same steps, without the general step's `evaluate(g)`, whose value no
+    other factor's weight reads, where that evaluation cannot fail: g's terms are leaves
+    and products of two leaves (`_sum_walk`) and its size is a float below 1e300 (such a
+    sum's evaluation fails only where the walk does, an unknown missing, or in its
+    fsum: an intermediate overflow or an inf minus an inf, which need terms of that
+    size; a leaf's or a product of two leaves' size is its value's magnitude). Anywhere
+    else g is evaluated, and first where the walk fails (its failure came first)."""
     r = 1.0
     for f in fs:
         if f is not g:
@@ -196,14 +183,36 @@ def _one_free(fs, g, w: float, values, out: dict[str, float]) -> float:
             if h is not g:
                 k *= h.value
         try:
-            z = _grad_size(g, k, values, out)
+            z, flat = _sum_walk(g, k, values, out)
         except Exception:
             evaluate(g, values)
             raise
-        if type(z) is not float or not z < 1e300:
+        if not flat or type(z) is not float or not z < 1e300:
             evaluate(g, values)
         r *= z
     return r
+
+
+def _sum_walk(g, w: float, values, out: dict[str, float]):
+    """(`_grad_size(g, w)` of a sum, whether its terms are all leaves and products of two
+    leaves): `_grad_size`'s steps for a sum, in its order."""
+    sizes = []
+    flat = True
+    for x in g.terms:
+        tx = type(x)
+        if tx is Const or tx is Known:
+            sizes.append(abs(x.value))
+        elif tx is Var:
+            nm = x.name
+            out[nm] = out.get(nm, 0.0) + w
+            sizes.append(abs(values[nm]))
+        elif tx is Mul and len(x.factors) == 2 and type(x.factors[0]) in _LEAVES and \
+                type(x.factors[1]) in _LEAVES:
+            sizes.append(_leaf_pair(x, w, values, out))
+        else:
+            flat = False
+            sizes.append(_grad_size(x, w, values, out))
+    return sum(sizes), flat
 
 
 _LEAVES = frozenset((Const, Known, Var))
