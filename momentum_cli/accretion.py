@@ -287,10 +287,14 @@ def _integrate(g, noun: str, mdot: E, v_in: V2, relative: bool, force: V2, grav,
     x0, y0 = start.get("x", 0.0), start.get("y", 0.0)
     calls = [0]
 
-    def env(tau, s):
+    kx, ky, kvx, kvy, kspeed, kmass = (f"{b}.{q}" for q in ("x", "y", "vx", "vy", "speed",
+                                                             "mass"))
+    hypot = math.hypot
+
+    def env(tau, s):  # the names made once: the integrator calls this hundreds of times
         m, dx, dy, vx, vy = s
-        return {PHASE_TIME: tau, f"{b}.x": x0 + dx, f"{b}.y": y0 + dy, f"{b}.vx": vx,
-                f"{b}.vy": vy, f"{b}.speed": math.hypot(vx, vy), f"{b}.mass": m}
+        return {PHASE_TIME: tau, kx: x0 + dx, ky: y0 + dy, kvx: vx, kvy: vy,
+                kspeed: hypot(vx, vy), kmass: m}
 
     def rhs(tau, s):
         calls[0] += 1

@@ -199,7 +199,7 @@ def _incidence(eqs) -> list[set[str]]:
     """Each equation's unknowns (`expr.variables`). Within a solve (`rowcode.remembered`
     open) from each residual's shape, which the solve then reads again instead of walking
     the tree a second time: a shape names exactly the unknowns `variables` finds."""
-    if not (rowcode.ENABLED and rowcode._ON[0]):
+    if not (rowcode.ENABLED and rowcode._ON[0]) or rowcode._PLAIN[0]:
         return [variables(e.residual) for e in eqs]
     shape_of = rowcode.shape_of
     out = []

@@ -70,13 +70,7 @@ def _grad(e: E, w: float, values, out: dict[str, float]) -> None:
     elif t is Fn:
         if type(e.arg) is not Const and type(e.arg) is not Known:
             a = evaluate(e.arg, values)
-            d = {"sin": lambda: math.cos(a), "cos": lambda: -math.sin(a),
-                 "tan": lambda: 1 / math.cos(a) ** 2, "exp": lambda: math.exp(a),
-                 "asin": lambda: 1 / math.sqrt(1 - a * a),
-                 "acos": lambda: -1 / math.sqrt(1 - a * a), "atan": lambda: 1 / (1 + a * a),
-                 "ln": lambda: 1 / a, "log": lambda: 1 / a,
-                 "abs": lambda: math.copysign(1.0, a)}[e.name]()
-            _grad(e.arg, w * d, values, out)
+            _grad(e.arg, w * _DERIVATIVE[e.name](a), values, out)
 
 
 def derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
@@ -91,36 +85,72 @@ def derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
 
 
 def fast_derivatives_and_size(e: E, values) -> tuple[dict[str, float], float]:
-    """`derivatives_and_size` by rowcode's compiled walk where the tree has one."""
+    """`derivatives_and_size` by rowcode's compiled walk where the tree has one (none
+    within a small solve: `rowcode.remembered`)."""
+    if rowcode._PLAIN[0]:
+        return derivatives_and_size(e, values)
     got = rowcode.derivatives_and_size(e, values)
     return got if got is not None else derivatives_and_size(e, values)
 
 
 def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
-    """`_grad(e, w)` into `out`, returning `term_size(e)`."""
+    """`_grad(e, w)` into `out`, returning `term_size(e)`. Leaves inline (the walk runs
+    over every row of the bounds and every answer): the same products and sums as
+    tests/test_bounds_fused.py's two walks, in their order, with the same failures."""
     t = type(e)
     if t is Const or t is Known:
         return abs(e.value)
     if t is Var:
-        out[e.name] = out.get(e.name, 0.0) + w
-        return abs(values[e.name])
+        nm = e.name
+        out[nm] = out.get(nm, 0.0) + w
+        return abs(values[nm])
     if t is Add:
-        return sum([_grad_size(x, w, values, out) for x in e.terms])
+        sizes = []
+        for x in e.terms:
+            tx = type(x)
+            if tx is Const or tx is Known:
+                sizes.append(abs(x.value))
+            elif tx is Var:
+                nm = x.name
+                out[nm] = out.get(nm, 0.0) + w
+                sizes.append(abs(values[nm]))
+            elif tx is Mul and len(x.factors) == 2 and type(x.factors[0]) in _LEAVES and \
+                    type(x.factors[1]) in _LEAVES:  # a number times a number or unknown
+                sizes.append(_leaf_pair(x, w, values, out))
+            else:
+                sizes.append(_grad_size(x, w, values, out))
+        return sum(sizes)
     if t is Mul:
         fs = e.factors
-        if any(is_zero(f) for f in fs):
-            return 0.0
-        vals = [evaluate(f, values) for f in fs]
+        for f in fs:  # `is_zero`: a zero number factor (not a traced one that keeps it)
+            tf = type(f)
+            if (tf is Const or tf is Known) and f.value == 0.0 and not keeps(f.value):
+                return 0.0
+        free = [f for f in fs if type(f) is not Const and type(f) is not Known]
+        if len(free) == 1 and type(free[0]) is Add:
+            return _one_free(fs, free[0], w, values, out)
+        vals = [f.value if type(f) is Const or type(f) is Known else
+                values[f.name] if type(f) is Var else evaluate(f, values) for f in fs]
+        two = len(fs) == 2
         r = 1.0
         for i, f in enumerate(fs):
-            if type(f) is Const or type(f) is Known:
+            tf = type(f)
+            if tf is Const or tf is Known:
                 r *= abs(f.value)
                 continue
             k = w
-            for j, v in enumerate(vals):
-                if j != i:
-                    k *= v
-            r *= _grad_size(f, k, values, out)
+            if two:  # the loop below for two factors: the one other value
+                k *= vals[1 - i]
+            else:
+                for j, v in enumerate(vals):
+                    if j != i:
+                        k *= v
+            if tf is Var:
+                nm = f.name
+                out[nm] = out.get(nm, 0.0) + k
+                r *= abs(values[nm])
+            else:
+                r *= _grad_size(f, k, values, out)
         return r
     if t is Pow:
         if type(e.base) is not Const and type(e.base) is not Known:
@@ -134,10 +164,97 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
     return term_size(e, values)
 
 
+def _one_free(fs, g, w: float, values, out: dict[str, float]) -> float:
+    """`_grad_size` of a product of numbers and one sum `g` (a mass times a change of
+    velocity): the same steps, without the general step's `evaluate(g)`, whose value no
+    other factor's weight reads, where that evaluation cannot fail: g's terms are leaves
+    and products of two leaves (`_sum_walk`) and its size is a float below 1e300 (such a
+    sum's evaluation fails only where the walk does, an unknown missing, or in its
+    fsum: an intermediate overflow or an inf minus an inf, which need terms of that
+    size; a leaf's or a product of two leaves' size is its value's magnitude). Anywhere
+    else g is evaluated, and first where the walk fails (its failure came first)."""
+    r = 1.0
+    for f in fs:
+        if f is not g:
+            r *= abs(f.value)
+            continue
+        k = w
+        for h in fs:
+            if h is not g:
+                k *= h.value
+        try:
+            z, flat = _sum_walk(g, k, values, out)
+        except Exception:
+            evaluate(g, values)
+            raise
+        if not flat or type(z) is not float or not z < 1e300:
+            evaluate(g, values)
+        r *= z
+    return r
+
+
+def _sum_walk(g, w: float, values, out: dict[str, float]):
+    """(`_grad_size(g, w)` of a sum, whether its terms are all leaves and products of two
+    leaves): `_grad_size`'s steps for a sum, in its order."""
+    sizes = []
+    flat = True
+    for x in g.terms:
+        tx = type(x)
+        if tx is Const or tx is Known:
+            sizes.append(abs(x.value))
+        elif tx is Var:
+            nm = x.name
+            out[nm] = out.get(nm, 0.0) + w
+            sizes.append(abs(values[nm]))
+        elif tx is Mul and len(x.factors) == 2 and type(x.factors[0]) in _LEAVES and \
+                type(x.factors[1]) in _LEAVES:
+            sizes.append(_leaf_pair(x, w, values, out))
+        else:
+            flat = False
+            sizes.append(_grad_size(x, w, values, out))
+    return sum(sizes), flat
+
+
+_LEAVES = frozenset((Const, Known, Var))
+
+
+def _leaf_pair(x, w: float, values, out: dict[str, float]) -> float:
+    """`_grad_size(x, w)` of a product of two leaves (numbers or unknowns: the most
+    common term of a row, a mass times a velocity), the general product's steps written
+    out: the same operations in the same order."""
+    a, b = x.factors
+    ta, tb = type(a), type(b)
+    na = ta is Const or ta is Known
+    nb = tb is Const or tb is Known
+    if na and a.value == 0.0 and not keeps(a.value) or \
+            nb and b.value == 0.0 and not keeps(b.value):
+        return 0.0
+    va = a.value if na else values[a.name]
+    vb = b.value if nb else values[b.name]
+    r = 1.0
+    if na:
+        r *= abs(va)
+    else:
+        k = w
+        k *= vb
+        nm = a.name
+        out[nm] = out.get(nm, 0.0) + k
+        r *= abs(values[nm])
+    if nb:
+        r *= abs(vb)
+    else:
+        k = w
+        k *= va
+        nm = b.name
+        out[nm] = out.get(nm, 0.0) + k
+        r *= abs(values[nm])
+    return r
+
+
 def slopes_and_size(e: E, values, size: dict[str, float]) -> tuple[dict[str, float], float]:
     """(`slopes(e)`, `size_of(e, values, size)`) with the tree walked once, not twice."""
-    got = rowcode.derivatives_and_size(e, values)
-    if got is None:
+    got = None if rowcode._PLAIN[0] else rowcode.derivatives_and_size(e, values)
+    if got is None and not rowcode._PLAIN[0]:
         got = rowcode.grad_size_big(e, values, _grad_size)
     dv, mag = got if got is not None else derivatives_and_size(e, values)
     return slopes_of(dv, mag, size)
@@ -202,12 +319,22 @@ def term_size(e: E, values) -> float:
 def _fn_slope(e, values) -> float:
     """|f'(a)| of a function node at its argument."""
     a = evaluate(e.arg, values)
-    d = {"sin": lambda: math.cos(a), "cos": lambda: math.sin(a),
-         "tan": lambda: 1 / math.cos(a) ** 2, "exp": lambda: math.exp(a),
-         "asin": lambda: 1 / math.sqrt(1 - a * a), "acos": lambda: 1 / math.sqrt(1 - a * a),
-         "atan": lambda: 1 / (1 + a * a), "ln": lambda: 1 / a, "log": lambda: 1 / a,
-         "abs": lambda: 1.0}[e.name]
-    return abs(d())
+    return abs(_SLOPE[e.name](a))
+
+
+# each function's derivative at a (`_grad`) and its size |f'(a)| up to sign (`_fn_slope`),
+# made once, not as a table of closures per node walked
+_DERIVATIVE = {"sin": lambda a: math.cos(a), "cos": lambda a: -math.sin(a),
+               "tan": lambda a: 1 / math.cos(a) ** 2, "exp": lambda a: math.exp(a),
+               "asin": lambda a: 1 / math.sqrt(1 - a * a),
+               "acos": lambda a: -1 / math.sqrt(1 - a * a), "atan": lambda a: 1 / (1 + a * a),
+               "ln": lambda a: 1 / a, "log": lambda a: 1 / a,
+               "abs": lambda a: math.copysign(1.0, a)}
+_SLOPE = {"sin": lambda a: math.cos(a), "cos": lambda a: math.sin(a),
+          "tan": lambda a: 1 / math.cos(a) ** 2, "exp": lambda a: math.exp(a),
+          "asin": lambda a: 1 / math.sqrt(1 - a * a), "acos": lambda a: 1 / math.sqrt(1 - a * a),
+          "atan": lambda a: 1 / (1 + a * a), "ln": lambda a: 1 / a, "log": lambda a: 1 / a,
+          "abs": lambda a: 1.0}
 
 
 def size_of(e: E, values, size: dict[str, float], slope: dict[str, float] | None = None) -> float:
@@ -448,7 +575,11 @@ def _abs_inverse(A: list[dict[int, float]]) -> list[list[float]] | None:
     M = [[float(row.get(j, 0.0)) for j in range(n)] + [1.0 if i == j else 0.0 for j in range(n)]
          for i, row in enumerate(A)]
     for c in range(n):
-        p = max(range(c, n), key=lambda r: abs(M[r][c]))
+        p, big = c, abs(M[c][c])  # the first row of the largest |entry| (as max picks it)
+        for r in range(c + 1, n):
+            a = abs(M[r][c])
+            if a > big:
+                p, big = r, a
         if M[p][c] == 0.0 or not math.isfinite(M[p][c]):
             return None
         M[c], M[p] = M[p], M[c]

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from itertools import islice
 from operator import truediv
 from fractions import Fraction
 
@@ -75,11 +76,11 @@ def equilibrate(rows: Rows, b: list[float], n: int):
     Powers of two change no digit of any entry, so the exact and refined solves see
     the block's data exactly as given: (rows2, b2, r, c).
     """
-    r = [_pow2(max((abs(v) for v in row.values()), default=0.0)) for row in rows]
+    r = [_pow2(max(map(abs, row.values()), default=0.0)) for row in rows]
     c = [0.0] * n
-    for i, row in enumerate(rows):
+    for row, ri in zip(rows, r):
         for j, v in row.items():
-            a = abs(v) / r[i]
+            a = abs(v) / ri
             if a > c[j]:
                 c[j] = a
     c = [_pow2(x) for x in c]
@@ -186,13 +187,18 @@ def _eliminate(A: Rows, n: int):
     """Gauss-Jordan with partial pivoting on [A | I], recorded: (steps, cond), each step
     (col, pivot row, pivot, ((row, factor), ...)); the inverse gives the cond. A
     right-hand side's column takes the same operations when `_replay`ed."""
-    norm1 = max((sum(abs(A[i].get(j, 0.0)) for i in range(n)) for j in range(n)), default=0.0)
     M = [[A[i].get(j, 0.0) for j in range(n)] + [1.0 if k == i else 0.0 for k in range(n)]
          for i in range(n)]
-    width = 2 * n
+    # the columns' sums of |entries|, each down its rows in order (zip(*M): the columns)
+    norm1 = max((sum(map(abs, col)) for col in islice(zip(*M), n)), default=0.0)
     steps = []
     for col in range(n):
-        piv = max(range(col, n), key=lambda i: abs(M[i][col]))
+        piv = col  # the first row of the largest |entry| (as max with a key picks it)
+        big = abs(M[col][col])
+        for i in range(col + 1, n):
+            a = abs(M[i][col])
+            if a > big:
+                piv, big = i, a
         if M[piv][col] == 0.0:
             raise SingularError(math.inf)
         M[col], M[piv] = M[piv], M[col]
@@ -205,10 +211,9 @@ def _eliminate(A: Rows, n: int):
                 f = M[i][col]
                 if f != 0.0:
                     ops.append((i, f))
-                    Mi = M[i]
-                    M[i] = [Mi[k] - f * rowp[k] for k in range(width)]
+                    M[i] = [a - f * b for a, b in zip(M[i], rowp)]
         steps.append((col, piv, p, tuple(ops)))
-    inv_norm1 = max(sum(abs(M[i][n + j]) for i in range(n)) for j in range(n))
+    inv_norm1 = max(sum(map(abs, col)) for col in islice(zip(*M), n, None))
     cond = norm1 * inv_norm1
     if not math.isfinite(cond) or cond > SINGULAR_COND:
         raise SingularError(cond)

@@ -34,6 +34,12 @@ COMPILE_AFTER = 64
 _SHAPES: dict = {}  # tree -> shape within one solve (`remembered`)
 _NONE = object()
 _ON = [0]  # how many `remembered` are open
+# set within the `remembered` of a solve of fewer equations than COMPILE_AFTER: no tree
+# is shaped, every one walked. Such a solve meets no shape often enough to compile it,
+# so a tree's shape (one more walk) and the look-ups of its compiled walks would only
+# add to the walk that runs anyway (the bench's 1,000 small files: ~0.08 s less CPU)
+_PLAIN = [False]
+PLAIN_SMALL = True  # tests turn it off: a small solve's trees shaped as a large one's
 
 
 class _No(Exception):
@@ -231,11 +237,17 @@ def _reader(key):
 
 class remembered:
     """Within it, `shape_of` keeps each tree's shape: the solve takes an equation's rows
-    and its bounds in two passes, the shape is read once."""
+    and its bounds in two passes, the shape is read once. `size`: the solve's number of
+    equations, read by the outermost; below COMPILE_AFTER no tree is shaped within it
+    (`shape_of` gives None: every reader takes its walk)."""
+
+    def __init__(self, size: int | None = None):
+        self.size = size
 
     def __enter__(self):
         if not _ON[0]:
             _SHAPES.clear()
+            _PLAIN[0] = PLAIN_SMALL and self.size is not None and self.size < COMPILE_AFTER
         _ON[0] += 1
         return self
 
@@ -243,10 +255,14 @@ class remembered:
         _ON[0] -= 1
         if not _ON[0]:
             _SHAPES.clear()
+            _PLAIN[0] = False
 
 
 def shape_of(e):
-    """`shape(e)`, remembered for the tree itself (held, so its id is not reused)."""
+    """`shape(e)`, remembered for the tree itself (held, so its id is not reused); None
+    within a small solve's `remembered`."""
+    if _PLAIN[0]:
+        return None
     hit = _SHAPES.get(e, _NONE)  # trees hash by identity: the key holds the tree
     if hit is not _NONE:
         return hit
@@ -496,7 +512,7 @@ def _evaluate_parts(e, values):
 def evaluate(e, values):
     """`expr.evaluate(e, values)`, a large tree by its compiled parts (any failure, and
     anything else, by `expr.evaluate` itself: the same value or the same exception)."""
-    if ENABLED:
+    if ENABLED and not _PLAIN[0]:
         try:
             return _evaluate_parts(e, values)
         except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
@@ -531,7 +547,7 @@ def grad_size_big(e, values, walk):
     """`bounds.derivatives_and_size` of a large tree (a scene's total energy): its sums
     and products walked as `bounds._grad_size` walks them, each small subtree by its
     shape's compiled walk. None where any part fails (the caller walks it all then)."""
-    if not ENABLED:
+    if not ENABLED or _PLAIN[0]:
         return None
     out: dict = {}
 
@@ -587,7 +603,7 @@ def value_grad_size(e, values, walk):
     the bound; None where the tree has a shape of its own or anything else the two
     walks take otherwise (a product of two large factors, a power), or anything fails
     (the caller takes the two walks then: the same numbers, or their failures)."""
-    if not ENABLED or shape_of(e) is not None:
+    if not ENABLED or _PLAIN[0] or shape_of(e) is not None:
         return None
     out: dict = {}
     try:
@@ -736,7 +752,7 @@ def variables_into(e, into: set, walk) -> None:
     for the solve's later walks of the same terms: an answer's energy shares them). A
     shape names the unknowns `variables` finds: both leave out a product with a zero
     number, and a shape holds nothing else; `walk` for the terms that are no shape."""
-    if ENABLED and _ON[0] and type(e) is Add and len(e.terms) >= MANY:
+    if ENABLED and _ON[0] and not _PLAIN[0] and type(e) is Add and len(e.terms) >= MANY:
         for x in e.terms:
             sh = shape_of(x)
             if sh is not None:

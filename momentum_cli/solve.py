@@ -18,8 +18,8 @@ from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
 from .elements.kinds import Component, KeyKind
 from .block_memo import solve, solve_one  # linalg's, once per distinct block
-from .bounds import (ROUNDOFF, _grad_size, error_of, propagate, size_of, slopes,
-                     slopes_and_size, slopes_of)
+from .bounds import (ROUNDOFF, _grad_size, error_of, propagate, slopes_and_size,
+                     slopes_of)
 from .expr import (
     E,
     NonLinear,
@@ -144,7 +144,8 @@ def _solve_regimes(scene: Scene, regimes: dict, solve_all: bool, precision: str)
     results: dict = {}
     while True:
         system = compile_scene(scene, regimes, impulses)
-        with rowcode.remembered():  # each residual's shape: taken by analyse, read by solve
+        # each residual's shape: taken by analyse, read by solve (a small one: walked)
+        with rowcode.remembered(len(system.equations)):
             structure = analyse(system)
             pending = [s for s in system.path_laws if s.key not in impulses]
             if not pending:
@@ -687,13 +688,14 @@ def _check_equation(e: Equation, values, checks, system, structure, constant=Fal
     rationals and only the rounding of the data remains. Where the bound is too wide
     to tell a real inconsistency from round-off, the check says so (a warning).
     """
-    slope = slopes(e.residual, values)
+    # the slopes and the size in one walk (`slopes` and `size_of`, bit for bit:
+    # tests/test_bounds_fused.py)
+    slope, scale = slopes_and_size(e.residual, values, size or {})
     try:
         r = float(evaluate_exact(e.residual, ChainMap(exact, values))) if exact is not None \
             else evaluate(e.residual, values)
     except (KeyError, ValueError, ZeroDivisionError, OverflowError):
         r = math.nan
-    scale = size_of(e.residual, values, size or {}, slope)
     # the size of the quantities involved: an unknown that comes out exactly 0 (e = 0
     # against a wall) is still a velocity of a scene whose velocities are metres per
     # second, and a statement of it is read against that
@@ -705,7 +707,9 @@ def _check_equation(e: Equation, values, checks, system, structure, constant=Fal
     ok = math.isfinite(r) and abs(r) <= tol or (scale == 0 and r == 0)
     where = f"line {e.span.line}" if e.span else "the scene"
     if ok:
-        if bound > DECIDE * scale or _undecided_terms(r, bound, _own_size(e, values)):
+        # (a bound that is not above 0 decides: the terms' own size need not be walked)
+        if bound > DECIDE * scale or bound > 0.0 and \
+                _undecided_terms(r, bound, _own_size(e, values)):
             checks.append(CheckReport(
                 f"{e.principle}", "warning",
                 f"cannot decide ({where}): residual {fmt_num(r, 3)} is within the error "
