@@ -13,7 +13,7 @@ import math
 
 from . import rowcode
 from .block_memo import kind_of
-from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, is_zero, keeps, variables
+from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, keeps, variables
 
 ROUNDOFF = 64 * 2.0**-53  # forming a term or a residual from exact values: a few ulps each
 DENSE = 40  # |A^-1| in plain Python up to here (a 40x80 Gauss-Jordan is ~1 ms); beyond, a cond-based bound
@@ -105,21 +105,7 @@ def _grad_size(e: E, w: float, values, out: dict[str, float]) -> float:
         out[nm] = out.get(nm, 0.0) + w
         return abs(values[nm])
     if t is Add:
-        sizes = []
-        for x in e.terms:
-            tx = type(x)
-            if tx is Const or tx is Known:
-                sizes.append(abs(x.value))
-            elif tx is Var:
-                nm = x.name
-                out[nm] = out.get(nm, 0.0) + w
-                sizes.append(abs(values[nm]))
-            elif tx is Mul and len(x.factors) == 2 and type(x.factors[0]) in _LEAVES and \
-                    type(x.factors[1]) in _LEAVES:  # a number times a number or unknown
-                sizes.append(_leaf_pair(x, w, values, out))
-            else:
-                sizes.append(_grad_size(x, w, values, out))
-        return sum(sizes)
+        return _sum_walk(e, w, values, out)[0]
     if t is Mul:
         fs = e.factors
         for f in fs:  # `is_zero`: a zero number factor (not a traced one that keeps it)

@@ -15,7 +15,7 @@ from ..elements.kinds import Component, JointKind, KeyKind, Tangential
 from ..expr import Const, Known, Mul, Var, evaluate, variables
 from ..numbers import fmt_num
 from ..records import field, record
-from ..units import ANGULAR_IMPULSE, FORCE, IMPULSE, LENGTH, VELOCITY
+from ..units import ANGULAR_IMPULSE, FORCE, IMPULSE, LENGTH
 from .abbrev import name_list
 from .reader import Reader
 
@@ -116,12 +116,7 @@ class ImpulseDiagram:
         cache = _NUMS
         if len(cache) > 4096:
             cache.clear()
-
-        def num(x):
-            s = cache.get(x)
-            if s is None:
-                s = cache[x] = fmt_num(_clean(x), SIG)
-            return s
+        num = _num
 
         add = out.append
         for b in self.bodies:
@@ -180,6 +175,14 @@ def _shown(r: Reader) -> tuple:
 # text (`_Builder.plain_lines`): a pure function of the key, shared by all
 _DIRS: dict = {}
 _NUMS: dict = {}  # x -> its text in a diagram (a pure function of x: shared by all)
+
+
+def _num(x: float) -> str:
+    """x as a diagram prints it, from `_NUMS` (bounded by its users, who clear it)."""
+    s = _NUMS.get(x)
+    if s is None:
+        s = _NUMS[x] = fmt_num(_clean(x), SIG)
+    return s
 
 
 def _list(v):
@@ -536,11 +539,7 @@ class _Builder:
                 val = vals.get(n)
                 if head is None:  # where it acts: the same for each impulse of `a`
                     x, y = at[0] / f, at[1] / f
-                    sx, sy = cache.get(x), cache.get(y)
-                    if sx is None:
-                        sx = cache[x] = fmt_num(_clean(x), SIG)
-                    if sy is None:
-                        sy = cache[y] = fmt_num(_clean(y), SIG)
+                    sx, sy = _num(x), _num(y)
                     head = f" {unit} at {point} ({sx}, {sy}), "
                     mine = by_body.get(a.body)
                     if mine is None:
@@ -548,10 +547,7 @@ class _Builder:
                 if val is None:
                     v = "?"
                 else:
-                    x = val * size / k
-                    v = cache.get(x)
-                    if v is None:
-                        v = cache[x] = fmt_num(_clean(x), SIG)
+                    v = _num(val * size / k)
                 mine.append(f"{indent}    {_local(n)} = {v}{head}{words}")
         out = [f"{indent}Impulse diagram, {'impact' if t.kind == 'impact' else 'interval'} "
                f"{t.before} -> {t.after}"]
@@ -575,27 +571,19 @@ class _Builder:
         """The lines of application `a`'s impulses by `_impulses`, added to `by_body`,
         each as `ImpulseDiagram.lines` writes it (`shown`: `_SHOWN` of the reader)."""
         units, f = shown
-        cache = _NUMS
         for i in self._impulses(a, body):
             k, unit = units[i.moment]
             if i.value is None:
                 v = "?"
             else:
-                x = i.value / k
-                v = cache.get(x)
-                if v is None:
-                    v = cache[x] = fmt_num(_clean(x), SIG)
+                v = _num(i.value / k)
             if i.moment:
                 where = f" on {i.body}"
             elif i.at is None:
                 where = f" at {i.point} {_xy(None)}"
             else:
                 x, y = i.at[0] / f, i.at[1] / f
-                sx, sy = cache.get(x), cache.get(y)
-                if sx is None:
-                    sx = cache[x] = fmt_num(_clean(x), SIG)
-                if sy is None:
-                    sy = cache[y] = fmt_num(_clean(y), SIG)
+                sx, sy = _num(x), _num(y)
                 where = f" at {i.point} ({sx}, {sy})"
             mine = by_body.get(i.body)
             if mine is None:
