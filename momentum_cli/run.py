@@ -402,6 +402,7 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
         ctx = mp.get_context("fork")
     except ValueError:
         ctx = None
+    global _BATCH
     jobs = [(s, solve_all, sig, precision, overrides, units, sensitivity, render)
             for s in sources]
     done = 0
@@ -410,11 +411,14 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
 
         pools = []
         _before_fork()
+        _BATCH = jobs  # the workers, forked after this, inherit the jobs: never pickled
         try:
             for _ in range(cores):
                 pools.append(ProcessPoolExecutor(1, mp_context=ctx, initializer=_worker_init,
                                                  initargs=(os.getpid(),)))
-            for res in routed(jobs, [s.text for s in sources], pools, _batch_job):
+            for res, shipped_bare in routed([s.text for s in sources], pools, _batch_index):
+                if shipped_bare:
+                    res.source = sources[done]
                 done += 1
                 yield res
         except (BrokenProcessPool, OSError, RuntimeError):
@@ -427,11 +431,27 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
                 pool.shutdown(wait=done == len(jobs), cancel_futures=True)
             if pools and done < len(jobs):
                 _end_workers(mp)
+            _BATCH = None
             import gc
 
             gc.unfreeze()
     for job in jobs[done:]:
         yield _batch_job(job)
+
+
+_BATCH = None  # a pool's jobs, set in the parent before its workers are forked
+
+
+def _batch_index(i: int):
+    """Worker: `_batch_job` for job `i` of `_BATCH` (inherited from the parent at the
+    fork), and whether the result comes without its source: the parent holds that
+    Source already, so it is not pickled back (an internal error's result has none)."""
+    job = _BATCH[i]
+    res = _batch_job(job)
+    if res.source is job[0]:
+        res.source = None
+        return res, True
+    return res, False
 
 
 def _before_fork() -> None:

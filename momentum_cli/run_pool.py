@@ -135,13 +135,15 @@ class Router:
             self.needs[f] = self.needs.get(f, frozenset()) | new
 
 
-def routed(jobs, texts, pools, solve):
-    """Yield the results of `jobs` in order, solved by `pools` (one-process executors):
-    `solve(job)` in a worker, chunks routed by Router. Raises what a pool raises
+def routed(texts, pools, solve):
+    """Yield `solve(i)` for each file i of `texts`, in order, run by `pools` (one-process
+    executors, forked once the parent holds the batch): chunks of indices routed by
+    Router. A chunk is a few small ints: the workers inherited the files' texts with the
+    parent's memory, so no text is pickled. Raises what a pool raises
     (BrokenProcessPool when a worker died): the caller solves the rest itself."""
     from concurrent.futures import FIRST_COMPLETED, wait
 
-    n = len(jobs)
+    n = len(texts)
     router = Router(texts, len(pools))
     results: dict = {}
     flying: dict = {}  # future -> (worker, chunk)
@@ -155,7 +157,7 @@ def routed(jobs, texts, pools, solve):
                 chunk = router.pick(w, limit)
                 if not chunk:
                     break
-                fut = pool.submit(chunk_job, [jobs[i] for i in chunk], solve)
+                fut = pool.submit(chunk_job, chunk, solve)
                 flying[fut] = (w, chunk)
                 count[w] += 1
 
