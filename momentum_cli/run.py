@@ -392,8 +392,6 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
                               render))
         return
     import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor
-    from concurrent.futures.process import BrokenProcessPool
 
     from .syntax import _fast_parser
 
@@ -407,30 +405,29 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
             for s in sources]
     done = 0
     if ctx is not None:
-        from .run_pool import routed
+        from .run_pool import Worker, routed
 
-        pools = []
+        workers = []
         _before_fork()
         _BATCH = jobs  # the workers, forked after this, inherit the jobs: never pickled
         try:
             for _ in range(cores):
-                pools.append(ProcessPoolExecutor(1, mp_context=ctx, initializer=_worker_init,
-                                                 initargs=(os.getpid(),)))
-            for res, shipped_bare in routed([s.text for s in sources], pools, _batch_index):
+                workers.append(Worker(ctx, _batch_index, _worker_init, (os.getpid(),)))
+            for res, shipped_bare in routed([s.text for s in sources], workers):
                 if shipped_bare:
                     res.source = sources[done]
                 done += 1
                 yield res
-        except (BrokenProcessPool, OSError, RuntimeError):
-            pass  # no worker processes here: finish in this one
+        except (OSError, RuntimeError):
+            pass  # no worker processes here, or one died: finish in this one
         except BaseException:  # interrupted, or the reader went away: end the workers now
             _end_workers(mp)
             raise
         finally:
-            for pool in pools:
-                pool.shutdown(wait=done == len(jobs), cancel_futures=True)
-            if pools and done < len(jobs):
+            if workers and done < len(jobs):
                 _end_workers(mp)
+            for wk in workers:
+                wk.close(ask=not WORKERS_KILLED)
             _BATCH = None
             import gc
 
@@ -482,12 +479,11 @@ WORKERS_KILLED = False  # set once a pool's workers were killed: see guard.guard
 
 def _end_workers(mp) -> None:
     """Kill the worker processes now (the run is ending: interrupted, or its output
-    gone); the pool's manager thread, which sees them die, is kept from printing.
+    gone, or its last result read); a thread that sees them die is kept from printing.
 
-    A worker killed while writing a result leaves half a message in the result pipe:
-    the manager thread then waits for the rest forever, and a normal interpreter exit
-    joins that thread. So the run records the kill, and guard.guarded ends the process
-    with os._exit instead."""
+    A worker killed while writing a result leaves half a message in its pipe, never to
+    be read: the run records the kill, and guard.guarded ends the process with os._exit
+    (nothing is left to wait for, and no interpreter teardown to pay)."""
     global WORKERS_KILLED
     import threading
 
