@@ -235,7 +235,7 @@ def routed(texts, workers):
             w = by_conn[conn]
             try:
                 msg = conn.recv()
-            except EOFError:
+            except (EOFError, OSError):  # OSError: it died with chunks unread (reset)
                 raise WorkerDied("a worker process ended before sending its results") \
                     from None
             if isinstance(msg, BaseException):
