@@ -306,11 +306,8 @@ def _joined_if_small(parts: list):
     """text.render_parts' pieces as one text when they are small (the common file):
     one string to pickle and one write in the parent instead of ~50 of each; a big
     report stays in pieces (never held twice)."""
-    total = 0
-    for p in parts:
-        total += len(p) + 1
-        if total > JOIN_LIMIT:
-            return parts
+    if sum(map(len, parts)) + len(parts) > JOIN_LIMIT:  # summed in C: ~50 pieces a file
+        return parts
     return "\n".join(parts)
 
 
