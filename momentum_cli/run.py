@@ -6,6 +6,7 @@ exception.
 """
 from __future__ import annotations
 
+import os
 import sys
 
 from .diagnostics import Diagnostic, ExitCode, ProblemError
@@ -57,11 +58,35 @@ def read_source(path: str, stdin_data: bytes | str | None = None) -> Source:
     """
     if path == "-":
         return decode_source("<stdin>", stdin_data if stdin_data is not None else b"")
-    with open(path, "rb") as fh:
-        data = fh.read(FIRST_READ)  # a problem file's usual size: no 80 MB buffer made
-        if len(data) == FIRST_READ:
-            data += fh.read(READ_LIMIT - FIRST_READ)
-    return decode_source(path, data)
+    return decode_source(path, _read_bytes(path))
+
+
+_OPEN_FLAGS = os.O_RDONLY | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0)
+
+
+def _read_bytes(path: str) -> bytes:
+    """Up to READ_LIMIT bytes of a file, through the raw descriptor: half the cost of a
+    buffered file object (a batch's parent reads every file before any worker starts).
+    A problem file's usual size comes in one read (no 80 MB buffer made), its end
+    in a second; a pipe that gives its text in pieces is read to its end."""
+    fd = os.open(path, _OPEN_FLAGS)
+    try:
+        data = os.read(fd, FIRST_READ)
+        if not data:
+            return data
+        more = os.read(fd, FIRST_READ)
+        if not more:
+            return data
+        parts, total = [data, more], len(data) + len(more)
+        while total < READ_LIMIT:
+            piece = os.read(fd, min(READ_LIMIT - total, 1 << 20))
+            if not piece:
+                break
+            parts.append(piece)
+            total += len(piece)
+        return b"".join(parts)[:READ_LIMIT]
+    finally:
+        os.close(fd)
 
 
 def decode_source(name: str, data: bytes | str) -> Source:
