@@ -168,27 +168,37 @@ class Worker:
 
 def _serve(conn, solve, initializer, initargs) -> None:
     """Worker: answer each chunk with chunk_job's (results, before, after), or with the
-    exception it raised (raised again in the parent), until None or the pipe's end."""
-    if initializer is not None:
-        initializer(*initargs)
-    while True:
-        try:
-            chunk = conn.recv()
-        except (EOFError, OSError):
-            return
-        if chunk is None:
-            return
-        try:
-            msg = chunk_job(chunk, solve)
-        except Exception as exc:  # a bug: the parent raises it, as a pool's future would
-            msg = exc
-        try:
-            conn.send(msg)
-        except (EOFError, OSError):
-            return
-        except Exception as exc:  # a result that cannot be pickled
-            conn.send(RuntimeError(f"a worker's result could not be sent: {exc!r}"))
-        del msg
+    exception it raised (raised again in the parent), until None or the pipe's end.
+    Ends with os._exit: a normal end would flush standard streams inherited from the
+    parent (printing again what sat in their buffers at the fork) and tear down a heap
+    that the process is about to lose anyway."""
+    import os
+
+    code = 1  # an error here ends the worker: the parent sees its pipe close
+    try:
+        if initializer is not None:
+            initializer(*initargs)
+        while True:
+            try:
+                chunk = conn.recv()
+            except (EOFError, OSError):
+                break
+            if chunk is None:
+                break
+            try:
+                msg = chunk_job(chunk, solve)
+            except Exception as exc:  # a bug: the parent raises it, as a future would
+                msg = exc
+            try:
+                conn.send(msg)
+            except (EOFError, OSError):
+                break
+            except Exception as exc:  # a result that cannot be pickled
+                conn.send(RuntimeError(f"a worker's result could not be sent: {exc!r}"))
+            del msg
+        code = 0
+    finally:
+        os._exit(code)
 
 
 def routed(texts, workers):

@@ -111,3 +111,26 @@ def test_a_batch_whose_worker_dies_is_finished_by_the_parent(monkeypatch):
         a = solve_source(s, False, 6, "float")
         assert b.source is s or (b.source is None and b.status == "internal"), s.name
         assert (b.name, b.status, b.diagnostics) == (a.name, a.status, a.diagnostics), s.name
+
+
+@fork
+def test_a_worker_that_ends_prints_nothing_the_parent_had_not_flushed():
+    """Text waiting in the parent's stdout buffer at the fork is printed once, also
+    when the workers are asked to end (the batch read to its end), not killed."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from momentum_cli.run import solve_many, PARALLEL_MIN\n"
+        "from momentum_cli.source import Source\n"
+        f"text = open({str(EXAMPLES[0])!r}, encoding='utf-8').read()\n"
+        "sys.stdout.write('before the batch\\n')\n"
+        "n = sum(1 for r in solve_many([Source(f'{k}.mom', text) for k in "
+        "range(PARALLEL_MIN + 2)], False, 6, 'float'))\n"
+        "sys.stdout.write(f'{n} results\\n')\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 0, p.stderr
+    from momentum_cli.run import PARALLEL_MIN
+    assert p.stdout == f"before the batch\n{PARALLEL_MIN + 2} results\n"
