@@ -6,6 +6,7 @@ exception.
 """
 from __future__ import annotations
 
+import os
 import sys
 
 from .diagnostics import Diagnostic, ExitCode, ProblemError
@@ -57,11 +58,35 @@ def read_source(path: str, stdin_data: bytes | str | None = None) -> Source:
     """
     if path == "-":
         return decode_source("<stdin>", stdin_data if stdin_data is not None else b"")
-    with open(path, "rb") as fh:
-        data = fh.read(FIRST_READ)  # a problem file's usual size: no 80 MB buffer made
-        if len(data) == FIRST_READ:
-            data += fh.read(READ_LIMIT - FIRST_READ)
-    return decode_source(path, data)
+    return decode_source(path, _read_bytes(path))
+
+
+_OPEN_FLAGS = os.O_RDONLY | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0)
+
+
+def _read_bytes(path: str) -> bytes:
+    """Up to READ_LIMIT bytes of a file, through the raw descriptor: half the cost of a
+    buffered file object (a batch's parent reads every file before any worker starts).
+    A problem file's usual size comes in one read (no 80 MB buffer made), its end
+    in a second; a pipe that gives its text in pieces is read to its end."""
+    fd = os.open(path, _OPEN_FLAGS)
+    try:
+        data = os.read(fd, FIRST_READ)
+        if not data:
+            return data
+        more = os.read(fd, FIRST_READ)
+        if not more:
+            return data
+        parts, total = [data, more], len(data) + len(more)
+        while total < READ_LIMIT:
+            piece = os.read(fd, min(READ_LIMIT - total, 1 << 20))
+            if not piece:
+                break
+            parts.append(piece)
+            total += len(piece)
+        return b"".join(parts)[:READ_LIMIT]
+    finally:
+        os.close(fd)
 
 
 def decode_source(name: str, data: bytes | str) -> Source:
@@ -306,11 +331,8 @@ def _joined_if_small(parts: list):
     """text.render_parts' pieces as one text when they are small (the common file):
     one string to pickle and one write in the parent instead of ~50 of each; a big
     report stays in pieces (never held twice)."""
-    total = 0
-    for p in parts:
-        total += len(p) + 1
-        if total > JOIN_LIMIT:
-            return parts
+    if sum(map(len, parts)) + len(parts) > JOIN_LIMIT:  # summed in C: ~50 pieces a file
+        return parts
     return "\n".join(parts)
 
 
@@ -392,8 +414,6 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
                               render))
         return
     import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor
-    from concurrent.futures.process import BrokenProcessPool
 
     from .syntax import _fast_parser
 
@@ -402,36 +422,55 @@ def _solve_all(sources, solve_all, sig, precision, overrides, units, sensitivity
         ctx = mp.get_context("fork")
     except ValueError:
         ctx = None
+    global _BATCH
     jobs = [(s, solve_all, sig, precision, overrides, units, sensitivity, render)
             for s in sources]
     done = 0
     if ctx is not None:
-        from .run_pool import routed
+        from .run_pool import Worker, routed
 
-        pools = []
+        workers = []
         _before_fork()
+        _BATCH = jobs  # the workers, forked after this, inherit the jobs: never pickled
         try:
             for _ in range(cores):
-                pools.append(ProcessPoolExecutor(1, mp_context=ctx, initializer=_worker_init,
-                                                 initargs=(os.getpid(),)))
-            for res in routed(jobs, [s.text for s in sources], pools, _batch_job):
+                workers.append(Worker(ctx, _batch_index, _worker_init, (os.getpid(),)))
+            for res, shipped_bare in routed([s.text for s in sources], workers):
+                if shipped_bare:
+                    res.source = sources[done]
                 done += 1
                 yield res
-        except (BrokenProcessPool, OSError, RuntimeError):
-            pass  # no worker processes here: finish in this one
+        except (OSError, RuntimeError):
+            pass  # no worker processes here, or one died: finish in this one
         except BaseException:  # interrupted, or the reader went away: end the workers now
             _end_workers(mp)
             raise
         finally:
-            for pool in pools:
-                pool.shutdown(wait=done == len(jobs), cancel_futures=True)
-            if pools and done < len(jobs):
+            if workers and done < len(jobs):
                 _end_workers(mp)
+            for wk in workers:
+                wk.close(ask=not WORKERS_KILLED)
+            _BATCH = None
             import gc
 
             gc.unfreeze()
     for job in jobs[done:]:
         yield _batch_job(job)
+
+
+_BATCH = None  # a pool's jobs, set in the parent before its workers are forked
+
+
+def _batch_index(i: int):
+    """Worker: `_batch_job` for job `i` of `_BATCH` (inherited from the parent at the
+    fork), and whether the result comes without its source: the parent holds that
+    Source already, so it is not pickled back (an internal error's result has none)."""
+    job = _BATCH[i]
+    res = _batch_job(job)
+    if res.source is job[0]:
+        res.source = None
+        return res, True
+    return res, False
 
 
 def _before_fork() -> None:
@@ -462,12 +501,11 @@ WORKERS_KILLED = False  # set once a pool's workers were killed: see guard.guard
 
 def _end_workers(mp) -> None:
     """Kill the worker processes now (the run is ending: interrupted, or its output
-    gone); the pool's manager thread, which sees them die, is kept from printing.
+    gone, or its last result read); a thread that sees them die is kept from printing.
 
-    A worker killed while writing a result leaves half a message in the result pipe:
-    the manager thread then waits for the rest forever, and a normal interpreter exit
-    joins that thread. So the run records the kill, and guard.guarded ends the process
-    with os._exit instead."""
+    A worker killed while writing a result leaves half a message in its pipe, never to
+    be read: the run records the kill, and guard.guarded ends the process with os._exit
+    (nothing is left to wait for, and no interpreter teardown to pay)."""
     global WORKERS_KILLED
     import threading
 

@@ -1,8 +1,8 @@
 """Run stage, for a batch: which worker process solves which files, results in order.
 
-In: a batch's jobs (one per file, in the given order) and a multiprocessing context.
-Out: the jobs' results, in the given order. Each worker is a one-process pool with its
-own queue, so the files can be routed: the files of one family (the same text but for
+In: a batch's texts (one per file, in the given order) and forked workers (Worker).
+Out: the files' results, in the given order. Each worker is one process with its own
+pipe, so the files can be routed: the files of one family (the same text but for
 its digits) go to one worker in chunks, so each worker parses and warms up on a family
 once, not every worker on every family; and files that may integrate a flow
 (`gain`, `lose`, `burn`: scipy and numpy, ~1 s to import) go to the first worker, so one
@@ -135,29 +135,96 @@ class Router:
             self.needs[f] = self.needs.get(f, frozenset()) | new
 
 
-def routed(jobs, texts, pools, solve):
-    """Yield the results of `jobs` in order, solved by `pools` (one-process executors):
-    `solve(job)` in a worker, chunks routed by Router. Raises what a pool raises
-    (BrokenProcessPool when a worker died): the caller solves the rest itself."""
-    from concurrent.futures import FIRST_COMPLETED, wait
+class WorkerDied(RuntimeError):
+    """A worker process ended (killed, or out of memory) before sending a result."""
 
-    n = len(jobs)
-    router = Router(texts, len(pools))
+
+class Worker:
+    """One forked process that solves the chunks (file indices) sent down its pipe, in
+    order, with `solve`, which it inherits at the fork (never pickled). No threads in
+    either process: a ProcessPoolExecutor's manager and feeder threads cost the parent
+    more CPU than the pickling they serve. Daemonic: never waited for at exit."""
+
+    def __init__(self, ctx, solve, initializer=None, initargs=()):
+        here, there = ctx.Pipe()
+        self.proc = ctx.Process(target=_serve, args=(there, solve, initializer, initargs),
+                                daemon=True)
+        self.proc.start()
+        there.close()
+        self.conn = here
+
+    def close(self, ask: bool) -> None:
+        """End the process: `ask` it to (it has no work left), else it was killed; then
+        wait for it, so that it is not left a zombie (and its CPU time is counted as
+        this process's children's, as `time` reports it)."""
+        try:
+            if ask:
+                self.conn.send(None)
+        except OSError:
+            pass
+        self.conn.close()
+        self.proc.join()
+
+
+def _serve(conn, solve, initializer, initargs) -> None:
+    """Worker: answer each chunk with chunk_job's (results, before, after), or with the
+    exception it raised (raised again in the parent), until None or the pipe's end.
+    Ends with os._exit: a normal end would flush standard streams inherited from the
+    parent (printing again what sat in their buffers at the fork) and tear down a heap
+    that the process is about to lose anyway."""
+    import os
+
+    code = 1  # an error here ends the worker: the parent sees its pipe close
+    try:
+        if initializer is not None:
+            initializer(*initargs)
+        while True:
+            try:
+                chunk = conn.recv()
+            except (EOFError, OSError):
+                break
+            if chunk is None:
+                break
+            try:
+                msg = chunk_job(chunk, solve)
+            except Exception as exc:  # a bug: the parent raises it, as a future would
+                msg = exc
+            try:
+                conn.send(msg)
+            except (EOFError, OSError):
+                break
+            except Exception as exc:  # a result that cannot be pickled
+                conn.send(RuntimeError(f"a worker's result could not be sent: {exc!r}"))
+            del msg
+        code = 0
+    finally:
+        os._exit(code)
+
+
+def routed(texts, workers):
+    """Yield the result of each file i of `texts`, in order, solved by `workers`
+    (Worker, forked once the parent holds the batch): chunks of indices routed by
+    Router. A chunk is a few small ints: the workers inherited the files' texts with the
+    parent's memory, so no text is pickled. Raises WorkerDied (or OSError) when a
+    worker died: the caller solves the rest itself."""
+    from multiprocessing.connection import wait
+
+    n = len(texts)
+    router = Router(texts, len(workers))
     results: dict = {}
-    flying: dict = {}  # future -> (worker, chunk)
-    count = [0] * len(pools)
+    flying = [deque() for _ in workers]  # each worker's chunks, in the order sent
+    by_conn = {wk.conn: w for w, wk in enumerate(workers)}
     nxt = 0
 
     def refill():
         limit = nxt + WINDOW
-        for w, pool in enumerate(pools):
-            while count[w] < AHEAD:
+        for w, wk in enumerate(workers):
+            while len(flying[w]) < AHEAD:
                 chunk = router.pick(w, limit)
                 if not chunk:
                     break
-                fut = pool.submit(chunk_job, [jobs[i] for i in chunk], solve)
-                flying[fut] = (w, chunk)
-                count[w] += 1
+                wk.conn.send(chunk)
+                flying[w].append(chunk)
 
     refill()
     while nxt < n:
@@ -168,15 +235,23 @@ def routed(jobs, texts, pools, solve):
             if nxt % CHUNK == 0:
                 refill()
             continue
-        if not flying:
+        busy = [wk.conn for w, wk in enumerate(workers) if flying[w]]
+        if not busy:
             refill()
-            if not flying:  # never: every file in the window fits some worker
+            busy = [wk.conn for w, wk in enumerate(workers) if flying[w]]
+            if not busy:  # never: every file in the window fits some worker
                 raise RuntimeError("batch routing stalled")
-        done, _ = wait(list(flying), return_when=FIRST_COMPLETED)
-        for fut in done:
-            w, chunk = flying.pop(fut)
-            count[w] -= 1
-            out, before, after = fut.result()
+        for conn in wait(busy):
+            w = by_conn[conn]
+            try:
+                msg = conn.recv()
+            except (EOFError, OSError):  # OSError: it died with chunks unread (reset)
+                raise WorkerDied("a worker process ended before sending its results") \
+                    from None
+            if isinstance(msg, BaseException):
+                raise msg
+            out, before, after = msg
+            chunk = flying[w].popleft()
             router.learned(w, chunk, before, after)
             for i, r in zip(chunk, out):
                 results[i] = r

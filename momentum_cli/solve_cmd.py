@@ -454,9 +454,12 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
             out.write(res.report.text if isinstance(res.report, Rendered) else
                       render_quiet(res.report, digits))
         elif isinstance(res.report, Rendered):  # plain text, made by the worker
-            if i:
+            text = res.report.text if res.report.parts is None else res.report.parts
+            if i and isinstance(text, str) and len(text) < WRITE_CHUNK:
+                text = "\n" + text  # the common file: one write
+            elif i:
                 out.write("\n")
-            _write_text(out, res.report.text if res.report.parts is None else res.report.parts)
+            _write_text(out, text)
         else:
             with _NoCyclicGC():
                 console = _render(res.report, mode, console, i, digits, simulation=False,
