@@ -28,6 +28,20 @@ def error_of(text: str, name: str = "test.mom"):
     raise AssertionError("expected a ProblemError")
 
 
+def solve_outcome(path) -> str:
+    """What solving the file at `path` gives, as text to compare between two ways of
+    solving it: its values, its blocks (method, iterations, residual, rejected roots) and
+    answers, or its errors' messages."""
+    text = open(path, encoding="utf-8").read()
+    try:
+        sol = solve_text(text, str(path))
+    except ProblemError as exc:
+        return repr([d.message for d in exc.diagnostics])
+    blocks = [(b.unknowns, b.method, b.iterations, repr(b.residual), b.rejected, b.unphysical)
+              for b in sol.blocks]
+    return repr((sorted(sol.values.items()), blocks, sol.answers))
+
+
 def solved_scenes():
     """(name, Solution, {equation index: the unknowns its block keeps}) for every example
     that solves and for a generated chain and sequential cradle: the scenes on which the

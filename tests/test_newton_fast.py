@@ -5,13 +5,10 @@ decisions of the one with it (_step_dense_full) on every Newton step of every ex
 from pathlib import Path
 
 import pytest
+from helpers import solve_outcome
 
 from momentum_cli import linalg, solve
-from momentum_cli.diagnostics import ProblemError
 from momentum_cli.expr import Var, diff
-from momentum_cli.run import read_source
-from momentum_cli.scene import build
-from momentum_cli.syntax import parse
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
@@ -26,13 +23,7 @@ def _outcome(path, monkeypatch, early, steps=None):
         monkeypatch.setattr(linalg, "_step_dense",
                             lambda J, r, n: steps.append(([list(row) for row in J], list(r)))
                             or dense(J, r, n))
-    try:
-        sol = solve.solve_scene(build(parse(read_source(str(path)))))
-    except ProblemError as exc:
-        return repr([d.message for d in exc.diagnostics]), bool(calls)
-    blocks = [(b.unknowns, b.method, b.iterations, repr(b.residual), b.rejected, b.unphysical)
-              for b in sol.blocks]
-    return repr((sorted(sol.values.items()), blocks, sol.answers)), bool(calls)
+    return solve_outcome(path), bool(calls)
 
 
 @pytest.fixture(scope="module")

@@ -3,12 +3,9 @@ from every start (a repeated start is deterministic: it ends where it ended befo
 from pathlib import Path
 
 import pytest
+from helpers import solve_outcome
 
 from momentum_cli import solve
-from momentum_cli.diagnostics import ProblemError
-from momentum_cli.run import read_source
-from momentum_cli.scene import build
-from momentum_cli.syntax import parse
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 FILES = ["collar_slides_on_spinning_rod.mom", "seed_pendulum_wall.mom", "disk_climbs_curb.mom",
@@ -21,13 +18,7 @@ def _outcome(path, monkeypatch, dedupe):
     calls = []
     inner = solve._newton_from
     monkeypatch.setattr(solve, "_newton_from", lambda *a: calls.append(1) or inner(*a))
-    try:
-        sol = solve.solve_scene(build(parse(read_source(str(path)))))
-    except ProblemError as exc:
-        return repr([d.message for d in exc.diagnostics]), len(calls)
-    blocks = [(b.unknowns, b.method, b.iterations, repr(b.residual), b.rejected, b.unphysical)
-              for b in sol.blocks]
-    return repr((sorted(sol.values.items()), blocks, sol.answers)), len(calls)
+    return solve_outcome(path), len(calls)
 
 
 @pytest.mark.parametrize("name", FILES)
