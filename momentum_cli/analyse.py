@@ -82,40 +82,38 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
     eqs = system.equations
     known = known or {}
     full = _incidence(eqs)
-    incidence = [{v for v in inc if v not in known} for inc in full] if known else full
     rank = {n: i for i, n in enumerate(system.unknowns)}
     col_name = list(rank)
-    cols: list[list[int]] = []  # each equation's unknowns as sorted columns
-    get = rank.get
-    for inc in incidence:
-        row = []
-        for v in inc:
-            r = get(v)
-            if r is None:
-                r = rank[v] = len(col_name)
-                col_name.append(v)
-            row.append(r)
-        row.sort()
-        cols.append(row)
+    cols = _columns(full.rows, rank, col_name, known)  # each equation's sorted columns
     n_cols = len(col_name)
     n_eqs = len(eqs)
-    stated = [e.kind in ("stated", "user") for e in eqs]
+    stated = [k for k, e in enumerate(eqs) if e.kind in _STATED]
     constant = [k for k in range(n_eqs) if not cols[k]]
     # auto equations first: stated principles then become the checks when redundant
-    order = [k for k in range(n_eqs) if cols[k] and not stated[k]] + \
-        [k for k in range(n_eqs) if cols[k] and stated[k]]
-    # auto equations are matched first, on their own; the principles a user states
-    # (and free equations) then only take unknowns the scene left undetermined, so a
-    # redundant statement becomes a check instead of displacing a derived equation
-    auto = [k for k in order if not stated[k] and k not in excluded]
-    extra = [k for k in order if stated[k] and k not in excluded]
+    if constant:
+        order = [k for k in range(n_eqs) if cols[k]]
+    else:
+        order = list(range(n_eqs))
+    if stated:
+        is_stated = [False] * n_eqs
+        for k in stated:
+            is_stated[k] = True
+        order = [k for k in order if not is_stated[k]] + [k for k in order if is_stated[k]]
+        # auto equations are matched first, on their own; the principles a user states
+        # (and free equations) then only take unknowns the scene left undetermined, so a
+        # redundant statement becomes a check instead of displacing a derived equation
+        auto = [k for k in order if not is_stated[k] and k not in excluded]
+        extra = [k for k in order if is_stated[k] and k not in excluded]
+    else:
+        auto = [k for k in order if k not in excluded] if excluded else order
+        extra = []
     matchable = cols
     if system.integrations:  # an integration sets its outputs from its inputs, not the reverse
         from .integration import matched_outputs
 
         matchable = list(cols)
         for k, out in matched_outputs(system).items():
-            if out in incidence[k]:
+            if out in full[k] and out not in known:
                 matchable[k] = [rank[out]]
     meq = [-1] * n_eqs  # equation -> its matched column
     mvar = [-1] * n_cols  # column -> its matched equation
@@ -129,23 +127,111 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
                 eq_first.append(k)
                 var_first.append(v)
                 break
-    _augment(auto, matchable, meq, mvar, eq_first, var_first)
-    _augment(extra, matchable, meq, mvar, eq_first, var_first)
-    # Dulmage-Mendelsohn: under-determined = reachable from unmatched unknowns by
-    # alternating paths (unknown -> equation containing it -> that equation's unknown).
+    if len(eq_first) < len(auto):
+        _augment(auto, matchable, meq, mvar, eq_first, var_first)
+    if extra:
+        _augment(extra, matchable, meq, mvar, eq_first, var_first)
+    under: set[str] = set()
+    under_eqs: set[int] = set()
+    if len(var_first) < n_cols:  # unmatched unknowns: some may be under-determined
+        eq_under = _under(cols, known, rank, col_name, meq, mvar, under, under_eqs)
+        redundant = [k for k in order if meq[k] < 0]
+        det = [k for k in order if meq[k] >= 0 and not eq_under[k]]
+    else:
+        eq_under = None
+        if len(eq_first) < len(order):
+            redundant = [k for k in order if meq[k] < 0]
+            det = [k for k in order if meq[k] >= 0]
+        else:
+            redundant = []
+            det = order
+    # BLT over the matched, determined equations (Tarjan's SCC, iterative)
+    succ: list = [None] * n_eqs
+    at = mvar.__getitem__
+    if eq_under is None:
+        for k in det:
+            succ[k] = [d for d in map(at, cols[k]) if d != k and d >= 0]
+    else:
+        for k in det:
+            succ[k] = [d for d in map(at, cols[k]) if d != k and d >= 0 and not eq_under[d]]
+    comps = _tarjan(det, succ, n_eqs)
+    blocks: list[Block] = []
+    block_of_eq = [-1] * n_eqs
+    for comp in comps:  # Tarjan emits dependencies first: theirs have their blocks
+        idx = len(blocks)
+        if len(comp) == 1:  # its successors are all in blocks before
+            k = comp[0]
+            block_of_eq[k] = idx
+            out = succ[k]
+            blocks.append(Block(idx, comp, [col_name[meq[k]]],
+                                {block_of_eq[d] for d in out} if out else NO_DEPENDS))
+            continue
+        for k in comp:
+            block_of_eq[k] = idx
+        comp.sort()
+        b = Block(idx, comp, [col_name[meq[k]] for k in comp], NO_DEPENDS)
+        blocks.append(b)
+        dep = None
+        for k in comp:
+            for d in succ[k]:
+                bd = block_of_eq[d]
+                if bd != idx:
+                    if dep is None:
+                        dep = b.depends = set()
+                    dep.add(bd)
+    match_eq = {k: col_name[meq[k]] for k in eq_first}
+    match_var = {col_name[v]: mvar[v] for v in var_first}
+    block_of_var = {col_name[meq[k]]: block_of_eq[k] for k in det}
+    return Structure(full, match_eq, match_var, under, under_eqs, redundant, blocks,
+                     block_of_var, constant)
+
+
+_STATED = ("stated", "user")  # the kinds matched after the scene's own equations
+
+
+def _columns(rows, rank: dict, col_name: list, known) -> list[list[int]]:
+    """Each equation's unknowns as sorted columns (ranks in compile order). An unknown
+    not compiled as one gets the next column, met in the order the string-keyed walk
+    met it (each equation's set of names)."""
+    getitem = rank.__getitem__
+    cols = []
+    append = cols.append
+    for row in rows:
+        if known:
+            row = {v for v in (row if type(row) is set else set(row)) if v not in known}
+        try:
+            c = sorted({*map(getitem, row)})
+        except KeyError:  # a name that is no compiled unknown: a new column
+            c = []
+            for v in (row if type(row) is set else set(row)):
+                r = rank.get(v)
+                if r is None:
+                    r = rank[v] = len(col_name)
+                    col_name.append(v)
+                c.append(r)
+            c.sort()
+        append(c)
+    return cols
+
+
+def _under(cols, known, rank, col_name, meq, mvar, under, under_eqs) -> list[bool]:
+    """Dulmage-Mendelsohn: the under-determined unknowns (into `under`) are those
+    reachable from unmatched unknowns by alternating paths (unknown -> equation
+    containing it -> that equation's unknown); their equations go into `under_eqs`.
+    Each equation: whether it is one of them."""
+    n_cols = len(col_name)
     var_eqs: list[list[int]] = [[] for _ in range(n_cols)]
     for k, row in enumerate(cols):
         for v in row:
             var_eqs[v].append(k)
     present = [True] * n_cols  # the unknowns the analysis is over (not known)
+    get = rank.get
     for n in known:
         r = get(n)
         if r is not None and not var_eqs[r]:
             present[r] = False
     in_under = [False] * n_cols
-    eq_under = [False] * n_eqs
-    under: set[str] = set()
-    under_eqs: set[int] = set()
+    eq_under = [False] * len(cols)
     stack = [v for v in range(n_cols) if present[v] and mvar[v] < 0]
     while stack:
         v = stack.pop()
@@ -158,56 +244,56 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
                 eq_under[k] = True
                 under_eqs.add(k)
                 stack.append(meq[k])
-    redundant = [k for k in order if meq[k] < 0]
-    # BLT over the matched, determined equations (Tarjan's SCC, iterative)
-    det = [k for k in order if meq[k] >= 0 and not eq_under[k]]
-    succ: list = [None] * n_eqs
-    for k in det:
-        out = []
-        for v in cols[k]:
-            d = mvar[v]
-            if d >= 0 and d != k and not eq_under[d]:
-                out.append(d)
-        succ[k] = out
-    comps = _tarjan(det, succ, n_eqs)
-    blocks: list[Block] = []
-    block_of_eq = [-1] * n_eqs
-    for comp in comps:  # Tarjan emits dependencies first
-        idx = len(blocks)
-        for k in comp:
-            block_of_eq[k] = idx
-        comp.sort()
-        blocks.append(Block(idx, comp, [col_name[meq[k]] for k in comp], NO_DEPENDS))
-    for b in blocks:
-        own = b.index
-        dep = None
-        for k in b.equations:
-            for d in succ[k]:
-                bd = block_of_eq[d]
-                if bd != own:
-                    if dep is None:
-                        dep = b.depends = set()
-                    dep.add(bd)
-    match_eq = {k: col_name[meq[k]] for k in eq_first}
-    match_var = {col_name[v]: mvar[v] for v in var_first}
-    block_of_var = {col_name[meq[k]]: block_of_eq[k] for k in det}
-    return Structure(full, match_eq, match_var, under, under_eqs, redundant, blocks,
-                     block_of_var, constant)
+    return eq_under
 
 
-def _incidence(eqs) -> list[set[str]]:
+class Incidence:
+    """Each equation's unknowns, as a set when asked (`expr.variables`'s set, or the set
+    of the names its residual's shape lists). The solve asks for few of them (redundant,
+    constant and conflicting equations): a row is held as the shape's tuple of names
+    (shared with the shape) instead of a set of its own (216 bytes an equation)."""
+
+    __slots__ = ("rows",)
+
+    def __init__(self, rows: list):
+        self.rows = rows
+
+    def __getitem__(self, k) -> set[str]:
+        row = self.rows[k]
+        return row if type(row) is set else set(row)
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def __iter__(self):
+        for row in self.rows:
+            yield row if type(row) is set else set(row)
+
+    def __eq__(self, other) -> bool:
+        try:
+            return len(self) == len(other) and all(a == b for a, b in zip(self, other))
+        except TypeError:
+            return NotImplemented
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        return f"Incidence({list(self)!r})"
+
+
+def _incidence(eqs) -> Incidence:
     """Each equation's unknowns (`expr.variables`). Within a solve (`rowcode.remembered`
     open) from each residual's shape, which the solve then reads again instead of walking
     the tree a second time: a shape names exactly the unknowns `variables` finds."""
     if not (rowcode.ENABLED and rowcode._ON[0]) or rowcode._PLAIN[0]:
-        return [variables(e.residual) for e in eqs]
+        return Incidence([variables(e.residual) for e in eqs])
     shape_of = rowcode.shape_of
     out = []
     for e in eqs:
         r = e.residual
         sh = shape_of(r)
-        out.append(set(sh[2]) if sh is not None else variables(r))
-    return out
+        out.append(sh[2] if sh is not None else variables(r))
+    return Incidence(out)
 
 
 def _augment(order: list[int], incidence: list[list[int]], meq: list[int], mvar: list[int],
@@ -264,7 +350,11 @@ def _augment(order: list[int], incidence: list[list[int]], meq: list[int], mvar:
 
 
 def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
-    """Strongly connected components, dependencies before dependents (iterative)."""
+    """Strongly connected components, dependencies before dependents (iterative).
+
+    A node whose successors are all finished (in a component already: the common case
+    of an explicit equation) is its own component at once, where the full walk would
+    emit it too, without entering the walk."""
     index = [-1] * n
     low = [0] * n
     on = [False] * n
@@ -274,38 +364,54 @@ def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
     for root in nodes:
         if index[root] >= 0:
             continue
-        work = [(root, 0)]
+        ws = succ[root]
+        for x in ws:
+            if index[x] < 0 or on[x]:
+                break
+        else:  # every successor finished
+            index[root] = low[root] = counter
+            counter += 1
+            out.append([root])
+            continue
+        index[root] = low[root] = counter
+        counter += 1
+        stack.append(root)
+        on[root] = True
+        work = [(root, iter(ws))]
         while work:
-            v, pi = work.pop()
-            if pi == 0:
-                index[v] = low[v] = counter
-                counter += 1
-                stack.append(v)
-                on[v] = True
-            recurse = False
-            ws = succ[v]
-            for i in range(pi, len(ws)):
-                w = ws[i]
-                if index[w] < 0:
-                    work.append((v, i + 1))
-                    work.append((w, 0))
-                    recurse = True
+            v, it = work[-1]
+            for w in it:
+                iw = index[w]
+                if iw < 0:
+                    sw = succ[w]
+                    for x in sw:
+                        if index[x] < 0 or on[x]:
+                            break
+                    else:  # a finished leaf: its own component, v's low unchanged
+                        index[w] = low[w] = counter
+                        counter += 1
+                        out.append([w])
+                        continue
+                    index[w] = low[w] = counter
+                    counter += 1
+                    stack.append(w)
+                    on[w] = True
+                    work.append((w, iter(sw)))
                     break
-                if on[w] and index[w] < low[v]:
-                    low[v] = index[w]
-            if recurse:
-                continue
-            if low[v] == index[v]:
-                comp = []
-                while True:
-                    w = stack.pop()
-                    on[w] = False
-                    comp.append(w)
-                    if w == v:
-                        break
-                out.append(comp)
-            if work:
-                parent = work[-1][0]
-                if low[v] < low[parent]:
-                    low[parent] = low[v]
+                if on[w] and iw < low[v]:
+                    low[v] = iw
+            else:
+                work.pop()
+                lv = low[v]
+                if lv == index[v]:
+                    comp = []
+                    while True:
+                        w = stack.pop()
+                        on[w] = False
+                        comp.append(w)
+                        if w == v:
+                            break
+                    out.append(comp)
+                elif lv < low[work[-1][0]]:  # not a root: a parent is on the walk
+                    low[work[-1][0]] = lv
     return out

@@ -1,0 +1,119 @@
+"""analyse's shortcuts give the structure of the string-keyed walk
+(tests/reference_analyse.py): rows held as the shapes' tuples of names (`Incidence`),
+the matching and the blocks made without the passes a fully matched system does not
+need, and Tarjan's walk emitting a node whose successors are all finished at once."""
+from __future__ import annotations
+
+import random
+
+import pytest
+
+import reference_analyse as R
+from momentum_cli import rowcode
+from momentum_cli.analyse import Incidence, _tarjan, analyse
+from momentum_cli.bench import chain_text
+from test_compile_equal import _structure_order
+from test_hard import cradle_text
+
+
+def _system(text):
+    from momentum_cli.compile import compile_scene
+    from momentum_cli.scene import build
+    from momentum_cli.source import Source
+    from momentum_cli.syntax import parse
+
+    return compile_scene(build(parse(Source("t.mom", text))))
+
+
+TEXTS = [chain_text(n) for n in (2, 7, 120)] + \
+    [cradle_text(n, kind) for n in (3, 50) for kind in ("sequence", "simultaneous")]
+
+
+@pytest.mark.parametrize("text", TEXTS)
+def test_analyse_within_a_solve_equals_the_string_keyed_one(text):
+    """With the shapes remembered (the incidence read from them, as in a solve), also
+    with unknowns known and equations excluded."""
+    system = _system(text)
+    names = list(system.unknowns)
+    n_eqs = len(system.equations)
+    with rowcode.remembered(n_eqs):
+        for excluded, known in ((frozenset(), None),
+                                (frozenset(range(0, n_eqs, 4)), None),
+                                (frozenset(), {v: 1.0 for v in names[::3]}),
+                                (frozenset({n_eqs - 1}), {v: 1.0 for v in names[1::5]})):
+            got = analyse(system, excluded, known)
+            assert isinstance(got.incidence, Incidence)
+            assert _structure_order(got) == \
+                _structure_order(R.analyse(system, excluded, known))
+
+
+def test_incidence_reads_as_the_list_of_sets():
+    rows = [("a", "b", "a"), {"c"}, ()]
+    inc = Incidence(rows)
+    assert len(inc) == 3 and inc[0] == {"a", "b"} and inc[1] is rows[1] and inc[2] == set()
+    assert list(inc) == [{"a", "b"}, {"c"}, set()]
+    assert inc == [{"a", "b"}, {"c"}, set()] and [{"a", "b"}, {"c"}, set()] == inc
+    assert inc != [{"a"}, {"c"}, set()]
+
+
+def _plain_tarjan(nodes, succ, n):
+    """Tarjan's walk without the shortcut (the code before it)."""
+    index, low, on = [-1] * n, [0] * n, [False] * n
+    stack, out, counter = [], [], 0
+    for root in nodes:
+        if index[root] >= 0:
+            continue
+        work = [(root, 0)]
+        while work:
+            v, pi = work.pop()
+            if pi == 0:
+                index[v] = low[v] = counter
+                counter += 1
+                stack.append(v)
+                on[v] = True
+            recurse = False
+            ws = succ[v]
+            for i in range(pi, len(ws)):
+                w = ws[i]
+                if index[w] < 0:
+                    work.append((v, i + 1))
+                    work.append((w, 0))
+                    recurse = True
+                    break
+                if on[w] and index[w] < low[v]:
+                    low[v] = index[w]
+            if recurse:
+                continue
+            if low[v] == index[v]:
+                comp = []
+                while True:
+                    w = stack.pop()
+                    on[w] = False
+                    comp.append(w)
+                    if w == v:
+                        break
+                out.append(comp)
+            if work:
+                parent = work[-1][0]
+                if low[v] < low[parent]:
+                    low[parent] = low[v]
+    return out
+
+
+@pytest.mark.parametrize("seed", range(60))
+def test_tarjan_shortcut_emits_what_the_plain_walk_emits(seed):
+    """Random graphs: sparse and dense, with cycles, self-free, nodes in any order."""
+    rng = random.Random(seed)
+    n = rng.randint(1, 60)
+    p = rng.choice((0.02, 0.05, 0.1, 0.3))
+    back = rng.random() < 0.5  # mostly edges to earlier nodes: the common, acyclic case
+    succ = []
+    for v in range(n):
+        ws = [w for w in range(n) if w != v and rng.random() < (p if not back or w < v
+                                                                  else p / 10)]
+        rng.shuffle(ws)
+        succ.append(ws)
+    nodes = list(range(n))
+    if rng.random() < 0.5:
+        rng.shuffle(nodes)
+    assert _tarjan(nodes, succ, n) == _plain_tarjan(nodes, succ, n)
