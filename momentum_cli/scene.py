@@ -33,6 +33,7 @@ from .units import (
     VELOCITY,
     Dim,
     describe,
+    reading_for,
     si_label,
 )
 
@@ -293,6 +294,54 @@ _LEAF: dict = {}  # statement class -> whether no class derives from it
 # the value of a literal number or vector in SI (its number, sign, unit and dimension: a
 # batch of variants repeats most of them), and of a literal direction; an error is not kept
 _LITERALS: dict = {}
+_FACTORS: dict = {}  # (unit, dimension) -> the factor of its reading (_literal)
+
+CONTACT_MEMO = True  # the memos of bodies and contacts; tests switch them off to compare
+CONTACT_MEMO_FROM = 64  # bodies (transitions) in a file: below, no memo (small files pay
+MEMO_KINDS = 512  # nothing); a memo of more distinct keys is dropped (no repeats to find)
+
+
+def _shape_key(shape):
+    """What a one-shape body's mass, inertia and sizes depend on, when its arguments are
+    literal numbers or named constants (`particle(mass = m, radius = 15 mm)`); None for
+    anything else (the full walk)."""
+    key = [shape.kind]
+    for a in shape.args:
+        v = a.value
+        t = type(v)
+        if t is S.Num and type(v.value) is float:
+            key.append((a.name, v.value, math.copysign(1.0, v.value), v.unit))
+        elif t is S.Ref and v.member is None and v.index is None and not v.at and \
+                v.about is None:
+            key.append((a.name, v.name))
+        else:
+            return None
+    return tuple(key)
+
+
+def _contact_key(c, kind):
+    """What a contact clause's normal, law and friction depend on, when that is only
+    literal numbers (a direction, `restitution 0.5`, `friction 0.3`) and the
+    transition's kind: a big file repeats one such clause between other bodies. None
+    for anything else (a named constant or unknown, an expression: the full walk)."""
+    n = c.normal
+    if type(n) is not S.VecLit:
+        return None
+    x, y = n.x, n.y
+    if type(x) is not S.Num or type(y) is not S.Num or type(x.value) is not float or \
+            type(y.value) is not float:
+        return None
+    key = [kind, x.value, math.copysign(1.0, x.value), x.unit, y.value,
+           math.copysign(1.0, y.value), y.unit]
+    for p in c.props:
+        v = p.value
+        if v is None:
+            key.append((p.kind, p.law))
+        elif type(v) is S.Num and type(v.value) is float:
+            key.append((p.kind, p.law, v.value, math.copysign(1.0, v.value), v.unit))
+        else:
+            return None
+    return tuple(key)
 LITERALS_LIMIT = 4096
 
 
@@ -338,6 +387,8 @@ class _Builder:
         self.gravity: tuple[float, float] | None = None
         self.gravity_span = None
         self.ev = Evaluator(self._resolve_constant)
+        self._contacts_seen: dict | None = None  # _contact's memo (a big file's)
+        self._bodies_seen: dict | None = None  # _body's memo (a big file's)
         self.bodies: dict[str, Body] = {}
         self.points: dict[str, PointOn] = {}
         self.surfaces: dict[str, Surface] = {}
@@ -371,12 +422,33 @@ class _Builder:
             key = (x, math.copysign(1.0, x), node.unit, dim)
             hit = _LITERALS.get(key)
             if hit is None:
-                hit = self._value(node, dim, what)
+                hit = self._literal(node, dim, what)
                 if len(_LITERALS) >= LITERALS_LIMIT:
                     _LITERALS.clear()
                 _LITERALS[key] = hit
             return hit
         return self._value(node, dim, what)
+
+    def _literal(self, node, dim: Dim, what: str) -> float:
+        """`_value` of a float literal. With a unit read before for this dimension, its
+        number times the unit's factor (the product `Evaluator.ev` makes): a big file's
+        distinct numbers in one unit (`mass = 0.0213 kg`) skip the unit's parse."""
+        unit = node.unit
+        if unit is None:
+            return self._value(node, dim, what)
+        factor = _FACTORS.get((unit, dim))
+        if factor is not None:
+            v = node.value * factor
+            if math.isfinite(v):
+                return _in_range(v, node, what)
+            return self._value(node, dim, what)  # its error
+        v = self._value(node, dim, what)
+        factor, got = reading_for(unit_readings(unit, node.unit_span, dim), dim)
+        if got == dim:
+            if len(_FACTORS) >= LITERALS_LIMIT:
+                _FACTORS.clear()
+            _FACTORS[(unit, dim)] = factor
+        return v
 
     def _value(self, node, dim: Dim, what: str) -> float:
         q = self.ev(node, dim)
@@ -480,6 +552,8 @@ class _Builder:
                 self._let(s)
             elif isinstance(s, S.UnknownDecl):
                 self._unknown(s)
+        if CONTACT_MEMO and len(of(S.BodyDecl)) >= CONTACT_MEMO_FROM:
+            self._bodies_seen = {}
         for s in of(S.BodyDecl):
             self._body(s)
         for s in of(S.Let):
@@ -514,6 +588,8 @@ class _Builder:
             states[s.id] = self._state(s)
         transitions = []
         by_key: dict[str, list] = {}  # the transitions on each pair of states, in file order
+        if CONTACT_MEMO and len(of(S.Transition)) >= CONTACT_MEMO_FROM:
+            self._contacts_seen = {}
         for s in of(S.Transition):
             t = self._transition(s, states)
             for other in by_key.get(t.key, ()):
@@ -803,14 +879,25 @@ class _Builder:
                                code="name")
         if not s.composite:
             shape = s.shapes[0]
-            args = self._shape_args(shape)  # evaluated once, for the body and its drawing
-            m, inertia, formula, r, L, w = self._simple(shape, args)
-            kind = shape.kind
-            point_mass = kind == "particle" or (kind == "rigid" and inertia == 0)
-            self.bodies[s.name] = Body(s.name, s.span, kind, m, inertia, formula,
-                                       r if kind in ROUND or kind in ("particle", "rigid") else None,
-                                       L, point_mass, (0.0, 0.0), w,
-                                       ((kind, (0.0, 0.0), self._dims(shape, args), 0.0),))
+            seen = self._bodies_seen
+            key = _shape_key(shape) if seen is not None else None
+            got = seen.get(key) if key is not None else None
+            if got is None:
+                n_notes = len(self.notes.items)
+                args = self._shape_args(shape)  # evaluated once, for the body and its drawing
+                m, inertia, formula, r, L, w = self._simple(shape, args)
+                kind = shape.kind
+                point_mass = kind == "particle" or (kind == "rigid" and inertia == 0)
+                got = (kind, m, inertia, formula,
+                       r if kind in ROUND or kind in ("particle", "rigid") else None, L,
+                       point_mass, w, ((kind, (0.0, 0.0), self._dims(shape, args), 0.0),))
+                if key is not None and len(self.notes.items) == n_notes:
+                    seen[key] = got  # the same literals and constants: the same numbers
+                    if len(seen) >= MEMO_KINDS:
+                        self._bodies_seen = None
+            kind, m, inertia, formula, r, L, point_mass, w, outline = got
+            self.bodies[s.name] = Body(s.name, s.span, kind, m, inertia, formula, r, L,
+                                       point_mass, (0.0, 0.0), w, outline)
             return
         parts = []
         turns = []
@@ -1219,6 +1306,18 @@ class _Builder:
                                code="name")
         if b is not None and b.body == a.body:
             raise ProblemError("a body cannot be in contact with itself", c.span, code="name")
+        seen = self._contacts_seen
+        key = None
+        if seen is not None and c.normal is not None:
+            key = _contact_key(c, kind)
+            hit = seen.get(key) if key is not None else None
+            if hit is not None:  # the same literals as a contact before: its results
+                normal, e, e_unknown, mode, mu, slip, separation, law, law_at, mu_static = hit
+                return self._contact_record(c, a, b, surface, normal, e, e_unknown, mode, mu,
+                                            slip, None, separation, law,
+                                            c.props[law_at].span if law_at >= 0 else None,
+                                            mu_static)
+            n_notes = len(self.notes.items)
         if c.normal is not None:
             normal = self.unit_vector(c.normal, "a contact normal")
         elif sf is not None and sf.normal is not None:
@@ -1244,10 +1343,10 @@ class _Builder:
         slip = None
         mu_static = None
         modes = []
-        law, law_span = Restitution.NEWTON, None
-        for p in c.props:
+        law, law_span, law_at = Restitution.NEWTON, None, -1
+        for i, p in enumerate(c.props):
             if p.kind in (Prop.RESTITUTION, Prop.RESTITUTION_UNKNOWN, Prop.SEPARATION):
-                law_span = p.span
+                law_span, law_at = p.span, i
             if p.kind == Prop.RESTITUTION and p.law not in (None, "newton"):
                 law = Restitution(p.law)
             if p.kind == Prop.RESTITUTION and isinstance(p.value, S.Ref) and \
@@ -1306,15 +1405,27 @@ class _Builder:
                 raise ProblemError(f"the {law} law needs a known coefficient of restitution "
                                    "(to find e, use Newton's law: `restitution ?`)", law_span,
                                    code="name")
+        mode = Tangential(mode)
+        law = Restitution.SEPARATION if separation is not None else law
+        if key is not None and e_name is None and len(self.notes.items) == n_notes:
+            seen[key] = (normal, e, e_unknown, mode, mu, slip, separation, law, law_at,
+                         mu_static)
+            if len(seen) >= MEMO_KINDS:
+                self._contacts_seen = None
+        return self._contact_record(c, a, b, surface, normal, e, e_unknown, mode, mu, slip,
+                                    e_name, separation, law, law_span, mu_static)
+
+    @staticmethod
+    def _contact_record(c, a, b, surface, normal, e, e_unknown, mode, mu, slip, e_name,
+                        separation, law, law_span, mu_static) -> Contact:
         if b is None:
             label = c.label or a.name
         else:
             label = c.label or f"{a.name}-{b.name}"
         return Contact(label=label, span=c.span, a=a, b=b, normal=normal, restitution=e,
-                       restitution_unknown=e_unknown, mode=Tangential(mode), mu=mu, slip=slip,
+                       restitution_unknown=e_unknown, mode=mode, mu=mu, slip=slip,
                        surface=surface, restitution_name=e_name, separation=separation,
-                       law=Restitution.SEPARATION if separation is not None else law,
-                       law_span=law_span, mu_static=mu_static)
+                       law=law, law_span=law_span, mu_static=mu_static)
 
     def _stated_momentum(self, s: S.ConserveMomentum, states) -> StatedMomentum:
         self._states_exist(states, s.before, s.after, s.span)
