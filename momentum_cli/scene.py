@@ -294,11 +294,13 @@ _LEAF: dict = {}  # statement class -> whether no class derives from it
 # the value of a literal number or vector in SI (its number, sign, unit and dimension: a
 # batch of variants repeats most of them), and of a literal direction; an error is not kept
 _LITERALS: dict = {}
+_TRANSITION_KINDS = {k.value: k for k in TransitionKind}  # a kind's word -> the kind
 _FACTORS: dict = {}  # (unit, dimension) -> the factor of its reading (_literal)
 
 CONTACT_MEMO = True  # the memos of bodies and contacts; tests switch them off to compare
-CONTACT_MEMO_FROM = 64  # bodies (transitions) in a file: below, no memo (small files pay
-MEMO_KINDS = 512  # nothing); a memo of more distinct keys is dropped (no repeats to find)
+CONTACT_MEMO_FROM = 64  # bodies (transitions' clauses) in a file: fewer, no memo (a small
+# file pays nothing); a memo of more distinct keys than MEMO_KINDS is dropped (no repeats)
+MEMO_KINDS = 512
 
 
 def _shape_key(shape):
@@ -588,8 +590,8 @@ class _Builder:
             states[s.id] = self._state(s)
         transitions = []
         by_key: dict[str, list] = {}  # the transitions on each pair of states, in file order
-        if CONTACT_MEMO and len(of(S.Transition)) >= CONTACT_MEMO_FROM:
-            self._contacts_seen = {}
+        if CONTACT_MEMO and sum(len(s.clauses) for s in of(S.Transition)) >= CONTACT_MEMO_FROM:
+            self._contacts_seen = {}  # many clauses (contacts): a memo
         for s in of(S.Transition):
             t = self._transition(s, states)
             for other in by_key.get(t.key, ()):
@@ -1114,7 +1116,8 @@ class _Builder:
 
     def _transition(self, s: S.Transition, states) -> TransitionSpec:
         self._states_exist(states, s.before, s.after, s.span, (s.before_span, s.after_span))
-        t = TransitionSpec(TransitionKind(s.kind), s.before, s.after, s.span)
+        tk = _TRANSITION_KINDS.get(s.kind) if type(s.kind) is str else None
+        t = TransitionSpec(tk or TransitionKind(s.kind), s.before, s.after, s.span)
         labels = set()
         for c in s.clauses:
             if isinstance(c, S.Contact):
