@@ -179,9 +179,10 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
                     if dep is None:
                         dep = b.depends = set()
                     dep.add(bd)
-    match_eq = {k: col_name[meq[k]] for k in eq_first}
-    match_var = {col_name[v]: mvar[v] for v in var_first}
-    block_of_var = {col_name[meq[k]]: block_of_eq[k] for k in det}
+    name_of, col_of = col_name.__getitem__, meq.__getitem__  # (maps: one C loop a dict)
+    match_eq = dict(zip(eq_first, map(name_of, map(col_of, eq_first))))
+    match_var = dict(zip(map(name_of, var_first), map(mvar.__getitem__, var_first)))
+    block_of_var = dict(zip(map(name_of, map(col_of, det)), map(block_of_eq.__getitem__, det)))
     return Structure(full, match_eq, match_var, under, under_eqs, redundant, blocks,
                      block_of_var, constant)
 
