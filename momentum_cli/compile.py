@@ -434,13 +434,19 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def vel(self, body: str, sid: str) -> V2:
         hit = self._vel.get((body, sid))
         if hit is None:
-            chains = self._chains
-            w = chains.where.get(sid) if chains is not None else None
-            if w is None:
-                hit = V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
-            else:
-                hit = self._on_chain_v(body, sid, w)
-            self._vel[(body, sid)] = hit
+            return self.vel_miss(body, sid)
+        return hit
+
+    def vel_miss(self, body: str, sid: str) -> V2:
+        """vel for a velocity not asked for before (callers that read vel's memo
+        themselves: one lookup of the big memo, not two)."""
+        chains = self._chains
+        w = chains.where.get(sid) if chains is not None else None
+        if w is None:
+            hit = V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
+        else:
+            hit = self._on_chain_v(body, sid, w)
+        self._vel[(body, sid)] = hit
         return hit
 
     def _new_vel(self, body: str, sid: str) -> V2:
@@ -899,7 +905,6 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         terms = []
         memo = self._Tb
         bodies = self.scene.bodies
-        vel = self.vel
         vmemo = self._vel.get
         masses = self._mass if self.flows is None else None
         for b in names:
@@ -910,7 +915,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                     # _body_kinetic of a particle with its declared mass, inline
                     v = vmemo((b, sid))
                     if v is None:
-                        v = vel(b, sid)
+                        v = self.vel_miss(b, sid)
                     vx, vy = v.x, v.y
                     if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
                         hit = (_half_mv2(m, vx, vy),)

@@ -123,7 +123,7 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
     10^4 contacts: a chain), each contact's trees replayed from its kind's template."""
     bodies = comp.scene.bodies
     vel, unknowns = comp.vel, comp.unknowns
-    vmemo = comp._vel.get
+    vmemo, miss = comp._vel.get, comp.vel_miss
     Unknown, Applied, Equation = comp.Unknown, comp.Applied, comp.Equation
     bp = comp._by_principle
     eqs = comp.equations
@@ -149,16 +149,16 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
             b = pb.body
             va1 = vmemo((a, i))
             if va1 is None:
-                va1 = vel(a, i)
+                va1 = miss(a, i)
             vb1 = vmemo((b, i))
             if vb1 is None:
-                vb1 = vel(b, i)
+                vb1 = miss(b, i)
             va2 = vmemo((a, j))
             if va2 is None:
-                va2 = vel(a, j)
+                va2 = miss(a, j)
             vb2 = vmemo((b, j))
             if vb2 is None:
-                vb2 = vel(b, j)
+                vb2 = miss(b, j)
             leaves = (Jn, va1.x, va1.y, vb1.x, vb1.y, va2.x, va2.y, vb2.x, vb2.y, E_)
         else:
             b = None
@@ -209,8 +209,9 @@ def _replay(comp, t, key: str) -> None:
     bodies = comp.scene.bodies
     moved = comp._moved(key)
     index = {b: k for k, b in enumerate(moved)}
-    vel, unknowns, Unknown = comp.vel, comp.unknowns, comp.Unknown
-    vmemo = comp._vel
+    unknowns, Unknown = comp.unknowns, comp.Unknown
+    vmemo, miss = comp._vel, comp.vel_miss
+    found: dict = {}  # (body, state) -> its velocity, from vel's memo or made now
     leaves: list = []
     shape: list = []
     sources: list = []
@@ -229,17 +230,16 @@ def _replay(comp, t, key: str) -> None:
         body_a = bodies[a]
         if pb is not None:  # the state unknowns in the order the element makes them
             b = pb.body
-            if (a, i) not in vmemo:
-                vel(a, i)
-            if (b, i) not in vmemo:
-                vel(b, i)
-            if (a, j) not in vmemo:
-                vel(a, j)
-            if (b, j) not in vmemo:
-                vel(b, j)
+            for q in ((a, i), (b, i), (a, j), (b, j)):
+                if q not in found:
+                    v = vmemo.get(q)
+                    found[q] = miss(*q) if v is None else v
             rb = bodies[b].radius if pb.round_contact and bodies[b].radius else None
         else:
-            vel(a, i), vel(a, j)
+            for q in ((a, i), (a, j)):
+                if q not in found:
+                    v = vmemo.get(q)
+                    found[q] = miss(*q) if v is None else v
             rb = None
         e = c.restitution
         leaves += (Jn, Known(parameter_key(_E, label), e))
@@ -254,7 +254,9 @@ def _replay(comp, t, key: str) -> None:
     masses = comp._mass if comp.flows is None else {}  # mass's memo (no burn: as declared)
     vels = comp._vel  # what vel remembered just now
     for b in moved:
-        v1, v2 = vels[(b, i)], vels[(b, j)]
+        v1, v2 = found.get((b, i)), found.get((b, j))
+        if v1 is None or v2 is None:
+            v1, v2 = vels[(b, i)], vels[(b, j)]
         m = masses.get(b)
         leaves += (mass(b, i) if m is None else m, v1.x, v1.y, v2.x, v2.y)
     plain = True
@@ -330,7 +332,9 @@ def _replay(comp, t, key: str) -> None:
     for b in moved:
         lx, rx, ly, ry = out[pos:pos + 4]
         pos += 4
-        v2 = vels[(b, j)]
+        v2 = found.get((b, j))
+        if v2 is None:
+            v2 = vels[(b, j)]
         for lhs, rhs, p, x in ((lx, rx, f"linear impulse-momentum x: {b}", v2.x),
                                (ly, ry, f"linear impulse-momentum y: {b}", v2.y)):
             if bp is not None and "|" not in p:
