@@ -211,7 +211,6 @@ def _replay(comp, t, key: str) -> None:
     index = {b: k for k, b in enumerate(moved)}
     unknowns, Unknown = comp.unknowns, comp.Unknown
     vmemo, miss = comp._vel, comp.vel_miss
-    found: dict = {}  # (body, state) -> its velocity, from vel's memo or made now
     leaves: list = []
     shape: list = []
     sources: list = []
@@ -230,16 +229,20 @@ def _replay(comp, t, key: str) -> None:
         body_a = bodies[a]
         if pb is not None:  # the state unknowns in the order the element makes them
             b = pb.body
-            for q in ((a, i), (b, i), (a, j), (b, j)):
-                if q not in found:
-                    v = vmemo.get(q)
-                    found[q] = miss(*q) if v is None else v
+            if (a, i) not in vmemo:
+                miss(a, i)
+            if (b, i) not in vmemo:
+                miss(b, i)
+            if (a, j) not in vmemo:
+                miss(a, j)
+            if (b, j) not in vmemo:
+                miss(b, j)
             rb = bodies[b].radius if pb.round_contact and bodies[b].radius else None
         else:
-            for q in ((a, i), (a, j)):
-                if q not in found:
-                    v = vmemo.get(q)
-                    found[q] = miss(*q) if v is None else v
+            if (a, i) not in vmemo:
+                miss(a, i)
+            if (a, j) not in vmemo:
+                miss(a, j)
             rb = None
         e = c.restitution
         leaves += (Jn, Known(parameter_key(_E, label), e))
@@ -254,9 +257,7 @@ def _replay(comp, t, key: str) -> None:
     masses = comp._mass if comp.flows is None else {}  # mass's memo (no burn: as declared)
     vels = comp._vel  # what vel remembered just now
     for b in moved:
-        v1, v2 = found.get((b, i)), found.get((b, j))
-        if v1 is None or v2 is None:
-            v1, v2 = vels[(b, i)], vels[(b, j)]
+        v1, v2 = vels[(b, i)], vels[(b, j)]
         m = masses.get(b)
         leaves += (mass(b, i) if m is None else m, v1.x, v1.y, v2.x, v2.y)
     plain = True
@@ -332,9 +333,7 @@ def _replay(comp, t, key: str) -> None:
     for b in moved:
         lx, rx, ly, ry = out[pos:pos + 4]
         pos += 4
-        v2 = found.get((b, j))
-        if v2 is None:
-            v2 = vels[(b, j)]
+        v2 = vels[(b, j)]
         for lhs, rhs, p, x in ((lx, rx, f"linear impulse-momentum x: {b}", v2.x),
                                (ly, ry, f"linear impulse-momentum y: {b}", v2.y)):
             if bp is not None and "|" not in p:
