@@ -53,19 +53,32 @@ class StateChains:
         for ts in into.values():
             if ts[0].before not in where or ts[0].after not in where:
                 return None
+        # positions as sorted tuples (half a one-item list's size: a big scene has ~3 a
+        # body); only those that came out of order or grew long are sorted at the end
         breaks: dict = {}
+        get = breaks.get
+        late: set = set()  # keys whose positions came out of order or grew long (lists)
         for sid, st in states.items():
             c, p = where[sid]
             for (b, q) in st.givens:
-                breaks.setdefault((b, q, c), []).append(p)
+                k = (b, q, c)
+                v = get(k)
+                if v is None:
+                    breaks[k] = (p,)
+                else:
+                    _grow(breaks, late, k, v, p)
         for sid, ts in into.items():
             c, p = where[sid]
             for b in busy[ts[0].key]:
                 for q in VELOCITIES:
-                    breaks.setdefault((b, q, c), []).append(p)
-        for k, v in breaks.items():
-            v.sort()
-            breaks[k] = tuple(v)  # half a one-item list's size: a big scene has ~3 a body
+                    k = (b, q, c)
+                    v = get(k)
+                    if v is None:
+                        breaks[k] = (p,)
+                    else:
+                        _grow(breaks, late, k, v, p)
+        for k in late:
+            breaks[k] = tuple(sorted(breaks[k]))
         return cls(where, chains, {s: ts[0] for s, ts in into.items()}, breaks)
 
     def head(self, body: str, qty: str, sid: str, given, linked):
@@ -116,3 +129,18 @@ class StateChains:
             if g is not None and linked(body, qty, self.into[nxt]):
                 return (body, qty, nxt), g
         return (body, qty, start), None
+
+
+def _grow(breaks: dict, late: set, k, v, p) -> None:
+    """Add position p to key k's positions v (StateChains.build): a short tuple grows by
+    a copy, a long one becomes a list (a body in many transitions: no quadratic copies);
+    a key out of order or made a list is in `late`, sorted into a tuple at the end."""
+    if type(v) is list:
+        v.append(p)
+    elif len(v) >= 8:
+        late.add(k)
+        breaks[k] = [*v, p]
+    else:
+        if p < v[-1]:
+            late.add(k)
+        breaks[k] = v + (p,)

@@ -434,7 +434,19 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def vel(self, body: str, sid: str) -> V2:
         hit = self._vel.get((body, sid))
         if hit is None:
-            hit = self._vel[(body, sid)] = self._new_vel(body, sid)
+            return self.vel_miss(body, sid)
+        return hit
+
+    def vel_miss(self, body: str, sid: str) -> V2:
+        """vel for a velocity not asked for before (callers that read vel's memo
+        themselves: one lookup of the big memo, not two)."""
+        chains = self._chains
+        w = chains.where.get(sid) if chains is not None else None
+        if w is None:
+            hit = V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
+        else:
+            hit = self._on_chain_v(body, sid, w)
+        self._vel[(body, sid)] = hit
         return hit
 
     def _new_vel(self, body: str, sid: str) -> V2:
@@ -448,39 +460,61 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _on_chain_v(self, body: str, sid: str, w) -> V2:
         """_on_chain of vx, then of vy, in one call (the commonest miss of vel: a body's
-        velocity at a state asked for the first time), its lookups made once."""
+        velocity at a state asked for the first time), its lookups made once; the
+        commonest head (an unknown no state hints, met for the first time) made inline."""
         chains = self._chains
         c, p = w
         chain = chains.chains[c]
-        states = self.scene.states
         breaks = chains.breaks
         svs = self._sv
-        out = []
-        for qty in ("vx", "vy"):
-            bq = (body, qty)
-            pts = breaks.get((body, qty, c))
-            if pts is None:
-                start = chain[0]
-            else:
-                k = bisect_right(pts, p) - 1
-                start = chain[pts[k]] if k >= 0 else chain[0]
-            # sv's memo holds the node of each head (made once, found again through it;
-            # sv may have made it): no break lies between start and sid, so sid's node is
-            # start's; vel's memo, the velocity at sid
-            key = (body, qty, start)
-            hit = svs.get(key)
-            if hit is None:
-                given = states[start].givens.get(bq)
-                if given is None and pts is not None and k + 1 < len(pts):
-                    nxt = chain[pts[k + 1]]  # a later state may give it (the end velocity)
-                    g = states[nxt].givens.get(bq)
-                    if g is not None and self._linked(body, qty, chains.into[nxt]):
-                        key, given = (body, qty, nxt), g
-                        hit = svs.get(key)
-                if hit is None:
-                    hit = svs[key] = self._key_value(key, body, qty, given)
-            out.append(hit)
-        return V2(out[0], out[1])
+        x = self._on_chain_q(body, "vx", c, p, chain, breaks.get((body, "vx", c)), svs)
+        return V2(x, self._on_chain_q(body, "vy", c, p, chain, breaks.get((body, "vy", c)),
+                                      svs))
+
+    def _on_chain_q(self, body: str, qty: str, c, p, chain, pts, svs) -> E:
+        """A velocity component's node at chain position p (see _on_chain_v)."""
+        if pts is None:
+            k = -1
+            start = chain[0]
+        else:
+            k = bisect_right(pts, p) - 1
+            start = chain[pts[k]] if k >= 0 else chain[0]
+        # sv's memo holds the node of each head (made once, found again through it;
+        # sv may have made it): no break lies between start and sid, so sid's node is
+        # start's; vel's memo, the velocity at sid
+        key = (body, qty, start)
+        hit = svs.get(key)
+        if hit is not None:
+            return hit
+        states = self.scene.states
+        bq = (body, qty)
+        given = states[start].givens.get(bq)
+        if given is None and pts is not None and k + 1 < len(pts):
+            nxt = chain[pts[k + 1]]  # a later state may give it (the end velocity)
+            g = states[nxt].givens.get(bq)
+            if g is not None and self._linked(body, qty, self._chains.into[nxt]):
+                key, given = (body, qty, nxt), g
+                hit = svs.get(key)
+                if hit is not None:
+                    return hit
+        if given is not None or self._hints is not False:
+            hit = svs[key] = self._key_value(key, body, qty, given)
+            return hit
+        # _key_value for an unknown of a scene without hints, inline
+        sid = key[2]
+        name = _str_new(Key, f"{body}.{qty}@{sid}")
+        name.kind = _STATE
+        name.body = body
+        name.qty = qty
+        name.state = sid
+        name.transition = name.label = name.comp = None
+        unknowns = self.unknowns
+        if name not in unknowns:
+            dim, unit = STATE_QTYS[qty]
+            unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
+        hit = svs[key] = _new(Var)
+        hit.name = name
+        return hit
 
     def pos(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "x", sid), self.sv(body, "y", sid))
@@ -871,7 +905,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         terms = []
         memo = self._Tb
         bodies = self.scene.bodies
-        vel = self.vel
+        vmemo = self._vel.get
         masses = self._mass if self.flows is None else None
         for b in names:
             hit = memo.get((b, sid))
@@ -879,7 +913,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
                 m = None if masses is None else masses.get(b)
                 if m is not None and bodies[b].is_particle:
                     # _body_kinetic of a particle with its declared mass, inline
-                    v = vel(b, sid)
+                    v = vmemo((b, sid))
+                    if v is None:
+                        v = self.vel_miss(b, sid)
                     vx, vy = v.x, v.y
                     if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
                         hit = (_half_mv2(m, vx, vy),)

@@ -70,16 +70,19 @@ def stamp(comp, t, key: str) -> None:
     _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info)
     moved = comp._moved(key)
     vels, mass, eq, span = comp._vel, comp.mass, comp.eq, t.span
+    masses = comp._mass if comp.flows is None else {}  # mass's memo (no burn: as declared)
     bp, eqs, Equation = comp._by_principle, comp.equations, comp.Equation
     for b in moved:
         v1, v2 = vels[(b, i)], vels[(b, j)]  # what vel remembered in _contacts
-        m = mass(b, i)
+        m = masses.get(b)
+        if m is None:
+            m = mass(b, i)
         Js = lin[b]
         named = type(m) in _NAMED
         for comp_, a1, a2, rhs in (("x", v1.x, v2.x, add_all([J.x for J in Js])),
                                    ("y", v1.y, v2.y, add_all([J.y for J in Js]))):
             if named and type(a1) in _NAMED and type(a2) in _NAMED:
-                lhs = Mul((m, Add((a2, Mul((NEG_ONE, a1))))))
+                lhs = _m_diff(m, a2, a1)
             else:
                 lhs = mul(m, add(a2, neg(a1)))
             p = f"linear impulse-momentum {comp_}: {b}"
@@ -100,11 +103,27 @@ def stamp(comp, t, key: str) -> None:
                                                 energy, tuple(moved), laws, applied))
 
 
+_new = object.__new__
+
+
+def _m_diff(m, a2, a1) -> Mul:
+    """`Mul((m, Add((a2, Mul((NEG_ONE, a1))))))`, its nodes made by object.__new__ and
+    their slots, as their __init__ would (one a body and component of a big impact)."""
+    d = _new(Mul)
+    d.factors = (NEG_ONE, a1)
+    s = _new(Add)
+    s.terms = (a2, d)
+    out = _new(Mul)
+    out.factors = (m, s)
+    return out
+
+
 def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -> None:
     """impact_contacts.stamp for each contact of t, its calls inlined (an impact of
     10^4 contacts: a chain), each contact's trees replayed from its kind's template."""
     bodies = comp.scene.bodies
     vel, unknowns = comp.vel, comp.unknowns
+    vmemo, miss = comp._vel.get, comp.vel_miss
     Unknown, Applied, Equation = comp.Unknown, comp.Applied, comp.Equation
     bp = comp._by_principle
     eqs = comp.equations
@@ -125,9 +144,21 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
         n = c.normal
         n0, n1 = n
         # the unknowns in the order the element makes them: J_n, then v_a, v_b before, after
+        # vel's memo read inline; a miss asks vel (in this order: the columns')
         if pb is not None:
             b = pb.body
-            va1, vb1, va2, vb2 = vel(a, i), vel(b, i), vel(a, j), vel(b, j)
+            va1 = vmemo((a, i))
+            if va1 is None:
+                va1 = miss(a, i)
+            vb1 = vmemo((b, i))
+            if vb1 is None:
+                vb1 = miss(b, i)
+            va2 = vmemo((a, j))
+            if va2 is None:
+                va2 = miss(a, j)
+            vb2 = vmemo((b, j))
+            if vb2 is None:
+                vb2 = miss(b, j)
             leaves = (Jn, va1.x, va1.y, vb1.x, vb1.y, va2.x, va2.y, vb2.x, vb2.y, E_)
         else:
             b = None
@@ -178,7 +209,8 @@ def _replay(comp, t, key: str) -> None:
     bodies = comp.scene.bodies
     moved = comp._moved(key)
     index = {b: k for k, b in enumerate(moved)}
-    vel, unknowns, Unknown = comp.vel, comp.unknowns, comp.Unknown
+    unknowns, Unknown = comp.unknowns, comp.Unknown
+    vmemo, miss = comp._vel, comp.vel_miss
     leaves: list = []
     shape: list = []
     sources: list = []
@@ -197,10 +229,20 @@ def _replay(comp, t, key: str) -> None:
         body_a = bodies[a]
         if pb is not None:  # the state unknowns in the order the element makes them
             b = pb.body
-            vel(a, i), vel(b, i), vel(a, j), vel(b, j)
+            if (a, i) not in vmemo:
+                miss(a, i)
+            if (b, i) not in vmemo:
+                miss(b, i)
+            if (a, j) not in vmemo:
+                miss(a, j)
+            if (b, j) not in vmemo:
+                miss(b, j)
             rb = bodies[b].radius if pb.round_contact and bodies[b].radius else None
         else:
-            vel(a, i), vel(a, j)
+            if (a, i) not in vmemo:
+                miss(a, i)
+            if (a, j) not in vmemo:
+                miss(a, j)
             rb = None
         e = c.restitution
         leaves += (Jn, Known(parameter_key(_E, label), e))
@@ -212,10 +254,12 @@ def _replay(comp, t, key: str) -> None:
         sources.append(ImpulseSource((a, pb.body if pb is not None else None), where,
                                      c.normal, False, f"contact {label}"))
     mass = comp.mass
+    masses = comp._mass if comp.flows is None else {}  # mass's memo (no burn: as declared)
     vels = comp._vel  # what vel remembered just now
     for b in moved:
         v1, v2 = vels[(b, i)], vels[(b, j)]
-        leaves += (mass(b, i), v1.x, v1.y, v2.x, v2.y)
+        m = masses.get(b)
+        leaves += (mass(b, i) if m is None else m, v1.x, v1.y, v2.x, v2.y)
     plain = True
     for x in leaves:
         if type(x) not in _NAMED:

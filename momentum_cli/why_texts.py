@@ -124,7 +124,10 @@ def compiled(formats: list[str]):
 
 def values(sources, bodies) -> list:
     """What the formats' fields stand for: the bodies, each source's point, its name."""
-    return [*bodies, *(s.point for s in sources), *(s.what for s in sources)]
+    out = list(bodies)  # list displays, not generators: once per impact of a sequence
+    out += [s.point for s in sources]
+    out += [s.what for s in sources]
+    return out
 
 
 def why_lines(comp, sources, bodies, got=False) -> list[str]:
