@@ -283,15 +283,42 @@ WRITE_CHUNK = 1 << 20  # characters
 
 
 def _write_text(out, text) -> None:
-    """Write `text` in pieces of WRITE_CHUNK characters: a text stream encodes what it is
-    given at once, so a 100 MB report written whole costs another 100 MB of bytes. A
-    list is text.render_parts' pieces, written with newlines between, never joined."""
-    if isinstance(text, list):
-        for k, part in enumerate(text):
-            if k:
+    """Write `text` in pieces of about WRITE_CHUNK characters: a text stream encodes what
+    it is given at once, so a 100 MB report written whole costs another 100 MB of bytes. A
+    list is text.render_parts' pieces, written with newlines between, never joined whole:
+    runs of small pieces are joined up to WRITE_CHUNK characters and written at once (a
+    big report has 10^5 pieces: a write each cost more than the joins)."""
+    if not isinstance(text, list):
+        _write_long(out, text)
+        return
+    run: list = []  # the pieces not written yet
+    size = 0  # their characters, a newline each included
+    started = False  # a piece was written: the next one follows a newline
+    for part in text:
+        if isinstance(part, str):
+            run.append(part)
+            size += len(part) + 1
+            if size < WRITE_CHUNK:
+                continue
+            part = None
+        if run:
+            if started:
+                out.write("\n")
+            _write_long(out, "\n".join(run))
+            run, size, started = [], 0, True
+        if part is not None:  # a list in the list: its pieces, newlines between
+            if started:
                 out.write("\n")
             _write_text(out, part)
-        return
+            started = True
+    if run:
+        if started:
+            out.write("\n")
+        _write_long(out, "\n".join(run))
+
+
+def _write_long(out, text: str) -> None:
+    """`text` in writes of at most WRITE_CHUNK characters."""
     if len(text) <= WRITE_CHUNK:
         out.write(text)
         return
