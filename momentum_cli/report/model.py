@@ -15,7 +15,7 @@ from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
-from .printer import lines
+from .printer import lines, lines_of, printers
 from .statements import statements
 from .treecode import evaluate as tval
 from .treecode import value_and_magnitude as tv_and_m
@@ -34,6 +34,7 @@ PRINTERS_FROM = 64  # equations in a scene from which its rows go through printe
 # shape: a long sequence's like trees); a small file's few trees are walked (their shapes,
 # met a few times, cost a compile each: 3x the walks over a batch of small files)
 TREECODE_FROM = 64
+PRINTER_LOOP = True  # a big scene's row texts by `row_texts`' loop (tests turn it off)
 
 
 @record
@@ -213,6 +214,44 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                              *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
                                      reader, sig, shown))
 
+    def row_texts(ks):
+        """`map(row_text, ks)`, the same strings: a big scene's rows (SI, radians, printers
+        on) printed in one loop, each by its shape's printers where they are compiled (no
+        call per row but the shape's matcher and printers); any other row by `row_text`."""
+        if not (PRINTER_LOOP and shown[2]) or reader.system == "us":
+            yield from map(row_text, ks)
+            return
+        six, sixes = shown[0], shown[1]
+        get_keep = keeps.get
+        for k in ks:
+            e = eqs[k]
+            if k in integrated:
+                yield row_text(k)
+                continue
+            got = printers(e)
+            if not got:  # not compiled yet, or long: as `lines` prints it
+                pair = lines_of(got, e, values, get_keep(k, _NONE), sig, six, sixes) \
+                    if got is not None else None
+                if pair is None:
+                    pair = si_lines(e, values, get_keep(k, _NONE), sig, six, sixes, shown[3])
+                sym, num = pair
+            else:
+                leaves, (psym, pnum) = got
+                texts = getattr(e, "_texts", None)  # `Equation.text()` printed it already
+                sym = texts[0] if texts is not None and texts[0] is not None else \
+                    psym(leaves, None, None, 6, six)
+                num = pnum(leaves, values, get_keep(k, _NONE), sig, sixes)
+            span = e.span
+            line = span.line if span else None
+            r = role[k]
+            tail = f"\n      {sym}\n      {num}" if num != sym else f"\n      {sym}"
+            if line:
+                yield f"  ({k + 1}) {e.principle} (line {line}){tail}" if r == "solved" \
+                    else f"  ({k + 1}) {e.principle} (line {line}) [{r}]{tail}"
+            else:
+                yield f"  ({k + 1}) {e.principle} (scene){tail}" if r == "solved" else \
+                    f"  ({k + 1}) {e.principle} (scene) [{r}]{tail}"
+
     by_group: dict[str, list[int]] = {}  # one pass over the equations, not one a transition
     for k, e in enumerate(eqs):
         by_group.setdefault(e.group, []).append(k)
@@ -221,7 +260,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
 
     def group_rows(ks: list):
         if lazy:  # made as read: a transition of 10^5 bodies is not held as rows
-            return Lazy(len(ks), lambda: map(row, ks), lambda: map(row_text, ks))
+            return Lazy(len(ks), lambda: map(row, ks), lambda: row_texts(ks))
         return [rows[k] for k in ks]
 
     k_mass, k_inertia = reader.factor(MASS), reader.factor(INERTIA)  # once, not per body
