@@ -17,7 +17,7 @@ from momentum_cli.source import Source
 from momentum_cli.syntax import parse
 
 # (module, name of the switch): each shortcut's switch, off for the general path
-SWITCHES = [(model, "PRINTER_LOOP")]
+SWITCHES = [(model, "PRINTER_LOOP"), (model, "CHECK_CALLERS")]
 
 
 def _scenes():

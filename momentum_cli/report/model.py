@@ -17,6 +17,7 @@ from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
 from .printer import lines, lines_of, printers
 from .statements import statements
+from .treecode import caller as tcaller
 from .treecode import evaluate as tval
 from .treecode import value_and_magnitude as tv_and_m
 from .reader import (
@@ -34,6 +35,8 @@ PRINTERS_FROM = 64  # equations in a scene from which its rows go through printe
 # shape: a long sequence's like trees); a small file's few trees are walked (their shapes,
 # met a few times, cost a compile each: 3x the walks over a batch of small files)
 TREECODE_FROM = 64
+# the checks' many like trees by `treecode.caller` (tests turn it off)
+CHECK_CALLERS = True
 PRINTER_LOOP = True  # a big scene's row texts by `row_texts`' loop (tests turn it off)
 
 
@@ -619,15 +622,17 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
         return s
 
     coded = len(system.equations) >= TREECODE_FROM
+    # a long sequence's like energies, one after another: the shape's code tried first
+    val = (tcaller("val") if CHECK_CALLERS else tval) if coded else None
     for t in system.transitions:
         if t.kind != "impact":
             continue
         T1, T2 = t.energy
         try:  # one walk each; a failure is "not solved" only where a name is missing
-            a = tval(T1, values) if coded else None  # by the shape's code (treecode.py)
+            a = val(T1, values) if coded else None  # by the shape's code (treecode.py)
             if a is None:
                 a = evaluate(T1, values)
-            b = tval(T2, values) if coded else None
+            b = val(T2, values) if coded else None
             if b is None:
                 b = evaluate(T2, values)
         except (KeyError, ValueError, ZeroDivisionError, OverflowError):
@@ -705,15 +710,18 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
     worst = 0.0
     n = 0
     coded = len(system.equations) >= TREECODE_FROM
+    # a long sequence's like residuals, one after another: the shape's code tried first
+    vm = (tcaller("vm") if CHECK_CALLERS else tv_and_m) if coded else None
+    eqs = system.equations
     for b in sol.blocks:
         for k in b.equations:
-            e = system.equations[k]
+            e = eqs[k]
             if "impulse-momentum" not in e.principle:
                 continue
             try:
                 res = e.residual
                 # by the shape's code (treecode.py), or walked
-                got = tv_and_m(res, values) if coded else None
+                got = vm(res, values) if vm is not None else None
                 r, s = got if got is not None else value_and_magnitude(res, values)
                 r = abs(r)
             except KeyError:  # it also holds an unknown no equation determines
