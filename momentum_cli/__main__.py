@@ -5,7 +5,7 @@ application (cli.py), both inside the same guards (guard.py).
 import os
 import sys
 
-from .guard import guarded
+from .guard import guarded, one_shot
 
 
 def _run() -> None:
@@ -21,7 +21,9 @@ def _run() -> None:
 
 
 def main() -> None:
-    """Entry point of the `momentum` command."""
+    """Entry point of the `momentum` command (also `python -m momentum_cli`): a process
+    that ends with the command (guard.one_shot)."""
+    one_shot()
     guarded(_run)
 
 

@@ -43,6 +43,58 @@ def _usable_environment() -> None:
                 pass
 
 
+_KEPT: list | None = None  # a one-shot process's big results, never freed (one_shot)
+
+
+def one_shot() -> None:
+    """This process runs one command and ends (the `momentum` command, not a caller of
+    the package): a big result may be kept to its end and left unfreed."""
+    global _KEPT
+    _KEPT = []
+
+
+def keep_until_exit(obj) -> bool:
+    """In a one-shot process, hold `obj` to the end, which then comes by os._exit
+    (`guarded`): freeing a big solution's 10^6 objects costs a quarter of a second a
+    process about to end need not spend. False (nothing held) anywhere else."""
+    if _KEPT is None:
+        return False
+    import gc
+
+    _KEPT.append(obj)
+    gc.freeze()  # no collection walks it again (its objects were made with gc paused)
+    return True
+
+
+def _leave_if_kept(code) -> None:
+    """End now, with `code`, when a one-shot run kept a big result: the streams flushed,
+    no interpreter teardown (no atexit work is registered by a solve). If a stream
+    cannot be flushed, the normal exit says so as before."""
+    if not _KEPT:
+        return
+    try:
+        for stream in (sys.stdout, sys.stderr):
+            stream.flush()
+    except BaseException:  # noqa: B036 (OutputGone too: the normal exit handles it)
+        return
+    os._exit(_exit_status(code))
+
+
+def _exit_status(code) -> int:
+    """The process's exit status for SystemExit(code), as the interpreter gives it (a
+    text is said on standard error and gives 1)."""
+    if code is None:
+        return 0
+    if isinstance(code, int):
+        return code
+    try:
+        sys.stderr.write(f"{code}\n")
+        sys.stderr.flush()
+    except Exception:  # the stream may be gone: nothing more can be said on it
+        pass
+    return 1
+
+
 def _end_now_if_workers_killed(code) -> None:
     """After the worker pool was killed (run._end_workers), exit with os._exit: a
     normal exit joins the pool's manager thread, which can wait forever for a result
@@ -55,23 +107,21 @@ def _end_now_if_workers_killed(code) -> None:
             stream.flush()
         except Exception:  # the stream may be gone: nothing more can be said on it
             pass
-    if code is None:
-        code = 0
-    elif not isinstance(code, int):
-        sys.stderr.write(f"{code}\n")
-        code = 1
-    os._exit(code)
+    os._exit(_exit_status(code))
 
 
 def guarded(run) -> None:
     """Call `run` (the command); see _guarded_run. Whatever way it ends, a run whose
-    worker pool was killed leaves through os._exit (_end_now_if_workers_killed)."""
+    worker pool was killed leaves through os._exit (_end_now_if_workers_killed), and so
+    does a one-shot run that kept a big result (_leave_if_kept)."""
     try:
         _guarded_run(run)
     except SystemExit as exc:
         _end_now_if_workers_killed(exc.code)
+        _leave_if_kept(exc.code)
         raise
     _end_now_if_workers_killed(0)
+    _leave_if_kept(0)
 
 
 def _guarded_run(run) -> None:

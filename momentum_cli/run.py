@@ -336,15 +336,16 @@ def _joined_if_small(parts: list):
     return "\n".join(parts)
 
 
-def _solve_job(job):
+def _solve_job(job, keep_report: bool = False):
     """Worker: solve one (source, options) job; a bug becomes an internal FileResult.
-    With a `render` (the job's last item), a report is shipped as `Rendered` text."""
+    With a `render` (the job's last item), a report is shipped as `Rendered` text;
+    `keep_report`: it comes back lazy and unrendered instead (`solve_many`'s stream)."""
     source, solve_all, sig, precision, overrides, units, sensitivity, render = job
     try:
         with _NoCyclicGC():  # the report's text too: collected once it is all freed
             res = solve_source(source, solve_all, sig, precision, overrides, units,
                                sensitivity, lazy=render is not None)
-            if render is not None and res.report is not None:
+            if render is not None and res.report is not None and not keep_report:
                 made = render(res.report)
                 checks = list(res.report.checks)
                 if isinstance(made, list):
@@ -356,18 +357,25 @@ def _solve_job(job):
 
                 forget_diagram_index()  # the report is freed now, its diagrams with it
         return res
-    except ModuleNotFoundError as exc:  # the installation, not momentum, is broken
-        return FileResult(source.name, "internal", None, None, [Diagnostic(
+    except Exception as exc:  # a bug in momentum: keep going, report it in order
+        return internal_result(source.name, exc)
+
+
+def internal_result(name: str, exc: Exception) -> FileResult:
+    """The result of a file whose solve or rendering met a bug in momentum (or a broken
+    installation): one internal error, said the same wherever it happened."""
+    if isinstance(exc, ModuleNotFoundError):  # the installation, not momentum, is broken
+        return FileResult(name, "internal", None, None, [Diagnostic(
             "error", "internal", f"momentum's dependency {exc.name!r} is not installed in "
             f"this Python ({sys.executable}): reinstall momentum-cli with pip")])
-    except Exception as exc:  # a bug in momentum: keep going, report it in order
-        return FileResult(source.name, "internal", None, None, [Diagnostic(
-            "error", "internal", f"internal error: {type(exc).__name__}: {exc} (this is a bug "
-            "in momentum; rerun with --traceback and report it)")])
+    return FileResult(name, "internal", None, None, [Diagnostic(
+        "error", "internal", f"internal error: {type(exc).__name__}: {exc} (this is a bug "
+        "in momentum; rerun with --traceback and report it)")])
 
 
 def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
-               units: str = "file", sensitivity: bool = False, render=None):
+               units: str = "file", sensitivity: bool = False, render=None,
+               stream: bool = False):
     """Solve sources in order, in parallel worker processes when there are many.
 
     Yields FileResults in the input order. Each file is independent, so with many
@@ -376,13 +384,20 @@ def solve_many(sources, solve_all: bool, sig: int, precision: str, overrides=(),
     the parser's tables are loaded first, so each worker inherits them. Files of a batch are often
     variants of one problem: each distinct statement is parsed once (statement_memo).
     `render` (report -> str, picklable): each report comes back as `Rendered` text,
-    made by the worker.
+    made by the worker. `stream` (with a `render`): a single file's report comes back
+    lazy and unrendered, for the caller to write as it is made (text.iter_parts: the
+    text is never held whole beside the solution), with the cyclic collector paused
+    until the caller asks for the next result (it would walk the whole solution).
     """
     sources = list(sources)
     if len(sources) < 2:
         for s in sources:
-            yield _solve_job((s, solve_all, sig, precision, overrides, units, sensitivity,
-                              render))
+            job = (s, solve_all, sig, precision, overrides, units, sensitivity, render)
+            if stream and render is not None:
+                with _NoCyclicGC():
+                    yield _solve_job(job, keep_report=True)
+            else:
+                yield _solve_job(job)
         return
     from . import statement_memo
 

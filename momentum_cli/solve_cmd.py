@@ -255,9 +255,11 @@ def _console(mode: str, color: Color):
 
 
 def _render(report, mode: str, console, index: int, digits: int, simulation: bool,
-            detail: str = "full"):
+            detail: str = "full", failed: list | None = None):
     """Print one file's report as rich tables or plain text; returns the rich console
-    (made once, on first use). `detail`: brief or full (solve's --steps)."""
+    (made once, on first use). `detail`: brief or full (solve's --steps). The full plain
+    text is written as it is made; `failed` (a list): an exception raised while making
+    it is put there (the text made before it is written) instead of raised."""
     if mode == "rich":
         if console is None:
             console = _console(mode, Color.auto)
@@ -274,24 +276,66 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
         from .report.sim_text import render
         sys.stdout.write(render(report, digits))
     else:
-        from .report.text import render
-        _write_text(sys.stdout, render(report, digits, detail=detail))
+        from .report import text
+
+        if detail != "full":
+            _write_text(sys.stdout, text.render(report, digits, detail=detail))
+            return console
+        parts = text.iter_parts(report, digits)
+        _write_text(sys.stdout, parts if failed is None else _caught(parts, failed))
     return console
+
+
+def _caught(parts, failed: list):
+    """The pieces of `parts` until one fails to be made; its exception goes to `failed`
+    (a write's own errors, raised in the writer, are not caught here)."""
+    try:
+        yield from parts
+    except Exception as exc:
+        failed.append(exc)
 
 
 WRITE_CHUNK = 1 << 20  # characters
 
 
 def _write_text(out, text) -> None:
-    """Write `text` in pieces of WRITE_CHUNK characters: a text stream encodes what it is
-    given at once, so a 100 MB report written whole costs another 100 MB of bytes. A
-    list is text.render_parts' pieces, written with newlines between, never joined."""
-    if isinstance(text, list):
-        for k, part in enumerate(text):
-            if k:
+    """Write `text` in pieces of about WRITE_CHUNK characters: a text stream encodes what
+    it is given at once, so a 100 MB report written whole costs another 100 MB of bytes. A
+    list (or an iterator: text.iter_parts) is text.render_parts' pieces, written with
+    newlines between, never joined whole: runs of small pieces are joined up to
+    WRITE_CHUNK characters and written at once (a big report has 10^5 pieces: a write
+    each cost more than the joins)."""
+    if isinstance(text, str):
+        _write_long(out, text)
+        return
+    run: list = []  # the pieces not written yet
+    size = 0  # their characters, a newline each included
+    started = False  # a piece was written: the next one follows a newline
+    for part in text:
+        if isinstance(part, str):
+            run.append(part)
+            size += len(part) + 1
+            if size < WRITE_CHUNK:
+                continue
+            part = None
+        if run:
+            if started:
+                out.write("\n")
+            _write_long(out, "\n".join(run))
+            run, size, started = [], 0, True
+        if part is not None:  # a list in the list: its pieces, newlines between
+            if started:
                 out.write("\n")
             _write_text(out, part)
-        return
+            started = True
+    if run:
+        if started:
+            out.write("\n")
+        _write_long(out, "\n".join(run))
+
+
+def _write_long(out, text: str) -> None:
+    """`text` in writes of at most WRITE_CHUNK characters."""
     if len(text) <= WRITE_CHUNK:
         out.write(text)
         return
@@ -343,6 +387,8 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
     from .run import solve_many
 
     sensitivity = view["sensitivity"]
+    # one plain full report: written as it is made from the lazy report (never whole)
+    stream = mode == "plain" and not quiet and view["detail"] == "full"
     out = sys.stdout
     results: list = []
     if mode == "json" and not jsonl:  # streamed: one result held at a time
@@ -358,7 +404,7 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
                             precision.value, overrides, view["units"], sensitivity,
                             _text_renderer(mode, quiet, digits, view["detail"], jsonl,
-                                           not _is_utf8(out)))
+                                           not _is_utf8(out)), stream=stream)
     try:
         worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                             traceback_flag, results, strict, color, deterministic,
@@ -461,10 +507,34 @@ def _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                 out.write("\n")
             _write_text(out, text)
         else:
+            failed = None if traceback_flag else []  # --traceback: a bug is raised
             with _NoCyclicGC():
                 console = _render(res.report, mode, console, i, digits, simulation=False,
-                                  detail=(view or {}).get("detail", "full"))
+                                  detail=(view or {}).get("detail", "full"), failed=failed)
+            if failed:  # after the text made before it: the error a worker would give
+                from .run import internal_result
+
+                _print_diagnostics(internal_result(name, failed[0]), err, tint)
+                worst = max(worst, ExitCode.INTERNAL)
+            _keep_if_big(res)
     return worst
+
+
+KEEP_MIN_EQUATIONS = 2000  # a solution from which freeing it costs more than ~10 ms
+
+
+def _keep_if_big(res) -> None:
+    """A big solution (and its report) is kept to the end of a one-shot process, which
+    then leaves without freeing it (guard.keep_until_exit: ~0.25 s for 10^4 impacts);
+    elsewhere (tests, a batch's parent) it is freed as usual."""
+    counts = getattr(res.report, "counts", None) or {}
+    if counts.get("equations", 0) >= KEEP_MIN_EQUATIONS:
+        from .guard import keep_until_exit
+
+        keep_until_exit(res)
+    from .report.model import forget_diagram_index
+
+    forget_diagram_index()  # its diagrams are not held by the index beyond the report
 
 
 def _json_result(name, res, out, results, jsonl: bool) -> None:

@@ -22,3 +22,25 @@ def test_pieces_give_the_same_bytes(monkeypatch):
     whole = _bytes(text, None, monkeypatch)
     for chunk in (1, 7, 64, 1000, len(text), len(text) + 1):
         assert _bytes(text, chunk, monkeypatch) == whole
+
+
+def _flat(parts) -> str:
+    return "\n".join(_flat(p) if isinstance(p, list) else p for p in parts)
+
+
+def test_pieces_of_a_list_give_the_joined_bytes(monkeypatch):
+    # render_parts' pieces (small, empty, one longer than a write, a list inside) are
+    # joined in runs: the bytes of the text joined whole, for writes of every size
+    lists = [
+        [],
+        [""],
+        ["", ""],
+        ["a"],
+        [f"piece {i} — ω" * (i % 5) for i in range(300)],
+        ["head", "x" * 700, "", "tail"],
+        [["inner", "list"], "after", [], "more", ["x" * 90, ""], ""],
+    ]
+    for parts in lists:
+        whole = _bytes(_flat(parts), None, monkeypatch)
+        for chunk in (1, 7, 64, 1000, 1 << 20):
+            assert _bytes(parts, chunk, monkeypatch) == whole, (parts[:3], chunk)

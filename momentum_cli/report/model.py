@@ -15,8 +15,9 @@ from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
-from .printer import lines
+from .printer import lines, lines_of, printers
 from .statements import statements
+from .treecode import caller as tcaller
 from .treecode import evaluate as tval
 from .treecode import value_and_magnitude as tv_and_m
 from .reader import (
@@ -34,6 +35,9 @@ PRINTERS_FROM = 64  # equations in a scene from which its rows go through printe
 # shape: a long sequence's like trees); a small file's few trees are walked (their shapes,
 # met a few times, cost a compile each: 3x the walks over a batch of small files)
 TREECODE_FROM = 64
+# the checks' many like trees by `treecode.caller` (tests turn it off)
+CHECK_CALLERS = True
+PRINTER_LOOP = True  # a big scene's row texts by `row_texts`' loop (tests turn it off)
 
 
 @record
@@ -213,6 +217,44 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                              *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
                                      reader, sig, shown))
 
+    def row_texts(ks):
+        """`map(row_text, ks)`, the same strings: a big scene's rows (SI, radians, printers
+        on) printed in one loop, each by its shape's printers where they are compiled (no
+        call per row but the shape's matcher and printers); any other row by `row_text`."""
+        if not (PRINTER_LOOP and shown[2]) or reader.system == "us":
+            yield from map(row_text, ks)
+            return
+        six, sixes = shown[0], shown[1]
+        get_keep = keeps.get
+        for k in ks:
+            e = eqs[k]
+            if k in integrated:
+                yield row_text(k)
+                continue
+            got = printers(e)
+            if not got:  # not compiled yet, or long: as `lines` prints it
+                pair = lines_of(got, e, values, get_keep(k, _NONE), sig, six, sixes) \
+                    if got is not None else None
+                if pair is None:
+                    pair = si_lines(e, values, get_keep(k, _NONE), sig, six, sixes, shown[3])
+                sym, num = pair
+            else:
+                leaves, (psym, pnum) = got
+                texts = getattr(e, "_texts", None)  # `Equation.text()` printed it already
+                sym = texts[0] if texts is not None and texts[0] is not None else \
+                    psym(leaves, None, None, 6, six)
+                num = pnum(leaves, values, get_keep(k, _NONE), sig, sixes)
+            span = e.span
+            line = span.line if span else None
+            r = role[k]
+            tail = f"\n      {sym}\n      {num}" if num != sym else f"\n      {sym}"
+            if line:
+                yield f"  ({k + 1}) {e.principle} (line {line}){tail}" if r == "solved" \
+                    else f"  ({k + 1}) {e.principle} (line {line}) [{r}]{tail}"
+            else:
+                yield f"  ({k + 1}) {e.principle} (scene){tail}" if r == "solved" else \
+                    f"  ({k + 1}) {e.principle} (scene) [{r}]{tail}"
+
     by_group: dict[str, list[int]] = {}  # one pass over the equations, not one a transition
     for k, e in enumerate(eqs):
         by_group.setdefault(e.group, []).append(k)
@@ -221,7 +263,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
 
     def group_rows(ks: list):
         if lazy:  # made as read: a transition of 10^5 bodies is not held as rows
-            return Lazy(len(ks), lambda: map(row, ks), lambda: map(row_text, ks))
+            return Lazy(len(ks), lambda: map(row, ks), lambda: row_texts(ks))
         return [rows[k] for k in ks]
 
     k_mass, k_inertia = reader.factor(MASS), reader.factor(INERTIA)  # once, not per body
@@ -580,15 +622,17 @@ def _energy_checks(sol: Solution, sig: int, reader=None) -> list[CheckReport]:
         return s
 
     coded = len(system.equations) >= TREECODE_FROM
+    # a long sequence's like energies, one after another: the shape's code tried first
+    val = (tcaller("val") if CHECK_CALLERS else tval) if coded else None
     for t in system.transitions:
         if t.kind != "impact":
             continue
         T1, T2 = t.energy
         try:  # one walk each; a failure is "not solved" only where a name is missing
-            a = tval(T1, values) if coded else None  # by the shape's code (treecode.py)
+            a = val(T1, values) if coded else None  # by the shape's code (treecode.py)
             if a is None:
                 a = evaluate(T1, values)
-            b = tval(T2, values) if coded else None
+            b = val(T2, values) if coded else None
             if b is None:
                 b = evaluate(T2, values)
         except (KeyError, ValueError, ZeroDivisionError, OverflowError):
@@ -666,15 +710,18 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
     worst = 0.0
     n = 0
     coded = len(system.equations) >= TREECODE_FROM
+    # a long sequence's like residuals, one after another: the shape's code tried first
+    vm = (tcaller("vm") if CHECK_CALLERS else tv_and_m) if coded else None
+    eqs = system.equations
     for b in sol.blocks:
         for k in b.equations:
-            e = system.equations[k]
+            e = eqs[k]
             if "impulse-momentum" not in e.principle:
                 continue
             try:
                 res = e.residual
                 # by the shape's code (treecode.py), or walked
-                got = tv_and_m(res, values) if coded else None
+                got = vm(res, values) if vm is not None else None
                 r, s = got if got is not None else value_and_magnitude(res, values)
                 r = abs(r)
             except KeyError:  # it also holds an unknown no equation determines

@@ -400,7 +400,13 @@ def lines(eq, values, keep, sig: int, six: dict | None = None, shown: dict | Non
     """(symbolic line, numeric line in SI and radians) of `eq` by its shape's printers, or
     None (print it by the walks). `six`, `shown`: numbers already printed to 6 and to
     `sig` figures (value -> text), kept by the caller across equations."""
-    got = printers(eq)
+    return lines_of(printers(eq), eq, values, keep, sig, six, shown)
+
+
+def lines_of(got, eq, values, keep, sig: int, six: dict | None = None,
+             shown: dict | None = None):
+    """`lines` of `eq` once `got = printers(eq)` (a caller that read the shape itself and
+    met a shape not compiled, or a long equation, hands it on: not read twice)."""
     if not got:
         if got is None or not ENABLED:
             return None

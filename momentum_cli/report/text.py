@@ -70,29 +70,52 @@ def render(rep: Report, sig: int = 6, steps: bool = True, detail: str = "full") 
     numbers, the answers and the key checks (see `render_brief`)."""
     if steps and detail == "brief":
         return render_brief(rep, sig)
-    return "\n".join(render_parts(rep, sig, steps))
+    return "\n".join(iter_parts(rep, sig, steps))
 
 
 def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
-    """`render`'s full text as pieces (a line, or a section of lines) to join with
+    """`render`'s full text as pieces (a line, or a run of lines) to join with
     newlines: a caller that frees the report (and a lazy one's solution) before joining
     holds the text once, not beside them."""
+    return list(iter_parts(rep, sig, steps))
+
+
+RUN_LINES = 4096  # lines of a long section joined into one piece
+
+
+def _in_runs(lines: list):
+    """`lines` as pieces of up to RUN_LINES lines joined (the same text once joined with
+    newlines): a long table reaches the writer in bounded pieces, not as one copy."""
+    if len(lines) <= RUN_LINES:
+        yield "\n".join(lines)
+        return
+    for i in range(0, len(lines), RUN_LINES):
+        yield "\n".join(lines[i:i + RUN_LINES])
+
+
+def iter_parts(rep: Report, sig: int = 6, steps: bool = True):
+    """`render`'s full text as pieces to join with newlines, made as they are read: a
+    caller that writes each piece as it comes (solve_cmd._write_text) never holds the
+    whole text beside the report (~120 MB for 10^5 balls). Every piece is non-empty
+    text or a line of its own (an empty piece is an empty line)."""
     f = formatter(sig)
     out: list[str] = []
     title = rep.title or "(untitled problem)"
     out.append(f"== {rep.file}: {title}")
     u = rep.units or {}
     if steps:
-        if rep.bodies:  # each big section joined as made: not a list of lines too
+        if rep.bodies:
             out.append("")
             out.append("Bodies")
-            out.append("\n".join(table(
+            yield from out
+            out = []
+            yield from _in_runs(table(
                 ["body", "shape", f"mass ({u.get('mass', 'kg')})",
                  f"I_G ({u.get('inertia', 'kg*m^2')})", "inertia formula"],
                 [[b["name"], b["shape"], f(b.get("shown_mass", b["mass"])),
                   "-" if b["particle"] else f(b.get("shown_inertia", b["inertia"])),
                   b["formula"] + (" (mass = W/g)" if b["weight"] else "")]
-                 for b in rep.bodies])))
+                 for b in rep.bodies]))
         out.append("")
         out.append("Effects and constraints")
         out.extend("  " + e for e in rep.effects)
@@ -112,7 +135,7 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
                                f"({f(r['vx'])}, {f(r['vy'])})" if r["rate"] is not None else "-",
                                f"({f(r['flux_x'])}, {f(r['flux_y'])})", f(r["moment"])]
                               for r in rep.flows if r["volume"] == volume]))
-        whole = out
+        yield from out
         for t in rep.transitions:
             out = [""]
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
@@ -122,16 +145,15 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
             for w in t["why"]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))
-            _equations(t["equations"], out)
-            whole += out  # its pieces (an equation's lines are one), not joined again
-        out = whole
+            yield from out
+            yield from _equation_texts(t["equations"])  # one piece an equation, as made
         for group, rows in rep.other_equations.items():
-            out.append("")
-            out.append(group[0].upper() + group[1:])
-            _equations(rows, out)
-        out.append("")
-        out.append("Solving, block by block")
-        whole, out = out, []
+            yield ""
+            yield group[0].upper() + group[1:]
+            yield from _equation_texts(rows)
+        yield ""
+        yield "Solving, block by block"
+        out = []
         add = out.append
         shown = f.cache
         plain = getattr(rep.blocks, "texts", None)  # a lazy report's: tuples, no dicts
@@ -155,17 +177,20 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
                 add(f"  block {index}: {names} ({count}{how}; {lines})")
             if matrix is not None:
                 _matrix(unknowns, matrix, rhs, f, out)
+            if len(out) >= RUN_LINES:  # a run of blocks' lines as one piece
+                yield "\n".join(out)
+                out.clear()
         if out:
-            whole.append("\n".join(out))
-        out = whole
-        out.append("")
-        out.append(f"Solution ({u.get('name', 'SI')})")
+            yield "\n".join(out)
+        yield ""
+        yield f"Solution ({u.get('name', 'SI')})"
         plain = getattr(rep.unknowns, "texts", None)  # a lazy report's: tuples, no dicts
-        out.append("\n".join(table(["unknown", "value", "unit"], [
+        yield from _in_runs(table(["unknown", "value", "unit"], [
             [n, shown[v] if v in shown else f(v), unit] for n, v, unit in (
                 plain() if plain is not None else
                 ((x["name"], x.get("value", x["si_value"]), x.get("shown_unit", x["unit"]))
-                 for x in rep.unknowns))])))
+                 for x in rep.unknowns))]))
+        out = []
         if rep.regimes:
             out.append("")
             out.append("Friction regimes")
@@ -185,8 +210,8 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
         from .sensitivity import text_lines
 
         out.extend(text_lines(rep.sensitivities, sig, table))
-    out.append("")  # the final newline: not a second copy of a large text
-    return out
+    out.append("")  # the final newline
+    yield from out
 
 
 def _matrix(unknowns: list, matrix: list, rhs: list, f, out: list) -> None:
@@ -306,15 +331,14 @@ def _system(t: dict) -> list[str]:
     return out
 
 
-def _equations(rows, out: list) -> None:
-    """`_equation` of each row, appended to `out` (one item per equation, its lines
-    joined: the same text once joined); a lazy report's rows as text, never made."""
+def _equation_texts(rows):
+    """`_equation` of each row as one piece (its lines joined: the same text once
+    joined); a lazy report's rows as text, never made."""
     texts = getattr(rows, "texts", None)
     if texts is not None:
-        out += texts()
-        return
-    out += [equation_text(r.index, r.principle, r.line, r.role, r.symbolic, r.numeric)
-            for r in rows]
+        return texts()
+    return (equation_text(r.index, r.principle, r.line, r.role, r.symbolic, r.numeric)
+            for r in rows)
 
 
 def _equation(r) -> list[str]:

@@ -201,8 +201,41 @@ def _compile(what: str, key: tuple):
 
 def _run(what: str, e, values):
     """The compiled `what` of `e`, or None (walk it)."""
+    return _run_code(what, e, values)[0]
+
+
+def caller(what: str):
+    """A function (e, values) -> `_run(what, e, values)`, the same results, for a loop over
+    many like trees: the code of the shape that followed the last tree's shape the time
+    before is tried first, with no other lookup (a long sequence repeats its shapes in
+    order); else `_run`'s lookups."""
+    after: dict = {}  # the code that read a tree -> the code that read the next one
+    last: list = [None]
+
+    def run(e, values):
+        f = after.get(last[0])
+        if f is not None:
+            try:
+                got = f(e, values)
+            except Exception:  # noqa: BLE001 - as `_call`: `_run` and the walk decide
+                got = None
+            if got is not None:
+                last[0] = f
+                return got
+        got, f = _run_code(what, e, values)
+        if f is not None:
+            if len(after) > 64:
+                after.clear()
+            after[last[0]] = f
+            last[0] = f
+        return got
+    return run
+
+
+def _run_code(what: str, e, values):
+    """(`_run(what, e, values)`, the code that gave it or None)."""
     if not ENABLED:
-        return None
+        return None, None
     t = type(e)
     top = (what, t, len(e.terms) if t is Add else len(e.factors) if t is Mul else -1)
     st = _LAST.get(top)
@@ -213,27 +246,27 @@ def _run(what: str, e, values):
             got = _call(guess, e, values)
             if got is not None:
                 st[0] = guess
-                return got
+                return got, guess
         for f in fs:
             if f is not guess:
                 got = _call(f, e, values)
                 if got is not None:
                     after[prev] = st[0] = f
-                    return got
+                    return got, f
     key: list = []
     try:
         _key(e, key)
     except (_Big, RecursionError):
-        return None
+        return None, None
     if len(key) > MAX_NODES:
-        return None
+        return None, None
     k = (what, tuple(key))
     f = _FNS.get(k)
     if f is None:
         f = compiled_after(_FNS, _SEEN, k, _compile_key, COMPILE_AFTER, LIMIT,
                            forget=_LAST.clear)
         if f is None:
-            return None
+            return None, None
     st = _LAST.get(top)  # a few kept per top, the next guessed from the last
     if st is None:
         st = _LAST[top] = [None, {}, []]
@@ -242,7 +275,8 @@ def _run(what: str, e, values):
         st[1] = {a: b for a, b in st[1].items() if a in st[2] and b in st[2]}
     st[1][st[0]] = f
     st[0] = f
-    return _call(f, e, values)
+    got = _call(f, e, values)
+    return got, (f if got is not None else None)
 
 
 def _call(f, e, values):
