@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from momentum_cli.aliases import VELOCITIES, StateChains
+from momentum_cli.aliases import VELOCITIES
 from momentum_cli.bench import chain_text
 from structure_dump import system_lines
 from test_hard import cradle_text
@@ -30,8 +30,8 @@ def _bouncing(n: int, reverse: bool, late_given: bool) -> str:
                         f"    contact c{k}: b with a normal (1, 0): restitution 0.5, smooth"
                         for k in range(1, n + 1))
     return (f'problem "bouncing"\nbody a: particle(mass = 1 kg)\n'
-            f'body b: particle(mass = 2 kg)\n'
-            f'state 1: a.v = (2 m/s, 0), b at rest\n' + "\n".join(states) + "\n" +
+            'body b: particle(mass = 2 kg)\n'
+            'state 1: a.v = (2 m/s, 0), b at rest\n' + "\n".join(states) + "\n" +
             impacts + f"\nfind a.vx@{n + 1}, b.vx@{n + 1}, T_lost@1->2\n")
 
 
