@@ -29,7 +29,7 @@ def _bouncing(n: int, reverse: bool, late_given: bool) -> str:
     impacts = "\n".join(f"impact {k} -> {k + 1}:\n"
                         f"    contact c{k}: b with a normal (1, 0): restitution 0.5, smooth"
                         for k in range(1, n + 1))
-    return (f'problem "bouncing"\nbody a: particle(mass = 1 kg)\n'
+    return ('problem "bouncing"\nbody a: particle(mass = 1 kg)\n'
             'body b: particle(mass = 2 kg)\n'
             'state 1: a.v = (2 m/s, 0), b at rest\n' + "\n".join(states) + "\n" +
             impacts + f"\nfind a.vx@{n + 1}, b.vx@{n + 1}, T_lost@1->2\n")
