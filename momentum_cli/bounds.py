@@ -10,12 +10,14 @@ judges a redundant equation against these; an answer carries its bound.
 from __future__ import annotations
 
 import math
+import sys
 
-from . import rowcode
+from . import bounds_columns, rowcode
 from .block_memo import kind_of
 from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, keeps, variables
 
 ROUNDOFF = 64 * 2.0**-53  # forming a term or a residual from exact values: a few ulps each
+COLUMNS_FROM = 5000  # a sparse block's columns as arrays from here (linalg.BIG: numpy loaded)
 DENSE = 40  # |A^-1| in plain Python up to here (a 40x80 Gauss-Jordan is ~1 ms); beyond, a cond-based bound
 
 
@@ -384,6 +386,18 @@ def propagate(system, reports, values, exact: bool = False):
         # (lists, not generators, for max/min/sum: the same values in the same order)
         # (the parts that depend on the matrix alone, once per kind of block: a sequence
         # of impacts repeats one matrix; shared, only read)
+        if sparse and n >= COLUMNS_FROM and bounds_columns.ENABLED and \
+                "numpy" in sys.modules:  # loaded by the banded LU: no import here
+            q = rep.quality
+            got = bounds_columns.sizes_and_errors(
+                cols, A, scale, delta, [abs(values.get(nm, 0.0)) for nm in names],
+                q.components if q is not None and q.components else [0.0] * n,
+                rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0,
+                not exact or newton)
+            if got is not None:
+                size.update(zip(names, got[0]))
+                err.update(zip(names, got[1]))
+                continue
         if sparse:
             rmax, unit, inv = A, _units(A, cols, _flat_pairs), None
         elif n <= DENSE and len(A) == n:
