@@ -41,26 +41,27 @@ def sizes_and_errors(cols, rmax, scale, delta, xs, comps, cond: float, solved: b
             return None
     if not np.isfinite(cond):
         return None
-    full = lens > 0
-    starts = (np.cumsum(lens) - lens)[full]  # each non-empty column's first entry
-    # each column's largest entry scaled by its row's largest (rows with one above 0)
-    rm = rmax[rows]
-    ratio = np.where(rm > 0, ent / np.where(rm > 0, rm, 1.0), -np.inf)
-    unit = np.zeros(n)
-    if len(starts):
-        u = np.maximum.reduceat(ratio, starts)
-        unit[full] = np.where(u == -np.inf, 0.0, u)
-    big = float(np.max(x * unit)) if n else 0.0
-    least = x.copy()  # min(cands) if cands else x
-    if len(starts):
-        least[full] = np.minimum.reduceat(scale[rows] / ent, starts)
-    pos = unit > 0
-    third = np.where(pos, big / np.where(pos, unit, 1.0), 0.0)
-    sizes = np.maximum(np.maximum(x, least), third)
-    worst = np.zeros(n)  # max([...], default=0.0)
-    if len(starts):
-        worst[full] = np.maximum.reduceat(delta[rows] / ent, starts)
-    e = cond * worst
-    solver = comp * x if solved else np.zeros(n)
-    errs = np.where(np.isfinite(e), e + solver, np.inf)
-    return sizes.tolist(), errs.tolist()
+    with np.errstate(all="ignore"):  # overflow to inf, as the loops' floats do
+        full = lens > 0
+        starts = (np.cumsum(lens) - lens)[full]  # each non-empty column's first entry
+        # each column's largest entry scaled by its row's largest (rows with one above 0)
+        rm = rmax[rows]
+        ratio = np.where(rm > 0, ent / np.where(rm > 0, rm, 1.0), -np.inf)
+        unit = np.zeros(n)
+        if len(starts):
+            u = np.maximum.reduceat(ratio, starts)
+            unit[full] = np.where(u == -np.inf, 0.0, u)
+        big = float(np.max(x * unit)) if n else 0.0
+        least = x.copy()  # min(cands) if cands else x
+        if len(starts):
+            least[full] = np.minimum.reduceat(scale[rows] / ent, starts)
+        pos = unit > 0
+        third = np.where(pos, big / np.where(pos, unit, 1.0), 0.0)
+        sizes = np.maximum(np.maximum(x, least), third)
+        worst = np.zeros(n)  # max([...], default=0.0)
+        if len(starts):
+            worst[full] = np.maximum.reduceat(delta[rows] / ent, starts)
+        e = cond * worst
+        solver = comp * x if solved else np.zeros(n)
+        errs = np.where(np.isfinite(e), e + solver, np.inf)
+        return sizes.tolist(), errs.tolist()
