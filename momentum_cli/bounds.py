@@ -13,7 +13,7 @@ import math
 import sys
 from struct import pack
 
-from . import bounds_columns, rowcode
+from . import rowcode
 from .block_memo import SMALL, kind_by_key, kind_of
 from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, keeps, variables
 
@@ -391,14 +391,15 @@ def propagate(system, reports, values, exact: bool = False):
         # (lists, not generators, for max/min/sum: the same values in the same order)
         # (the parts that depend on the matrix alone, once per kind of block: a sequence
         # of impacts repeats one matrix; shared, only read)
-        if sparse and n >= COLUMNS_FROM and bounds_columns.ENABLED and \
-                "numpy" in sys.modules:  # loaded by the banded LU: no import here
+        if sparse and n >= COLUMNS_FROM and "numpy" in sys.modules:  # by the banded LU
+            from . import bounds_columns
+
             q = rep.quality
             got = bounds_columns.sizes_and_errors(
                 cols, A, scale, delta, [abs(values.get(nm, 0.0)) for nm in names],
                 q.components if q is not None and q.components else [0.0] * n,
                 rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0,
-                not exact or newton)
+                not exact or newton) if bounds_columns.ENABLED else None
             if got is not None:
                 size.update(zip(names, got[0]))
                 err.update(zip(names, got[1]))

@@ -10,9 +10,10 @@ regime_search tries every combination. The regime that held is reported.
 from __future__ import annotations
 
 import math
+import sys
 from collections import ChainMap
 
-from . import rowcode, solve_ones
+from . import rowcode
 from .analyse import Structure, analyse
 from .compile import Equation, System, compile_scene
 from .diagnostics import Diagnostic, ProblemError
@@ -436,9 +437,13 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
         at += 1
         block = blocks[b]
         if lane and len(block.unknowns) == 1 and len(block.equations) == 1:
-            if at > retry:  # a long run of them together (where numpy is loaded)
-                nxt, run, retry = solve_ones.run(system, blocks, order, at - 1, values,
-                                                 _one_report)
+            if at > retry and "numpy" not in sys.modules:
+                retry = len(order)  # runs of them as arrays only where numpy is loaded
+            if at > retry:  # a long run of them together
+                from .solve_ones import run as run_of_ones
+
+                nxt, run, retry = run_of_ones(system, blocks, order, at - 1, values,
+                                              _one_report)
                 if run:
                     for blk, rep in run:
                         reports.append(rep)

@@ -33,6 +33,8 @@ def run(system, blocks, order, start: int, values, make_report) -> tuple[int, li
     taken (each block's row is then read at most once more, one by one).
     `make_report(block, a, b, x, quality)`: the BlockReport `_solve_one` makes."""
     np = sys.modules.get("numpy")
+    if not ENABLED or np is None or len(order) - start < MIN_RUN:
+        return start, [], len(order)  # no run from here on
     end = start  # first, by their sizes alone: is the run long enough?
     stop = min(len(order), start + MIN_RUN)
     while end < stop:
@@ -40,7 +42,7 @@ def run(system, blocks, order, start: int, values, make_report) -> tuple[int, li
         if len(block.unknowns) != 1 or len(block.equations) != 1:
             break
         end += 1
-    if not ENABLED or np is None or end - start < MIN_RUN:
+    if end - start < MIN_RUN:
         return start, [], end + 1
     eqs = system.equations
     affine = rowcode.affine
