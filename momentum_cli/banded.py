@@ -110,23 +110,22 @@ def order(A, n: int):
 
 def _coo(A, pr, pc):
     """The block's entries as (band row, band column, value) arrays, in row order."""
-    from array import array
+    from itertools import chain
 
     import numpy as np
 
-    # typed arrays, not lists: a 10^5-row block's four lists of boxed numbers were the
-    # solve's peak memory (the same numbers reach numpy either way)
-    ii, jj, vv = array("q"), array("q"), array("d")
-    kk = array("q")  # each entry's place in its row
-    for i, row in enumerate(A):
-        p = pr[i]
-        for k, (j, v) in enumerate(row.items()):
-            ii.append(p)
-            jj.append(pc[j])
-            vv.append(v)
-            kk.append(k)
-    return (np.array(ii, dtype=np.intp), np.array(jj, dtype=np.intp),
-            np.array(vv, dtype=float), np.array(kk, dtype=np.intp))
+    # read straight from the rows' dicts into typed arrays (no list of boxed numbers:
+    # a 10^5-row block's were the solve's peak memory; no Python loop per entry)
+    lens = np.fromiter(map(len, A), dtype=np.intp, count=len(A))
+    total = int(lens.sum())
+    cols = np.fromiter(chain.from_iterable(A), dtype=np.intp, count=total)
+    vv = np.fromiter(chain.from_iterable(row.values() for row in A), dtype=float,
+                     count=total)
+    first = np.cumsum(lens) - lens  # each row's first entry
+    ii = np.repeat(np.array(pr, dtype=np.intp)[:len(A)], lens)
+    jj = np.array(pc, dtype=np.intp)[cols]
+    kk = np.arange(total, dtype=np.intp) - np.repeat(first, lens)  # place in its row
+    return ii, jj, vv, kk
 
 
 def _positions(got, n: int):

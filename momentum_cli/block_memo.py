@@ -132,6 +132,24 @@ def kind_of(A, make):
     return hit
 
 
+_squares: dict = {}
+
+
+def kind_by_key(key, make):
+    """`make(None)` (what depends on a matrix alone), remembered by the `block_key` the
+    caller made itself (`bounds._square`, which keeps its rows as lists; its own table:
+    it keeps more than `kind_of`'s) and shared: the caller only reads it."""
+    if not KINDS:
+        return make(None)
+    hit = _squares.get(key, _squares)
+    if hit is _squares:
+        hit = make(None)
+        if len(_squares) >= LIMIT:
+            _squares.clear()
+        _squares[key] = hit
+    return hit
+
+
 def abs_inverse(A, compute):
     """`compute(A)` (|A^-1| or None), remembered by A's exact data; a fresh copy each."""
     key = block_key(A) if 1 < len(A) <= SMALL else None

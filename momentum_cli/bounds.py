@@ -10,12 +10,15 @@ judges a redundant equation against these; an answer carries its bound.
 from __future__ import annotations
 
 import math
+import sys
+from struct import pack
 
 from . import rowcode
-from .block_memo import kind_of
+from .block_memo import SMALL, kind_by_key, kind_of
 from .expr import Add, Const, E, Fn, Known, Mul, Pow, Var, evaluate, keeps, variables
 
 ROUNDOFF = 64 * 2.0**-53  # forming a term or a residual from exact values: a few ulps each
+COLUMNS_FROM = 5000  # a sparse block's columns as arrays from here (linalg.BIG: numpy loaded)
 DENSE = 40  # |A^-1| in plain Python up to here (a 40x80 Gauss-Jordan is ~1 ms); beyond, a cond-based bound
 
 
@@ -352,6 +355,10 @@ def propagate(system, reports, values, exact: bool = False):
         if FAST and len(names) == 1 and len(rep.equations) == 1:
             _one(system, rep, values, exact, size, err)
             continue
+        if FAST and SQUARE and 1 < len(names) <= SMALL and len(rep.equations) == len(names) \
+                and rep.method == "linear":
+            _square(system, rep, values, exact, size, err)
+            continue
         col = {n: j for j, n in enumerate(names)}
         n = len(names)
         # a block past DENSE needs only each row's largest entry, not the rows themselves
@@ -384,6 +391,19 @@ def propagate(system, reports, values, exact: bool = False):
         # (lists, not generators, for max/min/sum: the same values in the same order)
         # (the parts that depend on the matrix alone, once per kind of block: a sequence
         # of impacts repeats one matrix; shared, only read)
+        if sparse and n >= COLUMNS_FROM and "numpy" in sys.modules:  # by the banded LU
+            from . import bounds_columns
+
+            q = rep.quality
+            got = bounds_columns.sizes_and_errors(
+                cols, A, scale, delta, [abs(values.get(nm, 0.0)) for nm in names],
+                q.components if q is not None and q.components else [0.0] * n,
+                rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0,
+                not exact or newton) if bounds_columns.ENABLED else None
+            if got is not None:
+                size.update(zip(names, got[0]))
+                err.update(zip(names, got[1]))
+                continue
         if sparse:
             rmax, unit, inv = A, _units(A, cols, _flat_pairs), None
         elif n <= DENSE and len(A) == n:
@@ -485,6 +505,79 @@ def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
 
 
 FAST = True  # tests turn it off to compare the scalar steps with the general ones
+SQUARE = True  # tests turn it off: small square blocks take the general step
+
+
+def _square(system, rep, values, exact: bool, size: dict, err: dict) -> None:
+    """`propagate`'s general step for a small square linear block (each impact of a
+    sequence: 2..SMALL unknowns), in one loop: the rows' entries kept as column and
+    value lists (no dict per row; the kind's key made from them as `block_key` makes
+    it from dicts), and the columns' (row, |entry|) lists remembered with the kind's
+    other parts (they depend on the matrix alone); the same float operations in the
+    same order (tests/test_bounds_square.py compares the two)."""
+    names = rep.unknowns
+    col = {nm: j for j, nm in enumerate(names)}
+    eqs, sget, eget = system.equations, size.get, err.get
+    scale, delta, keys, vals = [], [], [], []
+    floats = True
+    for k in rep.equations:
+        dv, mag = fast_derivatives_and_size(eqs[k].residual, values)
+        sc = d = 0
+        js = []
+        for v, s in dv.items():
+            j = col.get(v)
+            if j is None:
+                a = abs(s)
+                if a:
+                    sc += a * sget(v, 0.0)
+                    d += a * eget(v, 0.0)
+            elif s != 0:
+                js.append(j)
+                vals.append(s)
+                if type(s) is not float:
+                    floats = False
+        keys.append(tuple(js))
+        sc = mag + sc
+        scale.append(sc)
+        if not exact:
+            d += ROUNDOFF * sc
+        delta.append(d)
+
+    def make(_):
+        """(rmax, unit, |A^-1|, cols) as `propagate` makes them from its row dicts."""
+        A = [{} for _ in keys]
+        cols: list[list[tuple[int, float]]] = [[] for _ in names]
+        it = iter(vals)
+        for i, js in enumerate(keys):
+            Ai = A[i]
+            for j in js:
+                s = next(it)
+                Ai[j] = s
+                cols[j].append((i, abs(s)))
+        return _matrix_parts(A, cols, True) + (cols,)
+
+    if floats:
+        rmax, unit, inv, cols = kind_by_key((tuple(keys), pack(f"{len(vals)}d", *vals)), make)
+    else:
+        rmax, unit, inv, cols = make(None)
+    xs = [abs(values.get(nm, 0.0)) for nm in names]
+    big = max([x * u for x, u in zip(xs, unit)])
+    for j, name in enumerate(names):
+        x = xs[j]
+        cands = [scale[i] / a for i, a in cols[j]]
+        uj = unit[j]
+        size[name] = max(x, min(cands) if cands else x, big / uj if uj > 0 else 0.0)
+    q = rep.quality
+    comps = q.components if q is not None and q.components else [0.0] * len(names)
+    cond = rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0
+    isfinite = math.isfinite
+    for j, name in enumerate(names):
+        if inv is not None:
+            e = sum([a * b for a, b in zip(inv[j], delta)])
+        else:
+            e = cond * max([delta[i] / a for i, a in cols[j]], default=0.0)
+        solver = comps[j] * xs[j] if not exact else 0.0
+        err[name] = e + solver if isfinite(e) else math.inf
 
 
 def _row(f, values, col, Ai, cols, i, sget, eget, scale):

@@ -10,6 +10,7 @@ regime_search tries every combination. The regime that held is reported.
 from __future__ import annotations
 
 import math
+import sys
 from collections import ChainMap
 
 from . import rowcode
@@ -430,9 +431,26 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
     lane = rowcode.ENABLED and not system.integrations and exact is None and \
         precision == "float"
     blocks, used = structure.blocks, state.used
-    for b in order:
+    at = retry = 0  # retry: where a run of one-unknown blocks may be tried again
+    while at < len(order):
+        b = order[at]
+        at += 1
         block = blocks[b]
         if lane and len(block.unknowns) == 1 and len(block.equations) == 1:
+            if at > retry and "numpy" not in sys.modules:
+                retry = len(order)  # runs of them as arrays only where numpy is loaded
+            if at > retry:  # a long run of them together
+                from .solve_ones import run as run_of_ones
+
+                nxt, run, retry = run_of_ones(system, blocks, order, at - 1, values,
+                                              _one_report)
+                if run:
+                    for blk, rep in run:
+                        reports.append(rep)
+                        used.add(blk.equations[0])
+                        bounds[blk.unknowns[0]] = rep.quality.components[0]
+                    at = nxt
+                    continue
             rep = _solve_one(system, block, values)
             if rep is not None:
                 reports.append(rep)
@@ -896,6 +914,11 @@ def _solve_one(system: System, block, values) -> BlockReport | None:
     except SingularError:
         return None
     values[name] = x[0]
+    return _one_report(block, a, b, x, quality)
+
+
+def _one_report(block, a, b, x, quality) -> BlockReport:
+    """The report of a block of one unknown solved as `_solve_one` solves it."""
     return BlockReport(block.index, block.unknowns, block.equations, "linear", quality.cond,
                        0, 0.0, [[float(a)]], [float(b)], quality)
 
