@@ -3,7 +3,6 @@ block at a time: the same values in the same order, the same reports, bounds and
 answers, bit for bit; and the scalar solves on arrays against `linalg.solve_one`."""
 from __future__ import annotations
 
-import math
 import random
 
 import pytest
