@@ -184,8 +184,10 @@ def _shed(sol, sensitivity: bool = False) -> None:
     """Free what only the solve reads (the structure's incidence sets and matching,
     one or two entries per equation) before the report is built: the report, the
     expectations and the sensitivities read the blocks and the redundant and
-    undetermined equations, never these. (Not the residual trees: the report's
-    momentum-residual check reads most of them again.) The unknowns' sizes and error
+    undetermined equations, never these. Of the residual trees (one sum and one product
+    an equation), only the impulse-momentum rows' are read again (the report's
+    momentum-residual check, which then drops them); the others go (made again if
+    something asks: the same tree, the same floats). The unknowns' sizes and error
     bounds (two entries an unknown, read by the answers, made already) go too, the sizes
     kept for `--sensitivity`, and a one-unknown block's 1x1 matrix and right side (the
     report shows a block's matrix from two unknowns on), and each answer's second form
@@ -201,6 +203,10 @@ def _shed(sol, sensitivity: bool = False) -> None:
             b.matrix = b.rhs = None
     for f in sol.system.finds:
         f.alt = None
+    if not sensitivity:  # the sensitivities read every residual
+        for e in sol.system.equations:
+            if "impulse-momentum" not in e.principle:
+                e._residual = None
 
 
 def _sensitivities(source: Source, overrides, sol) -> dict:

@@ -549,11 +549,13 @@ class _Builder:
                 else:
                     v = _num(val * size / k)
                 mine.append(f"{indent}    {_local(n)} = {v}{head}{words}")
+        bodies = where = None  # 10^5 bodies' records: not held beside their lines
         out = [f"{indent}Impulse diagram, {'impact' if t.kind == 'impact' else 'interval'} "
                f"{t.before} -> {t.after}"]
         add = out.append
+        take = by_body.pop  # each body's list freed as its lines are moved to `out`
         for name in names:
-            mine = by_body.get(name)
+            mine = take(name, None)
             if not mine:
                 add(f"{indent}  {name}: no impulse")
                 continue

@@ -720,6 +720,8 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
                 continue
             try:
                 res = e.residual
+                e._residual = None  # its last reader (made again if asked): its memory
+                # goes to the text (~130 bytes a row)
                 # by the shape's code (treecode.py), or walked
                 got = vm(res, values) if vm is not None else None
                 r, s = got if got is not None else value_and_magnitude(res, values)

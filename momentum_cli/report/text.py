@@ -140,12 +140,18 @@ def iter_parts(rep: Report, sig: int = 6, steps: bool = True):
             out = [""]
             out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
             d = diagram_lines(rep, t, "  ")
-            if d is not None:
+            if d is not None and len(d) <= RUN_LINES:
                 out.append("\n".join(d))
+            elif d is not None:  # in runs (the same text joined), freed before the rows:
+                yield from out  # 10^5 bodies' diagram is ~80 MB of lines and their join
+                out = []
+                yield from _in_runs(d)
+            d = None
             for w in t["why"]:
                 out.append(f"  why: {w}")
             out.extend(_system(t))
             yield from out
+            out = []  # a system's long sums are not held while the rows are written
             yield from _equation_texts(t["equations"])  # one piece an equation, as made
         for group, rows in rep.other_equations.items():
             yield ""
