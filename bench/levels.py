@@ -20,6 +20,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "bench"))
+
+from stages import add_problem_arguments, problem_jobs  # noqa: E402 (after the paths)
 
 
 def levels(name: str, text: str) -> str:
@@ -67,21 +70,9 @@ def levels(name: str, text: str) -> str:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("files", nargs="*", help="problem files")
-    ap.add_argument("--cradle-seq", type=int, action="append", default=[],
-                    help="the sequential Newton's cradle of N balls (tests/test_hard.py)")
-    ap.add_argument("--chain", type=int, action="append", default=[],
-                    help="the N-ball chain of `momentum bench accuracy`")
+    add_problem_arguments(ap)
     args = ap.parse_args(argv)
-    jobs = [(f, Path(f).read_text(encoding="utf-8")) for f in args.files]
-    if args.cradle_seq:
-        from test_hard import cradle_text
-
-        jobs += [(f"cradle-seq {n}", cradle_text(n, "sequence")) for n in args.cradle_seq]
-    if args.chain:
-        from momentum_cli.bench import chain_text
-
-        jobs += [(f"chain {n}", chain_text(n)) for n in args.chain]
+    jobs = problem_jobs(args)
     for name, text in jobs:
         print(levels(name, text), flush=True)
     return 0

@@ -87,15 +87,17 @@ def stages(name: str, text: str, reps: int = 1) -> dict[str, float]:
     return best
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def add_problem_arguments(ap: argparse.ArgumentParser) -> None:
+    """The problems a bench script runs on: files, generated cradles and chains."""
     ap.add_argument("files", nargs="*", help="problem files")
     ap.add_argument("--cradle-seq", type=int, action="append", default=[],
                     help="the sequential Newton's cradle of N balls (tests/test_hard.py)")
     ap.add_argument("--chain", type=int, action="append", default=[],
                     help="the N-ball chain of `momentum bench accuracy`")
-    ap.add_argument("--reps", type=int, default=1)
-    args = ap.parse_args(argv)
+
+
+def problem_jobs(args) -> list[tuple[str, str]]:
+    """(name, text) of each problem `add_problem_arguments` read from the command line."""
     jobs = [(f, Path(f).read_text(encoding="utf-8")) for f in args.files]
     if args.cradle_seq:
         from test_hard import cradle_text
@@ -105,6 +107,15 @@ def main(argv=None) -> int:
         from momentum_cli.bench import chain_text
 
         jobs += [(f"chain {n}", chain_text(n)) for n in args.chain]
+    return jobs
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    add_problem_arguments(ap)
+    ap.add_argument("--reps", type=int, default=1)
+    args = ap.parse_args(argv)
+    jobs = problem_jobs(args)
     print("  ".join(["problem".rjust(16), *(s.rjust(8) for s in STAGES), "total".rjust(8)]))
     for name, text in jobs:
         t = stages(name, text, args.reps)
