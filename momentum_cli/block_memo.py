@@ -123,13 +123,7 @@ def kind_of(A, make):
     key = block_key(A) if KINDS and 1 < len(A) <= SMALL else None
     if key is None:
         return make(A)
-    hit = _kinds.get(key, _kinds)
-    if hit is _kinds:
-        hit = make(A)
-        if len(_kinds) >= LIMIT:
-            _kinds.clear()
-        _kinds[key] = hit
-    return hit
+    return _remembered(_kinds, key, make, A)
 
 
 _squares: dict = {}
@@ -141,12 +135,18 @@ def kind_by_key(key, make):
     it keeps more than `kind_of`'s) and shared: the caller only reads it."""
     if not KINDS:
         return make(None)
-    hit = _squares.get(key, _squares)
-    if hit is _squares:
-        hit = make(None)
-        if len(_squares) >= LIMIT:
-            _squares.clear()
-        _squares[key] = hit
+    return _remembered(_squares, key, make, None)
+
+
+def _remembered(table: dict, key, make, arg):
+    """table[key], made by make(arg) on a miss; the table is emptied when it holds LIMIT
+    entries (a bound on memory, not an eviction policy: kinds recur in runs)."""
+    hit = table.get(key, table)
+    if hit is table:
+        hit = make(arg)
+        if len(table) >= LIMIT:
+            table.clear()
+        table[key] = hit
     return hit
 
 
