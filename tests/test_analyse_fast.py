@@ -56,50 +56,6 @@ def test_incidence_reads_as_the_list_of_sets():
     assert inc != [{"a"}, {"c"}, set()]
 
 
-def _plain_tarjan(nodes, succ, n):
-    """Tarjan's walk without the shortcut (the code before it)."""
-    index, low, on = [-1] * n, [0] * n, [False] * n
-    stack, out, counter = [], [], 0
-    for root in nodes:
-        if index[root] >= 0:
-            continue
-        work = [(root, 0)]
-        while work:
-            v, pi = work.pop()
-            if pi == 0:
-                index[v] = low[v] = counter
-                counter += 1
-                stack.append(v)
-                on[v] = True
-            recurse = False
-            ws = succ[v]
-            for i in range(pi, len(ws)):
-                w = ws[i]
-                if index[w] < 0:
-                    work.append((v, i + 1))
-                    work.append((w, 0))
-                    recurse = True
-                    break
-                if on[w] and index[w] < low[v]:
-                    low[v] = index[w]
-            if recurse:
-                continue
-            if low[v] == index[v]:
-                comp = []
-                while True:
-                    w = stack.pop()
-                    on[w] = False
-                    comp.append(w)
-                    if w == v:
-                        break
-                out.append(comp)
-            if work:
-                parent = work[-1][0]
-                if low[v] < low[parent]:
-                    low[parent] = low[v]
-    return out
-
-
 @pytest.mark.parametrize("seed", range(60))
 def test_tarjan_shortcut_emits_what_the_plain_walk_emits(seed):
     """Random graphs: sparse and dense, with cycles, self-free, nodes in any order."""
@@ -116,4 +72,5 @@ def test_tarjan_shortcut_emits_what_the_plain_walk_emits(seed):
     nodes = list(range(n))
     if rng.random() < 0.5:
         rng.shuffle(nodes)
-    assert _tarjan(nodes, succ, n) == _plain_tarjan(nodes, succ, n)
+    # the walk before the shortcut: tests/reference_analyse.py (successors by dict)
+    assert _tarjan(nodes, succ, n) == R._tarjan(nodes, dict(enumerate(succ)))
