@@ -372,13 +372,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _key_value(self, key: tuple, body: str, qty: str, given) -> E:
         sid = key[2]
-        # state_key(*key), without its two calls (a big scene makes ~4 a body)
-        name = _str_new(Key, f"{body}.{qty}@{sid}")
-        name.kind = _STATE
-        name.body = body
-        name.qty = qty
-        name.state = sid
-        name.transition = name.label = name.comp = None
+        name = _state_name(body, qty, sid)
         if given is not None:
             return Known(name, given[0])
         unknowns = self.unknowns
@@ -502,12 +496,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             return hit
         # _key_value for an unknown of a scene without hints, inline
         sid = key[2]
-        name = _str_new(Key, f"{body}.{qty}@{sid}")
-        name.kind = _STATE
-        name.body = body
-        name.qty = qty
-        name.state = sid
-        name.transition = name.label = name.comp = None
+        name = _state_name(body, qty, sid)
         unknowns = self.unknowns
         if name not in unknowns:
             dim, unit = STATE_QTYS[qty]
@@ -1054,6 +1043,18 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 _PLAIN = (float, int)  # numbers that are not a sweep's traced ones
 _str_new = str.__new__
 _STATE = KeyKind.STATE
+
+
+def _state_name(body: str, qty: str, sid: str) -> Key:
+    """state_key(body, qty, sid), with one call instead of its two (a big scene makes
+    ~4 a body)."""
+    name = _str_new(Key, f"{body}.{qty}@{sid}")
+    name.kind = _STATE
+    name.body = body
+    name.qty = qty
+    name.state = sid
+    name.transition = name.label = name.comp = None
+    return name
 _NAMED = (Var, Known)  # leaves that mul and add never fold (a 0 Known is kept)
 ZERO_V2 = impact_contacts.ZERO_V2  # the arm of a point at G (a V2 is frozen: one for all)
 
