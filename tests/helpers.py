@@ -59,3 +59,24 @@ def solved_scenes():
         except ProblemError:
             continue
         yield name, sol, {k: set(b.unknowns) for b in sol.blocks for k in b.equations}
+
+
+def solve_keeping_system(monkeypatch, text: str, name: str = "test.mom", **kw):
+    """(solution, the system `solve._solve` was given): solve_scene hands back only the
+    solution, and the bounds tests re-run parts of the solve on the system."""
+    import momentum_cli.solve as S
+
+    kept = {}
+    solve = S._solve
+
+    def spy(system, *a, **k):
+        sol = solve(system, *a, **k)
+        kept["system"] = system
+        return sol
+
+    monkeypatch.setattr(S, "_solve", spy)
+    try:
+        sol = solve_scene(build(parse(Source(name, text))), **kw)
+    finally:
+        monkeypatch.setattr(S, "_solve", solve)
+    return sol, kept["system"]

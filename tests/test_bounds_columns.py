@@ -12,10 +12,8 @@ import pytest
 import momentum_cli.linalg as L
 from momentum_cli import banded, bounds, bounds_columns, rowcode
 from momentum_cli.bench import chain_text
-from momentum_cli.scene import build
-from momentum_cli.solve import solve_scene
-from momentum_cli.source import Source
-from momentum_cli.syntax import parse
+
+from helpers import solve_keeping_system
 
 np = pytest.importorskip("numpy")
 pytest.importorskip("scipy")
@@ -29,21 +27,9 @@ def _bits(d: dict) -> list:
 def _chain_solution(monkeypatch, n: int, **kw):
     """A chain's solution and its system, kept from the solve (the banded path from
     1,000 unknowns, so a few hundred balls take it)."""
-    import momentum_cli.solve as S
-
     monkeypatch.setattr(L, "BIG", 1000)
     monkeypatch.setattr(bounds, "COLUMNS_FROM", 1000)
-    kept = {}
-    solve = S._solve
-
-    def spy(system, *a, **k):
-        sol = solve(system, *a, **k)
-        kept["system"] = system
-        return sol
-
-    monkeypatch.setattr(S, "_solve", spy)
-    sol = solve_scene(build(parse(Source("chain.mom", chain_text(n, **kw)))))
-    return sol, kept["system"]
+    return solve_keeping_system(monkeypatch, chain_text(n, **kw), "chain.mom")
 
 
 def _both(monkeypatch, system, reports, values, exact=False):

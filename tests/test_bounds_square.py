@@ -10,10 +10,8 @@ import pytest
 from momentum_cli import block_memo, bounds, rowcode
 from momentum_cli.bench import chain_text
 from momentum_cli.diagnostics import ProblemError
-from momentum_cli.scene import build
-from momentum_cli.solve import solve_scene
-from momentum_cli.source import Source
-from momentum_cli.syntax import parse
+
+from helpers import solve_keeping_system
 
 
 def _bits(d: dict) -> list:
@@ -22,24 +20,11 @@ def _bits(d: dict) -> list:
 
 def _solved(monkeypatch, text: str, name: str, precision: str = "float"):
     """(system, reports, values) of a solve, or None where it does not solve."""
-    import momentum_cli.solve as S
-
-    kept = {}
-    solve = S._solve
-
-    def spy(system, *a, **k):
-        sol = solve(system, *a, **k)
-        kept["system"] = system
-        return sol
-
-    monkeypatch.setattr(S, "_solve", spy)
     try:
-        sol = solve_scene(build(parse(Source(name, text))), precision=precision)
+        sol, system = solve_keeping_system(monkeypatch, text, name, precision=precision)
     except ProblemError:
         return None
-    finally:
-        monkeypatch.setattr(S, "_solve", solve)
-    return kept["system"], sol.blocks, dict(sol.values)
+    return system, sol.blocks, dict(sol.values)
 
 
 def _same_both_ways(monkeypatch, system, reports, values, exact=False, kinds=True):
