@@ -56,27 +56,16 @@ class StateChains:
         # positions as sorted tuples (half a one-item list's size: a big scene has ~3 a
         # body); only those that came out of order or grew long are sorted at the end
         breaks: dict = {}
-        get = breaks.get
         late: set = set()  # keys whose positions came out of order or grew long (lists)
         for sid, st in states.items():
             c, p = where[sid]
             for (b, q) in st.givens:
-                k = (b, q, c)
-                v = get(k)
-                if v is None:
-                    breaks[k] = (p,)
-                else:
-                    _grow(breaks, late, k, v, p)
+                _add(breaks, late, (b, q, c), p)
         for sid, ts in into.items():
             c, p = where[sid]
             for b in busy[ts[0].key]:
                 for q in VELOCITIES:
-                    k = (b, q, c)
-                    v = get(k)
-                    if v is None:
-                        breaks[k] = (p,)
-                    else:
-                        _grow(breaks, late, k, v, p)
+                    _add(breaks, late, (b, q, c), p)
         for k in late:
             breaks[k] = tuple(sorted(breaks[k]))
         return cls(where, chains, {s: ts[0] for s, ts in into.items()}, breaks)
@@ -131,11 +120,15 @@ class StateChains:
         return (body, qty, start), None
 
 
-def _grow(breaks: dict, late: set, k, v, p) -> None:
-    """Add position p to key k's positions v (StateChains.build): a short tuple grows by
-    a copy, a long one becomes a list (a body in many transitions: no quadratic copies);
-    a key out of order or made a list is in `late`, sorted into a tuple at the end."""
-    if type(v) is list:
+def _add(breaks: dict, late: set, k, p) -> None:
+    """Add position p to key k's positions (StateChains.build): a first one as a tuple
+    of one, a short tuple grows by a copy, a long one becomes a list (a body in many
+    transitions: no quadratic copies); a key out of order or made a list is in `late`,
+    sorted into a tuple at the end."""
+    v = breaks.get(k)
+    if v is None:
+        breaks[k] = (p,)
+    elif type(v) is list:
         v.append(p)
     elif len(v) >= 8:
         late.add(k)
