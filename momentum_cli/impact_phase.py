@@ -123,7 +123,6 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
     10^4 contacts: a chain), each contact's trees replayed from its kind's template."""
     bodies = comp.scene.bodies
     vel, unknowns = comp.vel, comp.unknowns
-    vmemo, miss = comp._vel.get, comp.vel_miss
     Unknown, Applied, Equation = comp.Unknown, comp.Applied, comp.Equation
     bp = comp._by_principle
     eqs = comp.equations
@@ -144,21 +143,10 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
         n = c.normal
         n0, n1 = n
         # the unknowns in the order the element makes them: J_n, then v_a, v_b before, after
-        # vel's memo read inline; a miss asks vel (in this order: the columns')
+        # (in this order: the columns')
         if pb is not None:
             b = pb.body
-            va1 = vmemo((a, i))
-            if va1 is None:
-                va1 = miss(a, i)
-            vb1 = vmemo((b, i))
-            if vb1 is None:
-                vb1 = miss(b, i)
-            va2 = vmemo((a, j))
-            if va2 is None:
-                va2 = miss(a, j)
-            vb2 = vmemo((b, j))
-            if vb2 is None:
-                vb2 = miss(b, j)
+            va1, vb1, va2, vb2 = vel(a, i), vel(b, i), vel(a, j), vel(b, j)
             leaves = (Jn, va1.x, va1.y, vb1.x, vb1.y, va2.x, va2.y, vb2.x, vb2.y, E_)
         else:
             b = None
@@ -210,7 +198,7 @@ def _replay(comp, t, key: str) -> None:
     moved = comp._moved(key)
     index = {b: k for k, b in enumerate(moved)}
     unknowns, Unknown = comp.unknowns, comp.Unknown
-    vmemo, miss = comp._vel, comp.vel_miss
+    vel = comp.vel
     leaves: list = []
     shape: list = []
     sources: list = []
@@ -229,20 +217,12 @@ def _replay(comp, t, key: str) -> None:
         body_a = bodies[a]
         if pb is not None:  # the state unknowns in the order the element makes them
             b = pb.body
-            if (a, i) not in vmemo:
-                miss(a, i)
-            if (b, i) not in vmemo:
-                miss(b, i)
-            if (a, j) not in vmemo:
-                miss(a, j)
-            if (b, j) not in vmemo:
-                miss(b, j)
+            for x, sid in ((a, i), (b, i), (a, j), (b, j)):  # made if new, in this order
+                vel(x, sid)
             rb = bodies[b].radius if pb.round_contact and bodies[b].radius else None
         else:
-            if (a, i) not in vmemo:
-                miss(a, i)
-            if (a, j) not in vmemo:
-                miss(a, j)
+            vel(a, i)
+            vel(a, j)
             rb = None
         e = c.restitution
         leaves += (Jn, Known(parameter_key(_E, label), e))
