@@ -95,6 +95,12 @@ class Equation:
             self._residual = add(self.lhs, neg(self.rhs))
         return self._residual
 
+    @property
+    def momentum_row(self) -> bool:
+        """An impulse-momentum equation (linear or angular): the rows the report's
+        momentum-residual check reads again, so the only residuals kept past the solve."""
+        return "impulse-momentum" in self.principle
+
     def text(self, numeric: bool = False) -> str:
         """`lhs = rhs`, symbolically or with numbers (printed once, then remembered in a
         pair indexed by `numeric`: a dict per equation cost a big scene 230 bytes each)."""

@@ -205,7 +205,7 @@ def _shed(sol, sensitivity: bool = False) -> None:
         f.alt = None
     if not sensitivity:  # the sensitivities read every residual
         for e in sol.system.equations:
-            if "impulse-momentum" not in e.principle:
+            if not e.momentum_row:
                 e._residual = None
 
 

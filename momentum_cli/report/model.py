@@ -716,7 +716,7 @@ def _residual_checks(sol: Solution) -> list[CheckReport]:
     for b in sol.blocks:
         for k in b.equations:
             e = eqs[k]
-            if "impulse-momentum" not in e.principle:
+            if not e.momentum_row:
                 continue
             try:
                 res = e.residual
