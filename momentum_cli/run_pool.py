@@ -205,8 +205,9 @@ def routed(texts, workers):
     """Yield the result of each file i of `texts`, in order, solved by `workers`
     (Worker, forked once the parent holds the batch): chunks of indices routed by
     Router. A chunk is a few small ints: the workers inherited the files' texts with the
-    parent's memory, so no text is pickled. Raises WorkerDied (or OSError) when a
-    worker died: the caller solves the rest itself."""
+    parent's memory, so no text is pickled. Raises WorkerDied when a worker died,
+    whether the parent was reading from it or sending to it: the caller solves the rest
+    itself."""
     from multiprocessing.connection import wait
 
     n = len(texts)
@@ -223,7 +224,11 @@ def routed(texts, workers):
                 chunk = router.pick(w, limit)
                 if not chunk:
                     break
-                wk.conn.send(chunk)
+                try:
+                    wk.conn.send(chunk)
+                except OSError:  # a broken pipe: it died before reading this chunk
+                    raise WorkerDied("a worker process ended before taking its files") \
+                        from None
                 flying[w].append(chunk)
 
     refill()

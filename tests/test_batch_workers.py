@@ -77,6 +77,20 @@ def test_a_worker_that_dies_is_reported_not_waited_for():
 
 
 @fork
+def test_a_worker_already_dead_when_sent_its_files_is_reported_too():
+    """The other side of the race above: the parent sends to a worker that has died
+    (a broken pipe, not an end of file): the same WorkerDied, not an OSError."""
+    workers = _workers(_square, 1)
+    workers[0].proc.kill()
+    workers[0].proc.join()
+    try:
+        with pytest.raises(run_pool.WorkerDied):
+            list(run_pool.routed(["let a = 1\n"] * 200, workers))
+    finally:
+        _close(workers)
+
+
+@fork
 def test_a_bug_in_a_worker_is_raised_in_the_parent():
     workers = _workers(_raises_at_3)
     try:
