@@ -337,16 +337,25 @@ def error_of(slope: dict[str, float], err: dict[str, float]) -> float:
     return sum(s * err.get(v, 0.0) for v, s in slope.items() if s)
 
 
-def propagate(system, reports, values, exact: bool = False):
+def propagate(system, reports, values, exact: bool = False, fused: dict | None = None):
     """(size, err): dictionaries over the solved unknowns, block by block in order.
 
     In exact mode a linear block's rows are formed and solved without rounding: its
     own data add no error, only the bounds of float (Newton) unknowns it uses do.
+    `fused`: id of a report -> (kind, shapes) of the blocks `block_kinds` solved, whose
+    steps their kind's code takes (`Kind.fill`: the same operations as `_one` and
+    `_square`; where it declines, they run).
     """
     size: dict[str, float] = {}
     err: dict[str, float] = {}
+    if not fused or exact or not FAST or not SQUARE:
+        fused = None
     for rep in reports:
         names = rep.unknowns
+        if fused is not None:
+            got = fused.get(id(rep))
+            if got is not None and got[0].fill(got[1], names, rep.quality, values, size, err):
+                continue
         if rep.method == "integrated":  # its rows are placeholders: the integrator's rtol
             for name in names:
                 x = abs(values.get(name, 0.0))

@@ -374,13 +374,17 @@ def _parse(key):
 
 
 class _Src:
-    def __init__(self):
+    """Generated lines; `prefix` names the temporaries (several trees' code in one
+    function: `block_kinds`)."""
+
+    def __init__(self, prefix: str = ""):
         self.lines: list[str] = []
         self.k = 0
+        self.prefix = prefix
 
     def tmp(self, expr: str) -> str:
         self.k += 1
-        name = f"t{self.k}"
+        name = f"{self.prefix}t{self.k}"
         self.lines.append(f"    {name} = {expr}")
         return name
 
@@ -395,17 +399,34 @@ def _gs_function(key, value: bool = False):
     """f(c, n, values, out, w) -> size: `bounds._grad_size(e, w, values, out)`; with
     `value`, -> (`expr.evaluate(e, values)`, size): `_val_function`'s value from the
     same temporaries (the same expressions: the same floats)."""
-    root, nvars = _parse(key)
     s = _Src()
+    root, size, val = emit_gs(s, key)
+    if value:
+        s.lines.append(f"    return {val(root)}, {size}")
+        return s.function("vgs(c, n, values, out, w)", {"fsum": math.fsum})
+    s.lines.append(f"    return {size}")
+    return s.function("gs(c, n, values, out, w)", {"fsum": math.fsum})
+
+
+def _add_out(i: int, same: int, w: str, c: str, n: str) -> str:
+    """`emit_gs`'s line adding a slope to the walk's dict (the walk's own statement)."""
+    return f"    out[{n}[{i}]] = out.get({n}[{i}], 0.0) + {w}"
+
+
+def emit_gs(s: _Src, key, c: str = "c", n: str = "n", x: str = "x", add=_add_out):
+    """Emit `_gs_function`'s walk of the shape `key` into `s`, its numbers read from `c`,
+    names from `n`, values into locals named `x`...; `add(i, same, w, c, n)` is each
+    slope's line. (root, size expression, val: a position's value expression)."""
+    root, nvars = _parse(key)
     for j in range(nvars):  # every unknown outside a zero product is read by the walk
-        s.lines.append(f"    x{j} = values[n[{j}]]")
+        s.lines.append(f"    {x}{j} = values[{n}[{j}]]")
     vals: dict = {}
 
     def val(nd) -> str:  # expr.evaluate of a position (once: it is pure)
         if nd.kind == "c":
-            return f"c[{nd.i}]"
+            return f"{c}[{nd.i}]"
         if nd.kind == "v":
-            return f"x{nd.i}"
+            return f"{x}{nd.i}"
         if nd.kind == "zero":
             return "0.0"
         got = vals.get(id(nd))
@@ -418,10 +439,10 @@ def _gs_function(key, value: bool = False):
 
     def gs(nd, w: str) -> str:
         if nd.kind == "c":
-            return f"abs(c[{nd.i}])"
+            return f"abs({c}[{nd.i}])"
         if nd.kind == "v":
-            s.lines.append(f"    out[n[{nd.i}]] = out.get(n[{nd.i}], 0.0) + {w}")
-            return f"abs(x{nd.i})"
+            s.lines.append(add(nd.i, nd.same, w, c, n))
+            return f"abs({x}{nd.i})"
         if nd.kind == "zero":
             return "0.0"
         if nd.kind == "add":
@@ -430,18 +451,13 @@ def _gs_function(key, value: bool = False):
         sizes = []
         for i, k in enumerate(nd.kids):
             if k.kind == "c":
-                sizes.append(f"abs(c[{k.i}])")
+                sizes.append(f"abs({c}[{k.i}])")
                 continue
             wk = s.tmp(w + "".join(" * " + v for j, v in enumerate(vs) if j != i))
             sizes.append(gs(k, wk))
         return s.tmp("1.0" + "".join(" * " + z for z in sizes))
 
-    size = gs(root, "w")
-    if value:
-        s.lines.append(f"    return {val(root)}, {size}")
-        return s.function("vgs(c, n, values, out, w)", {"fsum": math.fsum})
-    s.lines.append(f"    return {size}")
-    return s.function("gs(c, n, values, out, w)", {"fsum": math.fsum})
+    return root, gs(root, "w"), val
 
 
 def _val_function(key):
@@ -673,19 +689,32 @@ def _affine_function(key, inside):
     `inside[j]` says whether unknown j is in the block. Coefficient dicts are followed
     at compile time (which unknowns repeat is part of the key); the numbers run as the
     walk runs them, lookups and NonLinear included, in its order."""
-    root, _ = _parse(key)
     s = _Src()
+    try:
+        coef, const = emit_affine(s, key, inside)
+        items = ", ".join(f"n[{i}]: {v}" for _same, v, i in coef)
+        s.lines.append(f"    return {{{items}}}, {const}")
+    except _Stop:
+        pass
+    return s.function("aff(c, n, values)", {"NonLinear": NonLinear})
+
+
+def emit_affine(s: _Src, key, inside, nums: str = "c", names: str = "n"):
+    """Emit `_affine_function`'s walk of the shape `key` into `s` (numbers from `nums`,
+    names from `names`): (coef, const), coef a list of [same, expression, position] in the
+    walk's insertion order; raises _Stop after emitting `raise NonLinear()`."""
+    root, _ = _parse(key)
 
     def aff(nd):
         """(coef: list of [same, expr] in insertion order, const expr); code emitted."""
         if nd.kind == "c":
-            return [], f"c[{nd.i}]"
+            return [], f"{nums}[{nd.i}]"
         if nd.kind == "zero":
             return [], "0.0"
         if nd.kind == "v":
             if inside[nd.i]:
                 return [[nd.same, "1.0", nd.i]], "0.0"
-            return [], s.tmp(f"values[n[{nd.i}]]")
+            return [], s.tmp(f"values[{names}[{nd.i}]]")
         if nd.kind == "add":
             coef: list = []
             const = "0.0"
@@ -713,13 +742,7 @@ def _affine_function(key, inside):
                 const = s.tmp(f"{const} * {k}")
         return coef, const
 
-    try:
-        coef, const = aff(root)
-        items = ", ".join(f"n[{i}]: {v}" for _same, v, i in coef)
-        s.lines.append(f"    return {{{items}}}, {const}")
-    except _Stop:
-        pass
-    return s.function("aff(c, n, values)", {"NonLinear": NonLinear})
+    return aff(root)
 
 
 class _Stop(Exception):

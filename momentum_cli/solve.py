@@ -33,7 +33,7 @@ from .expr import (
     magnitude,
     to_text,
 )
-from .linalg import SingularError, exact_rank_test
+from .linalg import SMALL, SingularError, exact_rank_test
 from .numbers import fmt_num, fmt_tiny
 from .records import record
 from .scene import Scene
@@ -329,7 +329,7 @@ def _solve_rounds(system: System, structure: Structure, solve_all: bool,
                         missing, exact=True)
     if missing:
         raise _under_determined(system, structure, missing)
-    size, err = propagate(system, reports, values, exact is not None)
+    size, err = propagate(system, reports, values, exact is not None, state.fused)
     deferred: list[ProblemError] = []
     for k in structure.redundant:
         e = eqs[k]
@@ -400,6 +400,7 @@ class _Rounds:
         self.reports: list = []  # the blocks solved so far (their sizes judge the checks)
         self.exact: dict | None = None
         self.find_vars: set | None = None  # the finds' unknowns (walked once per solve)
+        self.fused: dict = {}  # id of a block's report -> (kind, shapes): block_kinds solved it
 
 
 def _solve_round(system: System, structure: Structure, solve_all: bool, precision: str,
@@ -431,11 +432,23 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
     lane = rowcode.ENABLED and not system.integrations and exact is None and \
         precision == "float"
     blocks, used = structure.blocks, state.used
+    # small float blocks of a kind met often: its generated code (block_kinds)
+    kinds = _block_kinds() if lane and len(order) >= KINDS_FROM else None
+    fused = state.fused
     at = retry = 0  # retry: where a run of one-unknown blocks may be tried again
     while at < len(order):
         b = order[at]
         at += 1
         block = blocks[b]
+        if kinds is not None and 1 < len(block.unknowns) <= SMALL:
+            got = kinds.kind_of(block, system.equations)
+            rep = _solve_kind(kinds, block, values, *got) if got is not None else None
+            if rep is not None:
+                reports.append(rep)
+                used.update(block.equations)
+                _add_bounds(rep, bounds)
+                fused[id(rep)] = got
+                continue
         if lane and len(block.unknowns) == 1 and len(block.equations) == 1:
             if at > retry and "numpy" not in sys.modules:
                 retry = len(order)  # runs of them as arrays only where numpy is loaded
@@ -451,7 +464,12 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
                         bounds[blk.unknowns[0]] = rep.quality.components[0]
                     at = nxt
                     continue
-            rep = _solve_one(system, block, values)
+            got = kinds.kind_of(block, system.equations) if kinds is not None else None
+            rep = _solve_kind(kinds, block, values, *got) if got is not None else None
+            if rep is not None:
+                fused[id(rep)] = got
+            else:
+                rep = _solve_one(system, block, values)
             if rep is not None:
                 reports.append(rep)
                 used.add(block.equations[0])
@@ -490,6 +508,34 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
     if split:
         return _split_under(system, structure, precision, values, reports, bounds, state)
     return False
+
+
+KINDS_FROM = 64  # blocks in a round from which their kinds are counted (block_kinds.AFTER)
+
+
+def _block_kinds():
+    """The block_kinds module where this solve may use it (imported only then), or None."""
+    from . import block_kinds
+
+    return block_kinds if block_kinds.enabled() else None
+
+
+def _solve_kind(kinds, block, values, kind, shapes) -> BlockReport | None:
+    """`_solve_block` (`_solve_one`) of a small float block by its kind's generated code
+    (`kinds`: the block_kinds module): the same values and report; None where the
+    general path must decide (it then runs)."""
+    got = kinds.solve(kind, shapes, values)
+    if got is None:
+        return None
+    x, quality, matrix, rhs = got
+    names = block.unknowns
+    if kind.n == 1:
+        values[names[0]] = x[0]
+        return _one_report(block, matrix, rhs, x, quality)
+    for n, v in zip(names, x):
+        values[n] = v
+    return BlockReport(block.index, names, block.equations, "linear", quality.cond, 0, 0.0,
+                       matrix, rhs, quality)
 
 
 def _check_under_part(system: System, structure: Structure, values, precision: str,
@@ -613,7 +659,8 @@ def _check_conflict(e: Equation, values, checks, system, structure, state: _Roun
     solve rounds (no propagated sizes yet) the blocks' relative `bounds` give the
     unknowns' absolute error bounds."""
     if size is None and state.reports:  # within the rounds: the sizes of what is solved
-        size, err = propagate(system, state.reports, values, state.exact is not None)
+        size, err = propagate(system, state.reports, values, state.exact is not None,
+                              state.fused)
     if err is None and bounds:
         err = {n: b * abs(values[n]) for n, b in bounds.items() if n in values}
     try:
