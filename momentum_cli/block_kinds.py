@@ -26,7 +26,7 @@ from . import rowcode
 from .block_memo import solve_one
 from .bounds import ROUNDOFF, _matrix_parts
 from .linalg import EPS, Quality, SingularError, factor_small, _SPLIT
-from .rowcode import _Src, _Stop, emit_affine, emit_gs, shape_of
+from .rowcode import _Src, _Stop, _parse, emit_affine, emit_gs, shape_of
 
 FUSE = True  # tests turn it off: every block takes the general path
 AFTER = 64  # a kind gets its code once met this often (a small file's kinds never do)
@@ -44,7 +44,7 @@ class Kind:
     `fill(shapes, names, quality, values, size, err)`: its bounds step (`bound`), for
     `bounds.propagate`, which imports nothing from here."""
 
-    __slots__ = ("keys", "n", "solve", "bound", "mats", "parts", "cols", "rows")
+    __slots__ = ("keys", "n", "solve", "bound", "mats", "parts", "cols", "rows", "next")
 
     def __init__(self, keys, n):
         self.keys, self.n = keys, n
@@ -53,35 +53,74 @@ class Kind:
         self.parts: dict = {}  # the slopes' floats -> (unit, |A^-1|) | None
         self.cols = ()  # the coefficients' columns, row by row, in the rows' dict order
         self.rows = ()  # the slopes' columns, row by row, in the walk's dict order
+        self.next = None  # the kind of the block after one of this kind, last time
 
 
-def kind_of(block, equations):
-    """(Kind, the rows' shapes) of a square block whose kind has its code; None for
-    any other block (counted towards its kind's AFTER). A kind: each row's shape key
-    (by id, held by the Kind) and, at each of its name positions, the block's column
-    there or None."""
-    names = block.unknowns
+MISS = object()  # a kind's solve: the block is not of this kind
+_PREV: list = [None]  # the kind of the block solved last (its `next`: a guess)
+
+
+def take(block, equations, values, report):
+    """(its BlockReport, (Kind, the rows' shapes)) of a square block solved by its
+    kind's code (`report`: the BlockReport class); None where the general path must
+    solve it (no kind with code yet, or a number it must judge). The kind that followed
+    the last block's last time is tried first (a sequence of impacts repeats its kinds
+    in a period): its code checks the block is of its kind."""
     ks = block.equations
-    if len(ks) != len(names):
+    n = len(ks)
+    if n != len(block.unknowns):
         return None
-    if len(ks) == 1:
+    if n == 1:
         sh = shape_of(equations[ks[0]].residual)
         if sh is None:
             return None
         shapes = (sh,)
-        key = (id(sh[0]), tuple(map({names[0]: 0}.get, sh[2])))
     else:
         shapes = tuple([shape_of(equations[k].residual) for k in ks])
         if None in shapes:
             return None
-        get = {v: j for j, v in enumerate(names)}.get
-        key = (*[id(sh[0]) for sh in shapes], *[tuple(map(get, sh[2])) for sh in shapes])
+    prev = _PREV[0]
+    kind = prev.next if prev is not None else None
+    if kind is not None and kind.n != n:
+        kind = None
+    try:
+        got = kind.solve(*shapes, block, values, kind.mats, report) \
+            if kind is not None else MISS
+        if got is MISS:
+            kind = _find(block, shapes, report)
+            if kind is None:
+                _PREV[0] = None
+                return None
+            if prev is not None:
+                prev.next = kind
+            got = kind.solve(*shapes, block, values, kind.mats, report)
+        _PREV[0] = kind
+        if type(got) is tuple:  # a matrix met for the first time: its replay, then again
+            mats = kind.mats
+            if len(mats) >= MATRICES:
+                mats.clear()
+            mats[got] = _matrix(kind, got)
+            got = kind.solve(*shapes, block, values, mats, report)
+    except (*FAILS, SingularError):
+        return None
+    if got is None or got is MISS:
+        return None
+    return got, (kind, shapes)
+
+
+def _find(block, shapes, report):
+    """The Kind of a block (its rows' `shapes`) if it has code; None otherwise (counted
+    towards its kind's AFTER). A kind: each row's shape key (by id, held by the Kind)
+    and, at each of its name positions, the block's column there or None."""
+    names = block.unknowns
+    get = {v: j for j, v in enumerate(names)}.get
+    key = (*[id(sh[0]) for sh in shapes], *[tuple(map(get, sh[2])) for sh in shapes])
     hit = _KINDS.get(key)
     if type(hit) is Kind:
         for a, sh in zip(hit.keys, shapes):
             if a is not sh[0]:  # another shape at a reused id: not this kind
                 return None
-        return (hit, shapes) if hit.solve is not None else None
+        return hit if hit.solve is not None else None
     count = hit or 0
     if count < AFTER:
         if len(_KINDS) >= LIMIT:
@@ -89,17 +128,17 @@ def kind_of(block, equations):
         _KINDS[key] = count + 1
         return None
     layouts = [[-1 if j is None else j for j in lay] for lay in key[len(shapes):]]
-    kind = _make(shapes, layouts)
+    kind = _make(shapes, layouts, report)
     _KINDS[key] = kind
-    return (kind, shapes) if kind.solve is not None else None
+    return kind if kind.solve is not None else None
 
 
-def _make(shapes, layouts) -> Kind:
+def _make(shapes, layouts, report) -> Kind:
     """A kind's code, generated; without it (solve None) where the rows are not linear in
     the block's unknowns or a column is empty (the general path says why)."""
     kind = Kind(tuple(sh[0] for sh in shapes), len(shapes))
     try:
-        kind.solve, kind.cols = _solve_code(kind, layouts)
+        kind.solve, kind.cols = _solve_code(kind, layouts, report)
         kind.bound, kind.rows = _bound_code(kind, layouts)
     except _Stop:
         kind.solve = kind.bound = None
@@ -115,14 +154,51 @@ def _unpack(s: _Src, n: int) -> None:
     s.lines += [f"    _k{r}, c{r}, n{r} = sh{r}" for r in range(n)]
 
 
-def _solve_code(kind: Kind, layouts):
-    """f(sh0, ..., values) -> (coefficients, right-hand sides) of `solve._solve_block`'s
-    rows (`rowcode.affine` of each, then `-const`), or None where a coefficient is 0
-    (the general row leaves it out) or a number is not finite (the general path
-    refuses the block)."""
+def _firsts(key) -> list:
+    """The name positions of a shape that first hold their name (the shape's readers
+    checked that the others repeat it, and that these differ)."""
+    out = []
+
+    def walk(nd):
+        if nd.kind == "v" and nd.same == nd.i:
+            out.append(nd.i)
+        for k in nd.kids:
+            walk(k)
+
+    walk(_parse(key)[0])
+    return out
+
+
+def _fits(s: _Src, kind: Kind, layouts) -> None:
+    """Emit the test that the block is of this kind (else MISS): each row's shape key
+    (identity), and each name of its rows in the block's column the kind has it in,
+    or none of the block's unknowns."""
+    n = kind.n
+    s.lines.append(f"    if {' or '.join(f'sh{r}[0] is not K{r}' for r in range(n))}: "
+                   "return MISS")
+    _unpack(s, n)
+    s.lines.append(f"    names = block.unknowns")
+    s.lines.append(f"    {''.join(f'nm{j}, ' for j in range(n))}= names")
+    tests = []
+    for r, (key, lay) in enumerate(zip(kind.keys, layouts)):
+        for i in _firsts(key):
+            j = lay[i]
+            tests += [f"n{r}[{i}] == nm{j}"] if j >= 0 else \
+                [f"n{r}[{i}] != nm{jj}" for jj in range(n)]
+    s.lines.append(f"    if not ({' and '.join(tests)}): return MISS")
+
+
+def _solve_code(kind: Kind, layouts, report):
+    """f(sh0, ..., block, values, mats, report) -> the block's BlockReport, its values
+    set, as `solve._solve_block` (`_solve_one`) makes them: its rows by
+    `rowcode.affine` (coefficient, right-hand side -const), solved by block_memo's
+    factored replay (`mats`: this kind's matrices by their coefficients) or 1x1 solve;
+    None where a coefficient is 0 (the general row leaves it out) or a number is not
+    finite (the general path refuses the block); MISS where the block is not of this
+    kind; the coefficients where `mats` lacks them (the caller adds them, calls again)."""
     n = kind.n
     s = _Src("a")
-    _unpack(s, n)
+    _fits(s, kind, layouts)
     cols, coefs, rhs = [], [], []
     for r, (key, lay) in enumerate(zip(kind.keys, layouts)):
         coef, const = emit_affine(s, key, [j >= 0 for j in lay], f"c{r}", f"n{r}")
@@ -136,7 +212,10 @@ def _solve_code(kind: Kind, layouts):
     s.lines.append(f"    if ({' + '.join(f'({v} - {v})' for v in every)}) != 0.0: "
                    "return None")  # x - x is 0.0 for every finite x, NaN otherwise
     if n == 1:  # `_solve_one`: block_memo's 1x1 solve, remembered by its two numbers
-        s.lines.append(f"    return (*solve_one({coefs[0]}, {rhs[0]}), {coefs[0]}, {rhs[0]})")
+        a, b = coefs[0], rhs[0]
+        s.lines += [f"    x, q = solve_one({a}, {b})", "    values[nm0] = x[0]",
+                    "    return REPORT(block.index, names, block.equations, 'linear', "
+                    f"q.cond, 0, 0.0, [[float({a})]], [float({b})], q)"]
     else:  # the matrix's replay, by its numbers; its dense rows for the report
         it = iter(coefs)
         dense = []
@@ -144,10 +223,14 @@ def _solve_code(kind: Kind, layouts):
             got = dict(zip(row, [next(it) for _ in row]))
             dense.append("[" + ", ".join(got.get(j, "0.0") for j in range(n)) + "]")
         s.lines += [f"    C = ({''.join(v + ', ' for v in coefs)})", "    m = mats.get(C)",
-                    "    if m is None: return None, C", "    if m is False: return None",
-                    f"    return (*m[0](m[1], {', '.join(rhs)}), [{', '.join(dense)}], "
-                    f"[{', '.join(rhs)}])"]
-    fn = s.function(_head("solve", n, "values, mats"), {"solve_one": solve_one})
+                    "    if m is None: return C", "    if m is False: return None",
+                    f"    x, q = m[0](m[1], {', '.join(rhs)})",
+                    *(f"    values[nm{j}] = x[{j}]" for j in range(n)),
+                    "    return REPORT(block.index, names, block.equations, 'linear', "
+                    f"q.cond, 0, 0.0, [{', '.join(dense)}], [{', '.join(rhs)}], q)"]
+    ns = {"solve_one": solve_one, "MISS": MISS, "REPORT": report}
+    ns.update((f"K{r}", key) for r, key in enumerate(kind.keys))
+    fn = s.function(_head("solve", n, "block, values, mats, report"), ns)
     return fn, tuple(cols)
 
 
@@ -225,26 +308,6 @@ def _bound_code(kind: Kind, layouts):
 
 
 # ---- the solve ---------------------------------------------------------------------------
-def solve(kind: Kind, shapes, values):
-    """(x, Quality, matrix, right-hand sides) of a block of `kind` as `block_memo.solve`
-    gives them for its rows, the matrix and right-hand sides as its BlockReport holds
-    them (for one unknown: the coefficient and right-hand side); None where the general
-    path decides."""
-    try:
-        got = kind.solve(*shapes, values, kind.mats)
-        if got is not None and got[0] is None:  # a matrix met for the first time
-            mats = kind.mats
-            if len(mats) >= MATRICES:
-                mats.clear()
-            mats[got[1]] = _matrix(kind, got[1])
-            got = kind.solve(*shapes, values, mats)
-    except FAILS:
-        return None
-    except SingularError:
-        return None
-    return got
-
-
 def _rows(kind: Kind, coefs):
     """The coefficients as `solve._solve_block`'s row dicts (column -> value)."""
     it = iter(coefs)

@@ -441,13 +441,13 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
         at += 1
         block = blocks[b]
         if kinds is not None and 1 < len(block.unknowns) <= SMALL:
-            got = kinds.kind_of(block, system.equations)
-            rep = _solve_kind(kinds, block, values, *got) if got is not None else None
-            if rep is not None:
+            got = kinds.take(block, system.equations, values, BlockReport)
+            if got is not None:
+                rep = got[0]
                 reports.append(rep)
                 used.update(block.equations)
                 _add_bounds(rep, bounds)
-                fused[id(rep)] = got
+                fused[id(rep)] = got[1]
                 continue
         if lane and len(block.unknowns) == 1 and len(block.equations) == 1:
             if at > retry and "numpy" not in sys.modules:
@@ -464,10 +464,11 @@ def _solve_round(system: System, structure: Structure, solve_all: bool, precisio
                         bounds[blk.unknowns[0]] = rep.quality.components[0]
                     at = nxt
                     continue
-            got = kinds.kind_of(block, system.equations) if kinds is not None else None
-            rep = _solve_kind(kinds, block, values, *got) if got is not None else None
-            if rep is not None:
-                fused[id(rep)] = got
+            got = kinds.take(block, system.equations, values, BlockReport) \
+                if kinds is not None else None
+            if got is not None:
+                rep = got[0]
+                fused[id(rep)] = got[1]
             else:
                 rep = _solve_one(system, block, values)
             if rep is not None:
@@ -518,24 +519,6 @@ def _block_kinds():
     from . import block_kinds
 
     return block_kinds if block_kinds.enabled() else None
-
-
-def _solve_kind(kinds, block, values, kind, shapes) -> BlockReport | None:
-    """`_solve_block` (`_solve_one`) of a small float block by its kind's generated code
-    (`kinds`: the block_kinds module): the same values and report; None where the
-    general path must decide (it then runs)."""
-    got = kinds.solve(kind, shapes, values)
-    if got is None:
-        return None
-    x, quality, matrix, rhs = got
-    names = block.unknowns
-    if kind.n == 1:
-        values[names[0]] = x[0]
-        return _one_report(block, matrix, rhs, x, quality)
-    for n, v in zip(names, x):
-        values[n] = v
-    return BlockReport(block.index, names, block.equations, "linear", quality.cond, 0, 0.0,
-                       matrix, rhs, quality)
 
 
 def _check_under_part(system: System, structure: Structure, values, precision: str,

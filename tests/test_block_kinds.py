@@ -42,14 +42,14 @@ def _outcome(text: str, name: str, precision: str = "float"):
 def _fused_count(monkeypatch) -> list:
     """Counts the blocks the kinds' code solved (so a test knows it ran)."""
     seen = [0]
-    solve = block_kinds.solve
+    take = block_kinds.take
 
     def spy(*a, **k):
-        got = solve(*a, **k)
+        got = take(*a, **k)
         seen[0] += got is not None
         return got
 
-    monkeypatch.setattr(block_kinds, "solve", spy)
+    monkeypatch.setattr(block_kinds, "take", spy)
     return seen
 
 
