@@ -211,6 +211,9 @@ def _solve_code(kind: Kind, layouts, report):
     s.lines.append(f"    if {' or '.join(f'{v} == 0.0' for v in coefs)}: return None")
     s.lines.append(f"    if ({' + '.join(f'({v} - {v})' for v in every)}) != 0.0: "
                    "return None")  # x - x is 0.0 for every finite x, NaN otherwise
+    if n > 1:  # floats only (block_memo keys nothing else: another number takes linalg's)
+        s.lines.append(f"    if ({''.join(f'type({v}), ' for v in every)}) != FLOATS: "
+                       "return None")
     if n == 1:  # `_solve_one`: block_memo's 1x1 solve, remembered by its two numbers
         a, b = coefs[0], rhs[0]
         s.lines += [f"    x, q = solve_one({a}, {b})", "    values[nm0] = x[0]",
@@ -228,7 +231,8 @@ def _solve_code(kind: Kind, layouts, report):
                     *(f"    values[nm{j}] = x[{j}]" for j in range(n)),
                     "    return REPORT(block.index, names, block.equations, 'linear', "
                     f"q.cond, 0, 0.0, [{', '.join(dense)}], [{', '.join(rhs)}], q)"]
-    ns = {"solve_one": solve_one, "MISS": MISS, "REPORT": report}
+    ns = {"solve_one": solve_one, "MISS": MISS, "REPORT": report,
+          "FLOATS": (float,) * len(every)}
     ns.update((f"K{r}", key) for r, key in enumerate(kind.keys))
     fn = s.function(_head("solve", n, "block, values, mats, report"), ns)
     return fn, tuple(cols)
