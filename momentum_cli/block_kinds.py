@@ -49,8 +49,8 @@ class Kind:
     def __init__(self, keys, n):
         self.keys, self.n = keys, n
         self.solve = self.bound = None  # None: this kind takes the general path
-        self.mats: dict = {}  # the coefficients' floats -> (replay, its numbers) | None
-        self.parts: dict = {}  # the slopes' floats -> (unit, |A^-1|) | None
+        self.mats: dict = {}  # the coefficients' floats -> (replay, its numbers) | False
+        self.parts: dict = {}  # the slopes' floats -> (units, |A^-1| rows) flat | False
         self.cols = ()  # the coefficients' columns, row by row, in the rows' dict order
         self.rows = ()  # the slopes' columns, row by row, in the walk's dict order
         self.next = None  # the kind of the block after one of this kind, last time
