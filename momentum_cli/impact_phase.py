@@ -69,12 +69,13 @@ def stamp(comp, t, key: str) -> None:
     contacts_info: list = []
     _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info)
     moved = comp._moved(key)
-    vels, mass, eq, span = comp._vel, comp.mass, comp.eq, t.span
-    masses = comp._mass if comp.flows is None else {}  # mass's memo (no burn: as declared)
+    tracks, mass, eq, span = comp._tracks, comp.mass, comp.eq, t.span
+    declared = comp.flows is None  # mass's memo holds the mass (no burn: as declared)
     bp, eqs, Equation = comp._by_principle, comp.equations, comp.Equation
     for b in moved:
-        v1, v2 = vels[(b, i)], vels[(b, j)]  # what vel remembered in _contacts
-        m = masses.get(b)
+        tr = tracks[b]
+        v1, v2 = tr.vel[i], tr.vel[j]  # what vel remembered in _contacts
+        m = tr.mass if declared else None
         if m is None:
             m = mass(b, i)
         Js = lin[b]
@@ -234,11 +235,13 @@ def _replay(comp, t, key: str) -> None:
         sources.append(ImpulseSource((a, pb.body if pb is not None else None), where,
                                      c.normal, False, f"contact {label}"))
     mass = comp.mass
-    masses = comp._mass if comp.flows is None else {}  # mass's memo (no burn: as declared)
-    vels = comp._vel  # what vel remembered just now
-    for b in moved:
-        v1, v2 = vels[(b, i)], vels[(b, j)]
-        m = masses.get(b)
+    declared = comp.flows is None  # mass's memo holds the mass (no burn: as declared)
+    tracks = comp._tracks
+    trs = [tracks[b] for b in moved]  # each body's record: what vel remembered just now
+    for b, tr in zip(moved, trs):
+        vels = tr.vel
+        v1, v2 = vels[i], vels[j]
+        m = tr.mass if declared else None
         leaves += (mass(b, i) if m is None else m, v1.x, v1.y, v2.x, v2.y)
     plain = True
     for x in leaves:
@@ -248,7 +251,7 @@ def _replay(comp, t, key: str) -> None:
     named = plain  # the rows are m*(v2 - v1) of these leaves, unfolded
     # the kinetic energies: the sums and each body's term already made are leaves
     names = tuple(moved)
-    Ts, Tbs = comp._T, comp._Tb
+    Ts = comp._T
     memo = []
     for sid in (i, j):
         hit = Ts.get((sid, names))
@@ -257,8 +260,8 @@ def _replay(comp, t, key: str) -> None:
             leaves.append(hit)
             continue
         memo.append(False)
-        for b in moved:
-            hit = Tbs.get((b, sid))
+        for tr in trs:
+            hit = tr.T.get(sid)
             if hit is None:
                 memo.append(False)
             else:
@@ -310,10 +313,10 @@ def _replay(comp, t, key: str) -> None:
     made = len(unknowns) - made if named and FRESH else 0
     fresh = None  # their names, when a principle repeats
     Fresh = comp.Fresh
-    for b in moved:
+    for b, tr in zip(moved, trs):
         lx, rx, ly, ry = out[pos:pos + 4]
         pos += 4
-        v2 = vels[(b, j)]
+        v2 = tr.vel[j]
         for lhs, rhs, p, x in ((lx, rx, f"linear impulse-momentum x: {b}", v2.x),
                                (ly, ry, f"linear impulse-momentum y: {b}", v2.y)):
             if bp is not None and "|" not in p:
@@ -351,9 +354,9 @@ def _replay(comp, t, key: str) -> None:
             energy.append(out[pos])
             pos += 1
             continue
-        for b in moved:
+        for tr in trs:
             if not next(flags):
-                Tbs[(b, sid)] = (out[pos],)
+                tr.T[sid] = (out[pos],)
             pos += 1
         energy.append(Ts.setdefault((sid, names), out[pos]))
         pos += 1

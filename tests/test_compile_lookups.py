@@ -85,8 +85,9 @@ def test_chain_breaks_equal_sorted_lists(name, text):
     if chains is None:
         return
     ref = _reference_breaks(comp.scene.states, comp._into, comp._busy, chains.where)
-    assert chains.breaks == ref
-    assert all(type(v) is tuple for v in chains.breaks.values())
+    got = {(b, q, c): pts for b, tr in chains.tracks.items() for (q, c), pts in tr.breaks.items()}
+    assert got == ref
+    assert all(type(v) is tuple for v in got.values())
 
 
 def _lines(text: str, name: str) -> list[str]:
@@ -123,5 +124,5 @@ def test_a_body_in_many_impacts_keeps_its_breaks_sorted():
 
     comp = _Compiler(_scene(_bouncing(20, True, True), "b"), {})
     comp._positions()
-    pts = comp._chains.breaks[("a", "vx", 0)]
+    pts = comp._chains.tracks["a"].breaks[("vx", 0)]
     assert pts == tuple(sorted(pts)) and len(pts) == 21 + 1  # given at 1 and 21, busy 2..21
