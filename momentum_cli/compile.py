@@ -449,15 +449,59 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _on_chain_v(self, body: str, sid: str, w) -> V2:
         """_on_chain of vx, then of vy, in one call (the commonest miss of vel: a body's
-        velocity at a state asked for the first time), its lookups made once; the
-        commonest head (an unknown no state hints, met for the first time) made inline."""
+        velocity at a state asked for the first time). When vx and vy break at the same
+        states (a body moved by impacts, its velocity given whole), one search finds
+        both heads, and the commonest heads (both already made; both given there; both
+        unknowns of a scene without hints, met for the first time) are made inline;
+        anything else goes component by component (_on_chain_q)."""
         c, p = w
         chain = self._chains.chains[c]
         tr = self._tracks[body]
         breaks = tr.breaks
         svs = tr.sv
+        pts = breaks.get(("vx", c))
+        if pts == breaks.get(("vy", c)):
+            if pts is None:
+                k = -1
+                start = chain[0]
+            else:
+                k = bisect_right(pts, p) - 1
+                start = chain[pts[k]] if k >= 0 else chain[0]
+            ax, ay = ("vx", start), ("vy", start)
+            x, y = svs.get(ax), svs.get(ay)
+            if x is not None and y is not None:
+                return V2(x, y)
+            if x is None and y is None:
+                states = self.scene.states
+                givens = states[start].givens
+                bx, by = (body, "vx"), (body, "vy")
+                gx, gy = givens.get(bx), givens.get(by)
+                later = False  # a later state may give what start does not
+                if (gx is None or gy is None) and pts is not None and k + 1 < len(pts):
+                    nxt = states[chain[pts[k + 1]]].givens
+                    later = bx in nxt or by in nxt
+                if not later:
+                    if gx is not None and gy is not None:  # _key_value of given ones
+                        x = svs[ax] = Known(_state_name(body, "vx", start), gx[0])
+                        y = svs[ay] = Known(_state_name(body, "vy", start), gy[0])
+                        return V2(x, y)
+                    if gx is None and gy is None and self._hints is False:
+                        return V2(self._new_unknown(body, "vx", start, svs, ax),
+                                  self._new_unknown(body, "vy", start, svs, ay))
         x = self._on_chain_q(body, "vx", c, p, chain, breaks.get(("vx", c)), svs)
         return V2(x, self._on_chain_q(body, "vy", c, p, chain, breaks.get(("vy", c)), svs))
+
+    def _new_unknown(self, body: str, qty: str, sid: str, svs: dict, at: tuple) -> Var:
+        """_key_value for an unknown of a scene without hints, remembered in the body's sv
+        memo at `at`: its Unknown made if new, and a Var of it."""
+        name = _state_name(body, qty, sid)
+        unknowns = self.unknowns
+        if name not in unknowns:
+            dim, unit = STATE_QTYS[qty]
+            unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
+        hit = svs[at] = _new(Var)
+        hit.name = name
+        return hit
 
     def _on_chain_q(self, body: str, qty: str, c, p, chain, pts, svs) -> E:
         """A velocity component's node at chain position p (see _on_chain_v)."""
@@ -488,16 +532,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if given is not None or self._hints is not False:
             hit = svs[at] = self._key_value((body, qty, at[1]), body, qty, given)
             return hit
-        # _key_value for an unknown of a scene without hints, inline
-        sid = at[1]
-        name = _state_name(body, qty, sid)
-        unknowns = self.unknowns
-        if name not in unknowns:
-            dim, unit = STATE_QTYS[qty]
-            unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
-        hit = svs[at] = _new(Var)
-        hit.name = name
-        return hit
+        return self._new_unknown(body, qty, at[1], svs, at)
 
     def pos(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "x", sid), self.sv(body, "y", sid))
