@@ -250,7 +250,6 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._order: dict[str, int] | None = None  # body -> its index in the scene
         # each body's record: its chain breaks, sv's and vel's answers, terms of T, mass
         self._tracks: dict[str, Track] = tracks_of(scene.bodies)
-        self._at_key: dict[tuple[str, str, str], E] = {}  # the node of each resolved key
         self._T: dict[tuple, E] = {}  # _kinetic's answers, by state and bodies in order
         self._hints: bool | None = None  # whether any state has hints (_key_value)
         self._next: dict[str, list[str]] | None = None  # for holds_at
@@ -371,9 +370,12 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         if key is None:
             key = self._find((body, qty, sid))
             given = self._given(key)
-        hit = self._at_key.get(key)  # states that share the variable share its node
+        # states that share the variable share its node, the head's in the body's memo
+        svs = self._tracks[body].sv
+        at = (qty, key[2])
+        hit = svs.get(at)
         if hit is None:
-            hit = self._at_key[key] = self._key_value(key, body, qty, given)
+            hit = svs[at] = self._key_value(key, body, qty, given)
         return hit
 
     def _key_value(self, key: tuple, body: str, qty: str, given) -> E:
