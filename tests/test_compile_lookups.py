@@ -18,11 +18,14 @@ from test_hard import cradle_text
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _bouncing(n: int, reverse: bool, late_given: bool) -> str:
+def _bouncing(n: int, reverse: bool, late_given) -> str:
     """Two balls struck n times in a row (each ball in every impact), states written in
-    file order or reversed, the last state's velocity of `a` given or not."""
+    file order or reversed, the last state's velocity of `a` given or not (or only its
+    x component: vx and vy then break at different states)."""
     states = [f'state {k}' for k in range(2, n + 2)]
-    if late_given:
+    if late_given == "vx":
+        states[-1] += ": a.vx = 0.1 m/s"
+    elif late_given:
         states[-1] += ": a.v = (0.1 m/s, 0)"
     if reverse:
         states.reverse()
@@ -41,7 +44,7 @@ def _texts():
     out += [("chain", chain_text(60)), ("cradle", cradle_text(40, "sequence")),
             ("cradle together", cradle_text(12, "simultaneous"))]
     out += [(f"bouncing {n} {r} {g}", _bouncing(n, r, g))
-            for n in (3, 9, 20) for r in (False, True) for g in (False, True)]
+            for n in (3, 9, 20) for r in (False, True) for g in (False, True, "vx")]
     return out
 
 
@@ -126,3 +129,42 @@ def test_a_body_in_many_impacts_keeps_its_breaks_sorted():
     comp._positions()
     pts = comp._chains.tracks["a"].breaks[("vx", 0)]
     assert pts == tuple(sorted(pts)) and len(pts) == 21 + 1  # given at 1 and 21, busy 2..21
+
+
+_BRANCHES = '''problem "one ball struck two ways"
+body a: particle(mass = 1 kg)
+body b: particle(mass = 2 kg)
+body c: particle(mass = 1 kg)
+state 1: a.v = (1 m/s, 0), b at rest, c at rest
+state 2
+state 3
+impact 1 -> 2:
+    contact ab: b with a normal (1, 0): restitution 1, smooth
+impact 1 -> 3:
+    contact ac: c with a normal (1, 0): restitution 1, smooth
+find a.vx@2, b.vx@2, c.vx@2, a.vx@3, b.vx@3, c.vx@3
+'''
+
+
+def test_states_that_branch_share_the_nodes_of_what_they_keep():
+    """Two transitions out of one state: no chains, so the walk finds each quantity's
+    state (its node kept in the body's record). A body an impact does not touch keeps
+    the node of the state before; the answers are the elastic closed forms."""
+    from helpers import answers
+
+    from momentum_cli.compile import _Compiler
+
+    comp = _Compiler(_scene(_BRANCHES, "branches"), {})
+    system = comp.run()
+    assert comp._chains is None
+    for body, sid in (("c", "2"), ("b", "3")):
+        for q in ("vx", "vy"):
+            assert comp.sv(body, q, sid) is comp.sv(body, q, "1")
+            assert f"{body}.{q}@{sid}" not in system.unknowns
+    assert comp.vel("a", "2") is comp.vel("a", "2")
+    got = answers(_BRANCHES)
+    # elastic: v_a' = (m_a - m) / (m_a + m) v, v' = 2 m_a / (m_a + m) v
+    want = {"a.vx@2": -1 / 3, "b.vx@2": 2 / 3, "c.vx@2": 0.0,
+            "a.vx@3": 0.0, "b.vx@3": 0.0, "c.vx@3": 1.0}
+    for k, v in want.items():
+        assert abs(got[k] - v) < 1e-12, k
