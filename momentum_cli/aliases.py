@@ -64,7 +64,10 @@ class StateChains:
         for sid, st in states.items():
             c, p = where[sid]
             for (b, q) in st.givens:
-                _add(_track(tracks, b).breaks, late, (q, c), p)
+                tr = _track(tracks, b)
+                _add(tr.breaks, late, (q, c), p)
+                if p and (q == "vx" or q == "vy"):
+                    tr.late = True
         for sid, ts in into.items():
             c, p = where[sid]
             for b in busy[ts[0].key]:

@@ -441,6 +441,26 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             hit = vels[sid] = self.vel_miss(body, sid)
         return hit
 
+    def moved_vel(self, body: str, sid: str) -> V2:
+        """vel at the state after a transition that moves the body (the transition being
+        compiled: the body's velocity breaks there). On the chains, with no velocity of
+        it given past its chain's first state and no hints, that is two new unknowns at
+        sid: made without searching the chain."""
+        tr = self._tracks[body]
+        vels = tr.vel
+        hit = vels.get(sid)
+        if hit is not None:
+            return hit
+        if tr.late or self._chains is None or self._hints is not False:
+            return self.vel(body, sid)
+        svs = tr.sv
+        ax, ay = ("vx", sid), ("vy", sid)
+        if ax in svs or ay in svs:
+            return self.vel(body, sid)
+        hit = vels[sid] = V2(self._new_unknown(body, "vx", sid, svs, ax),
+                             self._new_unknown(body, "vy", sid, svs, ay))
+        return hit
+
     def vel_miss(self, body: str, sid: str) -> V2:
         """vel for a velocity not asked for before (not remembered: the caller does)."""
         chains = self._chains

@@ -123,7 +123,7 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
     """impact_contacts.stamp for each contact of t, its calls inlined (an impact of
     10^4 contacts: a chain), each contact's trees replayed from its kind's template."""
     bodies = comp.scene.bodies
-    vel, unknowns = comp.vel, comp.unknowns
+    vel, after, unknowns = comp.vel, comp.moved_vel, comp.unknowns
     Unknown, Applied, Equation = comp.Unknown, comp.Applied, comp.Equation
     bp = comp._by_principle
     eqs = comp.equations
@@ -147,11 +147,11 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
         # (in this order: the columns')
         if pb is not None:
             b = pb.body
-            va1, vb1, va2, vb2 = vel(a, i), vel(b, i), vel(a, j), vel(b, j)
+            va1, vb1, va2, vb2 = vel(a, i), vel(b, i), after(a, j), after(b, j)
             leaves = (Jn, va1.x, va1.y, vb1.x, vb1.y, va2.x, va2.y, vb2.x, vb2.y, E_)
         else:
             b = None
-            va1, va2 = vel(a, i), vel(a, j)
+            va1, va2 = vel(a, i), after(a, j)
             leaves = (Jn, va1.x, va1.y, va2.x, va2.y, E_)
         ck = (n0, copysign(1.0, n0), n1, copysign(1.0, n1), e, copysign(1.0, e), b is not None)
         f = kinds.get(ck)
@@ -199,7 +199,7 @@ def _replay(comp, t, key: str) -> None:
     moved = comp._moved(key)
     index = {b: k for k, b in enumerate(moved)}
     unknowns, Unknown = comp.unknowns, comp.Unknown
-    vel = comp.vel
+    vel, after = comp.vel, comp.moved_vel
     leaves: list = []
     shape: list = []
     sources: list = []
@@ -218,12 +218,14 @@ def _replay(comp, t, key: str) -> None:
         body_a = bodies[a]
         if pb is not None:  # the state unknowns in the order the element makes them
             b = pb.body
-            for x, sid in ((a, i), (b, i), (a, j), (b, j)):  # made if new, in this order
-                vel(x, sid)
+            vel(a, i)  # made if new, in this order
+            vel(b, i)
+            after(a, j)
+            after(b, j)
             rb = bodies[b].radius if pb.round_contact and bodies[b].radius else None
         else:
             vel(a, i)
-            vel(a, j)
+            after(a, j)
             rb = None
         e = c.restitution
         leaves += (Jn, Known(parameter_key(_E, label), e))

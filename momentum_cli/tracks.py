@@ -22,9 +22,11 @@ class Track:
     vel:    state -> the velocity V2 at that state (vel's memo).
     T:      state -> the body's terms of kinetic energy there (shared by every sum of T).
     mass:   the Known of its declared mass, once made (None before).
+    late:   whether a state after the first of its chain gives its vx or vy (else, on the
+            chains, its velocity after a transition that moves it is new unknowns there).
     """
 
-    __slots__ = ("breaks", "sv", "vel", "T", "mass")
+    __slots__ = ("breaks", "sv", "vel", "T", "mass", "late")
 
     def __init__(self) -> None:
         self.breaks: dict = {}
@@ -32,6 +34,7 @@ class Track:
         self.vel: dict = {}
         self.T: dict = {}
         self.mass = None
+        self.late = False
 
 
 def tracks_of(bodies) -> dict:
