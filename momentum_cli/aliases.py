@@ -12,9 +12,7 @@ from __future__ import annotations
 
 from bisect import bisect_right
 
-from .tracks import Track
-
-VELOCITIES = ("vx", "vy", "omega")
+from .tracks import VELOCITIES, Track  # noqa: F401 (VELOCITIES: the tests' reference)
 
 
 class StateChains:
@@ -71,8 +69,9 @@ class StateChains:
         for sid, ts in into.items():
             c, p = where[sid]
             for b in busy[ts[0].key]:
-                breaks = _track(tracks, b).breaks
-                for q in VELOCITIES:
+                tr = _track(tracks, b)
+                breaks = tr.breaks
+                for q in tr.moves:
                     _add(breaks, late, (q, c), p)
         for (_, k), breaks in late.items():
             breaks[k] = tuple(sorted(breaks[k]))

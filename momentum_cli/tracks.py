@@ -10,6 +10,9 @@ the record's own small dicts are hot while the impacts that move the body are co
 """
 from __future__ import annotations
 
+VELOCITIES = ("vx", "vy", "omega")
+_LINEAR = ("vx", "vy")  # a particle's omega is 0, never a state quantity of its own
+
 
 class Track:
     """A body's records for compile (the same nodes as before, found in fewer lookups).
@@ -24,11 +27,14 @@ class Track:
     mass:   the Known of its declared mass, once made (None before).
     late:   whether a state after the first of its chain gives its vx or vy (else, on the
             chains, its velocity after a transition that moves it is new unknowns there).
+    moves:  the quantities that break where a transition moves the body (a particle's
+            omega is always 0: no positions kept for it).
     """
 
-    __slots__ = ("breaks", "sv", "vel", "T", "mass", "late")
+    __slots__ = ("breaks", "sv", "vel", "T", "mass", "late", "moves")
 
-    def __init__(self) -> None:
+    def __init__(self, moves: tuple = VELOCITIES) -> None:
+        self.moves = moves
         self.breaks: dict = {}
         self.sv: dict = {}
         self.vel: dict = {}
@@ -37,6 +43,6 @@ class Track:
         self.late = False
 
 
-def tracks_of(bodies) -> dict:
-    """A new record for each body name."""
-    return {b: Track() for b in bodies}
+def tracks_of(bodies: dict) -> dict:
+    """A new record for each body (name -> scene.Body)."""
+    return {name: Track(_LINEAR if b.is_particle else VELOCITIES) for name, b in bodies.items()}
