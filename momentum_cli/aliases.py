@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from bisect import bisect_right
 
-VELOCITIES = ("vx", "vy", "omega")
+from .tracks import VELOCITIES, Track  # noqa: F401 (VELOCITIES: the tests' reference)
 
 
 class StateChains:
@@ -21,16 +21,18 @@ class StateChains:
     the transition into it. Velocities break where the body is busy; positions only
     where given (an impact keeps them; an interval keeps its start configuration)."""
 
-    def __init__(self, where: dict, chains: list, into: dict, breaks: dict):
+    def __init__(self, where: dict, chains: list, into: dict, tracks: dict):
         self.where = where  # state -> (chain index, position)
         self.chains = chains  # chain index -> [state, ...] in order
         self.into = into  # state -> the one transition into it
-        self.breaks = breaks  # (body, qty, chain) -> sorted positions
+        self.tracks = tracks  # body -> tracks.Track: its breaks, (qty, chain) -> positions
 
     @classmethod
-    def build(cls, states, into: dict, out: dict, busy: dict) -> "StateChains | None":
+    def build(cls, states, into: dict, out: dict, busy: dict,
+              tracks: dict) -> "StateChains | None":
         """None unless every state has at most one transition in and one out, and
-        the transitions form no cycle."""
+        the transitions form no cycle. The break positions go into each body's record
+        in `tracks` (a body missing there gets one)."""
         if any(len(ts) > 1 for ts in into.values()) or any(len(ts) > 1 for ts in out.values()):
             return None
         where: dict = {}
@@ -55,20 +57,25 @@ class StateChains:
                 return None
         # positions as sorted tuples (half a one-item list's size: a big scene has ~3 a
         # body); only those that came out of order or grew long are sorted at the end
-        breaks: dict = {}
-        late: set = set()  # keys whose positions came out of order or grew long (lists)
+        late: dict = {}  # (id of a body's breaks, key) -> those breaks: positions that came
+        # out of order or grew long
         for sid, st in states.items():
             c, p = where[sid]
             for (b, q) in st.givens:
-                _add(breaks, late, (b, q, c), p)
+                tr = _track(tracks, b)
+                _add(tr.breaks, late, (q, c), p)
+                if p and (q == "vx" or q == "vy"):
+                    tr.late = True
         for sid, ts in into.items():
             c, p = where[sid]
             for b in busy[ts[0].key]:
-                for q in VELOCITIES:
-                    _add(breaks, late, (b, q, c), p)
-        for k in late:
+                tr = _track(tracks, b)
+                breaks = tr.breaks
+                for q in tr.moves:
+                    _add(breaks, late, (q, c), p)
+        for (_, k), breaks in late.items():
             breaks[k] = tuple(sorted(breaks[k]))
-        return cls(where, chains, {s: ts[0] for s, ts in into.items()}, breaks)
+        return cls(where, chains, {s: ts[0] for s, ts in into.items()}, tracks)
 
     def head(self, body: str, qty: str, sid: str, given, linked):
         """The state (body, qty, sid) shares its variable with: the last break at or before
@@ -81,7 +88,8 @@ class StateChains:
             return None
         c, p = w
         chain = self.chains[c]
-        pts = self.breaks.get((body, qty, c), ())
+        tr = self.tracks.get(body)
+        pts = () if tr is None else tr.breaks.get((qty, c), ())
         k = bisect_right(pts, p) - 1
         start = pts[k] if k >= 0 else 0
         key = (body, qty, chain[start])
@@ -103,7 +111,8 @@ class StateChains:
         c, p = w
         chain = self.chains[c]
         bq = (body, qty)
-        pts = self.breaks.get((body, qty, c))
+        tr = self.tracks.get(body)
+        pts = None if tr is None else tr.breaks.get((qty, c))
         if pts is None:
             start = chain[0]
             return (body, qty, start), states[start].givens.get(bq)
@@ -120,20 +129,28 @@ class StateChains:
         return (body, qty, start), None
 
 
-def _add(breaks: dict, late: set, k, p) -> None:
-    """Add position p to key k's positions (StateChains.build): a first one as a tuple
-    of one, a short tuple grows by a copy, a long one becomes a list (a body in many
-    transitions: no quadratic copies); a key out of order or made a list is in `late`,
-    sorted into a tuple at the end."""
+def _track(tracks: dict, body: str):
+    """The body's record in `tracks`, made if it has none (a name no body has)."""
+    tr = tracks.get(body)
+    if tr is None:
+        tr = tracks[body] = Track()
+    return tr
+
+
+def _add(breaks: dict, late: dict, k, p) -> None:
+    """Add position p to key k's positions in a body's `breaks` (StateChains.build): a
+    first one as a tuple of one, a short tuple grows by a copy, a long one becomes a list
+    (a body in many transitions: no quadratic copies); a key out of order or made a list
+    is in `late` (with its dict), sorted into a tuple at the end."""
     v = breaks.get(k)
     if v is None:
         breaks[k] = (p,)
     elif type(v) is list:
         v.append(p)
     elif len(v) >= 8:
-        late.add(k)
+        late[(id(breaks), k)] = breaks
         breaks[k] = [*v, p]
     else:
         if p < v[-1]:
-            late.add(k)
+            late[(id(breaks), k)] = breaks
         breaks[k] = v + (p,)

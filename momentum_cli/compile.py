@@ -57,6 +57,7 @@ from .scene import (
 )
 from .source import Span
 from .system_laws import system_laws
+from .tracks import Track, tracks_of
 from .units import (
     TIME,
     Dim,
@@ -247,12 +248,9 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         self._reach: dict[str, set] | None = None
         self._chains = None  # aliases.StateChains, when the states form simple chains
         self._order: dict[str, int] | None = None  # body -> its index in the scene
-        self._sv: dict[tuple[str, str, str], E] = {}  # sv's answers
-        self._at_key: dict[tuple[str, str, str], E] = {}  # the node of each resolved key
+        # each body's record: its chain breaks, sv's and vel's answers, terms of T, mass
+        self._tracks: dict[str, Track] = tracks_of(scene.bodies)
         self._T: dict[tuple, E] = {}  # _kinetic's answers, by state and bodies in order
-        self._Tb: dict[tuple, tuple] = {}  # each body's terms of T, by body and state
-        self._vel: dict[tuple[str, str], V2] = {}  # vel's answers (made of sv's: as fixed)
-        self._mass: dict[str, E] = {}  # each body's declared mass, one Known
         self._hints: bool | None = None  # whether any state has hints (_key_value)
         self._next: dict[str, list[str]] | None = None  # for holds_at
         self._prev: dict[str, str] | None = None  # for mass
@@ -345,9 +343,10 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def sv(self, body: str, qty: str, sid: str) -> E:
         """A body's state quantity: a Known if given, else an unknown `rod.omega@3`
         (made once per body, quantity and state: the elements ask for it many times)."""
-        hit = self._sv.get((body, qty, sid))
+        svs = self._tracks[body].sv
+        hit = svs.get((qty, sid))
         if hit is None:
-            hit = self._sv[(body, qty, sid)] = self._state_value(body, qty, sid)
+            hit = svs[(qty, sid)] = self._state_value(body, qty, sid)
         return hit
 
     def _state_value(self, body: str, qty: str, sid: str) -> E:
@@ -363,17 +362,20 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             if key is not None:
                 if key[2] == sid:
                     return self._key_value(key, body, qty, given)
-                svs = self._sv
-                hit = svs.get(key)
+                svs = self._tracks[body].sv
+                hit = svs.get((qty, key[2]))
                 if hit is None:
-                    hit = svs[key] = self._key_value(key, body, qty, given)
+                    hit = svs[(qty, key[2])] = self._key_value(key, body, qty, given)
                 return hit
         if key is None:
             key = self._find((body, qty, sid))
             given = self._given(key)
-        hit = self._at_key.get(key)  # states that share the variable share its node
+        # states that share the variable share its node, the head's in the body's memo
+        svs = self._tracks[body].sv
+        at = (qty, key[2])
+        hit = svs.get(at)
         if hit is None:
-            hit = self._at_key[key] = self._key_value(key, body, qty, given)
+            hit = svs[at] = self._key_value(key, body, qty, given)
         return hit
 
     def _key_value(self, key: tuple, body: str, qty: str, given) -> E:
@@ -402,14 +404,15 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
     def mass(self, body: str, sid: str) -> E:
         """A body's mass at a state: as declared, or what the last burn before it left."""
         if self.flows is None:
-            m = self._mass.get(body)
+            m = self._tracks[body].mass
             if m is not None:
                 return m
         b = self.scene.bodies[body]
         if self.flows is None or not self.flows.masses:
-            m = self._mass.get(body)
+            tr = self._tracks[body]
+            m = tr.mass
             if m is None:
-                m = self._mass[body] = Known(f"m_{body}", b.mass)
+                m = tr.mass = Known(f"m_{body}", b.mass)
             return m
         seen = {sid}
         cur = sid
@@ -432,26 +435,34 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         return self._prev
 
     def vel(self, body: str, sid: str) -> V2:
-        hit = self._vel.get((body, sid))
+        vels = self._tracks[body].vel
+        hit = vels.get(sid)
         if hit is None:
-            return self.vel_miss(body, sid)
+            hit = vels[sid] = self.vel_miss(body, sid)
+        return hit
+
+    def moved_vel(self, body: str, sid: str) -> V2:
+        """vel at the state after a transition that moves the body (the transition being
+        compiled: the body's velocity breaks there). On the chains, with no velocity of
+        it given past its chain's first state and no hints, that is two new unknowns at
+        sid: made without searching the chain."""
+        tr = self._tracks[body]
+        vels = tr.vel
+        hit = vels.get(sid)
+        if hit is not None:
+            return hit
+        if tr.late or self._chains is None or self._hints is not False:
+            return self.vel(body, sid)
+        svs = tr.sv
+        ax, ay = ("vx", sid), ("vy", sid)
+        if ax in svs or ay in svs:
+            return self.vel(body, sid)
+        hit = vels[sid] = V2(self._new_unknown(body, "vx", sid, svs, ax),
+                             self._new_unknown(body, "vy", sid, svs, ay))
         return hit
 
     def vel_miss(self, body: str, sid: str) -> V2:
-        """vel for a velocity not asked for before (callers that read vel's memo
-        themselves: one lookup of the big memo, not two)."""
-        chains = self._chains
-        w = chains.where.get(sid) if chains is not None else None
-        if w is None:
-            hit = V2(self.sv(body, "vx", sid), self.sv(body, "vy", sid))
-        else:
-            hit = self._on_chain_v(body, sid, w)
-        self._vel[(body, sid)] = hit
-        return hit
-
-    def _new_vel(self, body: str, sid: str) -> V2:
-        """vel on a miss: sv of vx, then of vy, with what _state_value and the chains'
-        head_given do for a velocity written out once for both (the commonest miss)."""
+        """vel for a velocity not asked for before (not remembered: the caller does)."""
         chains = self._chains
         w = chains.where.get(sid) if chains is not None else None
         if w is None:
@@ -460,16 +471,59 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _on_chain_v(self, body: str, sid: str, w) -> V2:
         """_on_chain of vx, then of vy, in one call (the commonest miss of vel: a body's
-        velocity at a state asked for the first time), its lookups made once; the
-        commonest head (an unknown no state hints, met for the first time) made inline."""
-        chains = self._chains
+        velocity at a state asked for the first time). When vx and vy break at the same
+        states (a body moved by impacts, its velocity given whole), one search finds
+        both heads, and the commonest heads (both already made; both given there; both
+        unknowns of a scene without hints, met for the first time) are made inline;
+        anything else goes component by component (_on_chain_q)."""
         c, p = w
-        chain = chains.chains[c]
-        breaks = chains.breaks
-        svs = self._sv
-        x = self._on_chain_q(body, "vx", c, p, chain, breaks.get((body, "vx", c)), svs)
-        return V2(x, self._on_chain_q(body, "vy", c, p, chain, breaks.get((body, "vy", c)),
-                                      svs))
+        chain = self._chains.chains[c]
+        tr = self._tracks[body]
+        breaks = tr.breaks
+        svs = tr.sv
+        pts = breaks.get(("vx", c))
+        if pts == breaks.get(("vy", c)):
+            if pts is None:
+                k = -1
+                start = chain[0]
+            else:
+                k = bisect_right(pts, p) - 1
+                start = chain[pts[k]] if k >= 0 else chain[0]
+            ax, ay = ("vx", start), ("vy", start)
+            x, y = svs.get(ax), svs.get(ay)
+            if x is not None and y is not None:
+                return V2(x, y)
+            if x is None and y is None:
+                states = self.scene.states
+                givens = states[start].givens
+                bx, by = (body, "vx"), (body, "vy")
+                gx, gy = givens.get(bx), givens.get(by)
+                later = False  # a later state may give what start does not
+                if (gx is None or gy is None) and pts is not None and k + 1 < len(pts):
+                    nxt = states[chain[pts[k + 1]]].givens
+                    later = bx in nxt or by in nxt
+                if not later:
+                    if gx is not None and gy is not None:  # _key_value of given ones
+                        x = svs[ax] = Known(_state_name(body, "vx", start), gx[0])
+                        y = svs[ay] = Known(_state_name(body, "vy", start), gy[0])
+                        return V2(x, y)
+                    if gx is None and gy is None and self._hints is False:
+                        return V2(self._new_unknown(body, "vx", start, svs, ax),
+                                  self._new_unknown(body, "vy", start, svs, ay))
+        x = self._on_chain_q(body, "vx", c, p, chain, breaks.get(("vx", c)), svs)
+        return V2(x, self._on_chain_q(body, "vy", c, p, chain, breaks.get(("vy", c)), svs))
+
+    def _new_unknown(self, body: str, qty: str, sid: str, svs: dict, at: tuple) -> Var:
+        """_key_value for an unknown of a scene without hints, remembered in the body's sv
+        memo at `at`: its Unknown made if new, and a Var of it."""
+        name = _state_name(body, qty, sid)
+        unknowns = self.unknowns
+        if name not in unknowns:
+            dim, unit = STATE_QTYS[qty]
+            unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
+        hit = svs[at] = _new(Var)
+        hit.name = name
+        return hit
 
     def _on_chain_q(self, body: str, qty: str, c, p, chain, pts, svs) -> E:
         """A velocity component's node at chain position p (see _on_chain_v)."""
@@ -482,8 +536,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         # sv's memo holds the node of each head (made once, found again through it;
         # sv may have made it): no break lies between start and sid, so sid's node is
         # start's; vel's memo, the velocity at sid
-        key = (body, qty, start)
-        hit = svs.get(key)
+        at = (qty, start)  # the head's key in the body's sv memo
+        hit = svs.get(at)
         if hit is not None:
             return hit
         states = self.scene.states
@@ -493,23 +547,14 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             nxt = chain[pts[k + 1]]  # a later state may give it (the end velocity)
             g = states[nxt].givens.get(bq)
             if g is not None and self._linked(body, qty, self._chains.into[nxt]):
-                key, given = (body, qty, nxt), g
-                hit = svs.get(key)
+                at, given = (qty, nxt), g
+                hit = svs.get(at)
                 if hit is not None:
                     return hit
         if given is not None or self._hints is not False:
-            hit = svs[key] = self._key_value(key, body, qty, given)
+            hit = svs[at] = self._key_value((body, qty, at[1]), body, qty, given)
             return hit
-        # _key_value for an unknown of a scene without hints, inline
-        sid = key[2]
-        name = _state_name(body, qty, sid)
-        unknowns = self.unknowns
-        if name not in unknowns:
-            dim, unit = STATE_QTYS[qty]
-            unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
-        hit = svs[key] = _new(Var)
-        hit.name = name
-        return hit
+        return self._new_unknown(body, qty, at[1], svs, at)
 
     def pos(self, body: str, sid: str) -> V2:
         return V2(self.sv(body, "x", sid), self.sv(body, "y", sid))
@@ -653,7 +698,8 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
             self._busy[t.key] = self._busy_bodies(t)
             self._into.setdefault(t.after, []).append(t)
             self._out.setdefault(t.before, []).append(t)
-        self._chains = StateChains.build(sc.states, self._into, self._out, self._busy)
+        self._chains = StateChains.build(sc.states, self._into, self._out, self._busy,
+                                         self._tracks)
         states = sc.states
         for sid, st in states.items():
             outs = self._out.get(sid)
@@ -898,26 +944,26 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _kinetic_of(self, sid: str, names) -> E:
         terms = []
-        memo = self._Tb
+        tracks = self._tracks
         bodies = self.scene.bodies
-        vmemo = self._vel.get
-        masses = self._mass if self.flows is None else None
+        declared = self.flows is None  # a mass remembered is the declared one
         for b in names:
-            hit = memo.get((b, sid))
+            tr = tracks[b]
+            hit = tr.T.get(sid)
             if hit is None:
-                m = None if masses is None else masses.get(b)
+                m = tr.mass if declared else None
                 if m is not None and bodies[b].is_particle:
                     # _body_kinetic of a particle with its declared mass, inline
-                    v = vmemo((b, sid))
+                    v = tr.vel.get(sid)
                     if v is None:
-                        v = self.vel_miss(b, sid)
+                        v = tr.vel[sid] = self.vel_miss(b, sid)
                     vx, vy = v.x, v.y
                     if type(vx) in _NAMED and type(vy) in _NAMED and type(m) in _NAMED:
                         hit = (_half_mv2(m, vx, vy),)
-                        memo[(b, sid)] = hit
+                        tr.T[sid] = hit
                         terms.append(hit[0])
                         continue
-                hit = memo[(b, sid)] = self._body_kinetic(b, sid)
+                hit = tr.T[sid] = self._body_kinetic(b, sid)
             terms.extend(hit)
         return add_all(terms)
 

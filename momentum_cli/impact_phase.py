@@ -69,12 +69,13 @@ def stamp(comp, t, key: str) -> None:
     contacts_info: list = []
     _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info)
     moved = comp._moved(key)
-    vels, mass, eq, span = comp._vel, comp.mass, comp.eq, t.span
-    masses = comp._mass if comp.flows is None else {}  # mass's memo (no burn: as declared)
+    tracks, mass, eq, span = comp._tracks, comp.mass, comp.eq, t.span
+    declared = comp.flows is None  # mass's memo holds the mass (no burn: as declared)
     bp, eqs, Equation = comp._by_principle, comp.equations, comp.Equation
     for b in moved:
-        v1, v2 = vels[(b, i)], vels[(b, j)]  # what vel remembered in _contacts
-        m = masses.get(b)
+        tr = tracks[b]
+        v1, v2 = tr.vel[i], tr.vel[j]  # what vel remembered in _contacts
+        m = tr.mass if declared else None
         if m is None:
             m = mass(b, i)
         Js = lin[b]
@@ -122,7 +123,7 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
     """impact_contacts.stamp for each contact of t, its calls inlined (an impact of
     10^4 contacts: a chain), each contact's trees replayed from its kind's template."""
     bodies = comp.scene.bodies
-    vel, unknowns = comp.vel, comp.unknowns
+    vel, after, unknowns = comp.vel, comp.moved_vel, comp.unknowns
     Unknown, Applied, Equation = comp.Unknown, comp.Applied, comp.Equation
     bp = comp._by_principle
     eqs = comp.equations
@@ -146,11 +147,11 @@ def _contacts(comp, t, key, i, j, group, lin, applied, sources, contacts_info) -
         # (in this order: the columns')
         if pb is not None:
             b = pb.body
-            va1, vb1, va2, vb2 = vel(a, i), vel(b, i), vel(a, j), vel(b, j)
+            va1, vb1, va2, vb2 = vel(a, i), vel(b, i), after(a, j), after(b, j)
             leaves = (Jn, va1.x, va1.y, vb1.x, vb1.y, va2.x, va2.y, vb2.x, vb2.y, E_)
         else:
             b = None
-            va1, va2 = vel(a, i), vel(a, j)
+            va1, va2 = vel(a, i), after(a, j)
             leaves = (Jn, va1.x, va1.y, va2.x, va2.y, E_)
         ck = (n0, copysign(1.0, n0), n1, copysign(1.0, n1), e, copysign(1.0, e), b is not None)
         f = kinds.get(ck)
@@ -198,7 +199,7 @@ def _replay(comp, t, key: str) -> None:
     moved = comp._moved(key)
     index = {b: k for k, b in enumerate(moved)}
     unknowns, Unknown = comp.unknowns, comp.Unknown
-    vel = comp.vel
+    vel, after = comp.vel, comp.moved_vel
     leaves: list = []
     shape: list = []
     sources: list = []
@@ -217,12 +218,14 @@ def _replay(comp, t, key: str) -> None:
         body_a = bodies[a]
         if pb is not None:  # the state unknowns in the order the element makes them
             b = pb.body
-            for x, sid in ((a, i), (b, i), (a, j), (b, j)):  # made if new, in this order
-                vel(x, sid)
+            vel(a, i)  # made if new, in this order
+            vel(b, i)
+            after(a, j)
+            after(b, j)
             rb = bodies[b].radius if pb.round_contact and bodies[b].radius else None
         else:
             vel(a, i)
-            vel(a, j)
+            after(a, j)
             rb = None
         e = c.restitution
         leaves += (Jn, Known(parameter_key(_E, label), e))
@@ -234,11 +237,13 @@ def _replay(comp, t, key: str) -> None:
         sources.append(ImpulseSource((a, pb.body if pb is not None else None), where,
                                      c.normal, False, f"contact {label}"))
     mass = comp.mass
-    masses = comp._mass if comp.flows is None else {}  # mass's memo (no burn: as declared)
-    vels = comp._vel  # what vel remembered just now
-    for b in moved:
-        v1, v2 = vels[(b, i)], vels[(b, j)]
-        m = masses.get(b)
+    declared = comp.flows is None  # mass's memo holds the mass (no burn: as declared)
+    tracks = comp._tracks
+    trs = [tracks[b] for b in moved]  # each body's record: what vel remembered just now
+    for b, tr in zip(moved, trs):
+        vels = tr.vel
+        v1, v2 = vels[i], vels[j]
+        m = tr.mass if declared else None
         leaves += (mass(b, i) if m is None else m, v1.x, v1.y, v2.x, v2.y)
     plain = True
     for x in leaves:
@@ -248,7 +253,7 @@ def _replay(comp, t, key: str) -> None:
     named = plain  # the rows are m*(v2 - v1) of these leaves, unfolded
     # the kinetic energies: the sums and each body's term already made are leaves
     names = tuple(moved)
-    Ts, Tbs = comp._T, comp._Tb
+    Ts = comp._T
     memo = []
     for sid in (i, j):
         hit = Ts.get((sid, names))
@@ -257,8 +262,8 @@ def _replay(comp, t, key: str) -> None:
             leaves.append(hit)
             continue
         memo.append(False)
-        for b in moved:
-            hit = Tbs.get((b, sid))
+        for tr in trs:
+            hit = tr.T.get(sid)
             if hit is None:
                 memo.append(False)
             else:
@@ -310,10 +315,10 @@ def _replay(comp, t, key: str) -> None:
     made = len(unknowns) - made if named and FRESH else 0
     fresh = None  # their names, when a principle repeats
     Fresh = comp.Fresh
-    for b in moved:
+    for b, tr in zip(moved, trs):
         lx, rx, ly, ry = out[pos:pos + 4]
         pos += 4
-        v2 = vels[(b, j)]
+        v2 = tr.vel[j]
         for lhs, rhs, p, x in ((lx, rx, f"linear impulse-momentum x: {b}", v2.x),
                                (ly, ry, f"linear impulse-momentum y: {b}", v2.y)):
             if bp is not None and "|" not in p:
@@ -351,9 +356,9 @@ def _replay(comp, t, key: str) -> None:
             energy.append(out[pos])
             pos += 1
             continue
-        for b in moved:
+        for tr in trs:
             if not next(flags):
-                Tbs[(b, sid)] = (out[pos],)
+                tr.T[sid] = (out[pos],)
             pos += 1
         energy.append(Ts.setdefault((sid, names), out[pos]))
         pos += 1

@@ -88,7 +88,8 @@ def _compiled(text: str, fast: bool):
         scene = build(parse(Source("t.mom", text)))
         c = _Compiler(scene, {})
         if not fast:  # vel's miss as sv asks for each component
-            c._new_vel = lambda body, sid: V2(c.sv(body, "vx", sid), c.sv(body, "vy", sid))
+            c._on_chain_v = lambda body, sid, w: V2(c.sv(body, "vx", sid),
+                                                    c.sv(body, "vy", sid))
         system = c.run()
     except ProblemError as exc:
         return [f"error {exc}"]

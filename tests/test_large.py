@@ -150,7 +150,7 @@ def test_branching_states_fall_back_to_the_walk():
         into.setdefault(t.after, []).append(t)
         out.setdefault(t.before, []).append(t)
     assert StateChains.build(sc.states, into, out, {t.key: {"a", "b"} for t in
-                                                     sc.transitions}) is None
+                                                     sc.transitions}, {}) is None
     got = _answers(solve_scene(sc))
     assert got["b.vx@2"] == pytest.approx(1.0) and got["b.vx@3"] == pytest.approx(0.5)
     assert got["a.vx@3"] == pytest.approx(0.5)
