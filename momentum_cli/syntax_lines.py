@@ -8,9 +8,7 @@ comes before the first statement: the caller parses the text whole. Lines of one
 """
 from __future__ import annotations
 
-import re
-
-from . import source
+from . import regex_store, source
 
 _NODES = ("Arg", "AtRest", "BodyDecl", "Clause", "Contact", "Find", "FindItem", "Given",
           "Gravity", "Let", "Neg", "Num", "PointRef", "Problem", "Prop", "Ref", "RollsIn",
@@ -97,32 +95,43 @@ _A = (rf"(?:(-) *)?(?>({_NUM})(?: *({_UNIT}))?|({_NAME})(?: *\[ *({_NAME}(?: *- 
       rf" *\])?(?: *\. *({_NAME}))?(?: *@ *({_ID})(?: *-> *({_ID}))?)?)()")
 _X = rf"(?:(\() *{_A} *, *{_A} *\)()|{_A})"
 _PREF = rf"(?>({_NAME})(?: *\. *(?:end *\( *([+-]) *\)|({_NAME})))?)()"  # 4 groups
-_TAIL = re.compile(r" *(?:#.*)?")
-_SP = re.compile(r" *")
-_WORD = re.compile(_NAME)
-_HEAD = re.compile(r"[a-z]+(?![A-Za-z_0-9\[])")  # a whole word: a keyword
-_BODY = re.compile(rf"body +({_NAME}) *: *({_NAME}) *\( *")
-_ARG = re.compile(rf"({_NAME}) *= *{_X} *")  # 1 name, 2.. the value
-_LET = re.compile(rf"let +({_NAME}) *= *{_X} *")
-_ITEM = re.compile(rf"({_NAME}) *(?:\. *({_NAME})() *([=<>]) *{_X}|at +rest{_END}()"
-                   rf"|rolls +on +({_NAME})()) *")  # 1 2 3 4, 5.. value, 34, 35 36
-_REST = re.compile(rf"({_NAME}) +at +rest{_END}() *, *(?=[A-Za-z_])")  # not the last
-_STATE = re.compile(rf'state *(?P<id>{_ID}) *(?P<s>"[^"\n]*")? *(?P<c>:)? *')
-_TRANS = re.compile(rf"(?P<k>impact|interval|energy) *(?P<a>{_ID}) *-> *(?P<b>{_ID})"
-                    rf"(?P<z>) *(?P<c>:)?")
-# 1 label, 2-5 and 6-9 the points, 10.. the normal, 39 the colon of the properties
-_CONTACT = re.compile(rf"contact *(?:({_NAME}) *: *)?{_PREF} *with{_END} *{_PREF} *"
-                      rf"(?:normal{_END} *{_X} *)?(:)? *")
-_PROP = re.compile(rf"(restitution|smooth|rough|friction|slip|separation|static){_END}"
-                   rf"(?: *(\?)| *{_X})?() *")  # 1 kind, 2 `?`, 3.. the value, 32 its end
-_STOPS = re.compile(rf"(?P<n>{_NAME}) +(?:stops{_END}(?P<z>) *|rolls +on +(?P<s>{_NAME})"
-                    rf"(?P<sz>) *)")
-_FREE = re.compile(rf"free +(?P<n>{_NAME})(?P<z>) *")
-_FIND = re.compile(r"find *")
-# 1 name, 2.. the expression, 31 the unit, 32 its end
-_FINDITEM = re.compile(rf"(?:({_NAME}) *= *)?{_X}(?: *in +({_UNIT})())? *")
-_PROBLEM = re.compile(r'problem *(?P<s>"[^"\n]*")')
-_GRAVITY = re.compile(rf"gravity *{_X} *(down|up|left|right){_END}")
+# the patterns below, compiled from code kept in the cache folder (regex_store): the
+# regex compiler would cost each big file's process ~13 ms
+_RE = regex_store.compiled("syntax_lines", {
+    "TAIL": r" *(?:#.*)?",
+    "SP": r" *",
+    "WORD": _NAME,
+    "HEAD": r"[a-z]+(?![A-Za-z_0-9\[])",  # a whole word: a keyword
+    "BODY": rf"body +({_NAME}) *: *({_NAME}) *\( *",
+    "ARG": rf"({_NAME}) *= *{_X} *",  # 1 name, 2.. the value
+    "LET": rf"let +({_NAME}) *= *{_X} *",
+    "ITEM": rf"({_NAME}) *(?:\. *({_NAME})() *([=<>]) *{_X}|at +rest{_END}()"
+            rf"|rolls +on +({_NAME})()) *",  # 1 2 3 4, 5.. value, 34, 35 36
+    "REST": rf"({_NAME}) +at +rest{_END}() *, *(?=[A-Za-z_])",  # not the last
+    "STATE": rf'state *(?P<id>{_ID}) *(?P<s>"[^"\n]*")? *(?P<c>:)? *',
+    "TRANS": rf"(?P<k>impact|interval|energy) *(?P<a>{_ID}) *-> *(?P<b>{_ID})"
+             rf"(?P<z>) *(?P<c>:)?",
+    # 1 label, 2-5 and 6-9 the points, 10.. the normal, 39 the colon of the properties
+    "CONTACT": rf"contact *(?:({_NAME}) *: *)?{_PREF} *with{_END} *{_PREF} *"
+               rf"(?:normal{_END} *{_X} *)?(:)? *",
+    "PROP": rf"(restitution|smooth|rough|friction|slip|separation|static){_END}"
+            rf"(?: *(\?)| *{_X})?() *",  # 1 kind, 2 `?`, 3.. the value, 32 its end
+    "STOPS": rf"(?P<n>{_NAME}) +(?:stops{_END}(?P<z>) *|rolls +on +(?P<s>{_NAME})"
+             rf"(?P<sz>) *)",
+    "FREE": rf"free +(?P<n>{_NAME})(?P<z>) *",
+    "FIND": r"find *",
+    # 1 name, 2.. the expression, 31 the unit, 32 its end
+    "FINDITEM": rf"(?:({_NAME}) *= *)?{_X}(?: *in +({_UNIT})())? *",
+    "PROBLEM": r'problem *(?P<s>"[^"\n]*")',
+    "GRAVITY": rf"gravity *{_X} *(down|up|left|right){_END}",
+    "NUMBER": _NUM,
+    "QUOTED": r'"([A-Za-z_][A-Za-z_0-9]*)"',  # a keyword in the grammar
+})
+_TAIL, _SP, _WORD, _HEAD = _RE["TAIL"], _RE["SP"], _RE["WORD"], _RE["HEAD"]
+_BODY, _ARG, _LET, _ITEM, _REST = _RE["BODY"], _RE["ARG"], _RE["LET"], _RE["ITEM"], _RE["REST"]
+_STATE, _TRANS, _CONTACT, _PROP = _RE["STATE"], _RE["TRANS"], _RE["CONTACT"], _RE["PROP"]
+_STOPS, _FREE, _FIND, _FINDITEM = _RE["STOPS"], _RE["FREE"], _RE["FIND"], _RE["FINDITEM"]
+_PROBLEM, _GRAVITY, _NUMBER = _RE["PROBLEM"], _RE["GRAVITY"], _RE["NUMBER"]
 
 # words the grammar writes in quotes: where one is acceptable the lexer tries it before a
 # UNIT (a lower priority), and it wins even as a prefix (`5 inch` is `in` then `ch`); the
@@ -136,7 +145,7 @@ IMPACT_LAWS: tuple = ()
 
 def keywords(grammar: str) -> frozenset:
     """The words `grammar` writes in quotes (its keywords)."""
-    return frozenset(re.findall(r'"([A-Za-z_][A-Za-z_0-9]*)"', grammar))
+    return frozenset(_RE["QUOTED"].findall(grammar))
 
 
 def _unit_ok(u: str) -> bool:
@@ -259,7 +268,6 @@ def _line_clause(_, s: str, L: int):
 # written for that shape builds the nodes straight from slices of the line.
 _MASK = bytes.maketrans(b"123456789", b"000000000")
 _PROBE = str.maketrans("0123456789", "1234567890")
-_NUMBER = re.compile(_NUM)
 BUILD_AFTER = 4  # lines of one shape read before its builder is written
 MAX_SHAPES = 5_000  # (then forgotten: a bound on the memory they hold)
 _SHAPES: dict = {}  # masked text -> lines of that shape read so far, or its builder
