@@ -36,11 +36,11 @@ def compiled(group: str, patterns: dict[str, str]) -> dict[str, re.Pattern]:
     try:
         import os
 
-        from .syntax import _cache_dir, _read_cache
+        from . import cache_files
 
-        folder = _cache_dir()
+        folder = cache_files.cache_dir()
         path = os.path.join(folder, cache_name(group, patterns)) if folder else None
-        data = _read_cache(path) if path else None
+        data = cache_files.read(path) if path else None
         made = _load(data, patterns) if data else None
     except Exception:  # noqa: BLE001 - the cache is an optimisation only
         made = None
@@ -83,7 +83,7 @@ def _store(path: str, patterns: dict[str, str]) -> None:
     compiler is not the one `_sre_args` knows)."""
     import marshal
 
-    from .syntax import _write_cache
+    from .cache_files import write
     from .syntax_tables import _sre_args
 
     codes = {}
@@ -92,4 +92,4 @@ def _store(path: str, patterns: dict[str, str]) -> None:
         if args is None:
             return
         codes[k] = args
-    _write_cache(path, marshal.dumps({"identity": _identity(patterns), "codes": codes}))
+    write(path, marshal.dumps({"identity": _identity(patterns), "codes": codes}))

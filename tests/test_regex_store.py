@@ -106,7 +106,7 @@ def test_code_that_sre_refuses_falls_back_to_the_compiler(tmp_path, monkeypatch)
 
 
 def test_without_a_cache_folder_the_patterns_are_compiled(monkeypatch):
-    import momentum_cli.syntax as syntax
+    from momentum_cli import cache_files
 
-    monkeypatch.setattr(syntax, "_cache_dir", lambda: None)
+    monkeypatch.setattr(cache_files, "cache_dir", lambda: None)
     _same(regex_store.compiled("test", PATTERNS), PATTERNS)
