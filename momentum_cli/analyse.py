@@ -27,14 +27,53 @@ NO_DEPENDS = frozenset()  # shared by the blocks that need none (a set each: 216
 @record
 class Structure:
     incidence: list[set[str]]  # unknowns of each equation
-    match_eq: dict[int, str]  # equation -> its matched unknown
-    match_var: dict[str, int]
+    # equation -> its matched unknown, and back (the `match_eq`, `match_var` properties):
+    # None until asked, made then from `_matching` (only an inconsistent equation's
+    # message reads them: two dicts an equation the solve never needs)
+    _match_eq: dict[int, str] | None
+    _match_var: dict[str, int] | None
     under: set[str]  # unknowns not determined
     under_eqs: set[int]
     redundant: list[int]  # equations left over: checked after solving
     blocks: list[Block]  # in solving order
     block_of_var: dict[str, int]
     constant_eqs: list[int]  # equations with no unknowns (pure checks)
+    # (eq_first, var_first, meq, mvar, col_name) of `analyse`'s integer walk
+    _matching: tuple | None = None
+
+    @property
+    def match_eq(self) -> dict[int, str]:
+        if self._match_eq is None:
+            self._matched(True)
+        return self._match_eq
+
+    @match_eq.setter
+    def match_eq(self, value) -> None:
+        self._match_eq = value
+        if self._match_var is not None:
+            self._matching = None  # nothing left to make from it
+
+    @property
+    def match_var(self) -> dict[str, int]:
+        if self._match_var is None:
+            self._matched(False)
+        return self._match_var
+
+    @match_var.setter
+    def match_var(self, value) -> None:
+        self._match_var = value
+        if self._match_eq is not None:
+            self._matching = None
+
+    def _matched(self, by_equation: bool) -> None:
+        """One of the matching's dicts, in the order the string-keyed walk filled it (the
+        order equations and unknowns were first matched)."""
+        eq_first, var_first, meq, mvar, col_name = self._matching
+        name_of = col_name.__getitem__
+        if by_equation:
+            self._match_eq = dict(zip(eq_first, map(name_of, map(meq.__getitem__, eq_first))))
+        else:
+            self._match_var = dict(zip(map(name_of, var_first), map(mvar.__getitem__, var_first)))
 
     def needed_blocks(self, names) -> list[int]:
         """The blocks that determine `names`, with everything they depend on, in order."""
@@ -180,11 +219,9 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
                         dep = b.depends = set()
                     dep.add(bd)
     name_of, col_of = col_name.__getitem__, meq.__getitem__  # (maps: one C loop a dict)
-    match_eq = dict(zip(eq_first, map(name_of, map(col_of, eq_first))))
-    match_var = dict(zip(map(name_of, var_first), map(mvar.__getitem__, var_first)))
     block_of_var = dict(zip(map(name_of, map(col_of, det)), map(block_of_eq.__getitem__, det)))
-    return Structure(full, match_eq, match_var, under, under_eqs, redundant, blocks,
-                     block_of_var, constant)
+    return Structure(full, None, None, under, under_eqs, redundant, blocks, block_of_var,
+                     constant, (eq_first, var_first, meq, mvar, col_name))
 
 
 _STATED = ("stated", "user")  # the kinds matched after the scene's own equations

@@ -74,3 +74,18 @@ def test_tarjan_shortcut_emits_what_the_plain_walk_emits(seed):
         rng.shuffle(nodes)
     # the walk before the shortcut: tests/reference_analyse.py (successors by dict)
     assert _tarjan(nodes, succ, n) == R._tarjan(nodes, dict(enumerate(succ)))
+
+
+def test_the_matching_dicts_are_made_when_asked_and_forgotten_when_replaced():
+    """A solve never reads the matching's dicts (only an inconsistency's message does):
+    they are made from the integer walk on first use, equal to the reference's, and
+    replacing both (run._shed) drops what they were made from."""
+    system = _system(cradle_text(5, "sequence"))
+    got = analyse(system)
+    assert got._match_eq is None and got._match_var is None
+    ref = R.analyse(system)
+    assert list(got.match_var.items()) == list(ref.match_var.items())
+    assert got._match_eq is None  # one asked, the other still not made
+    assert list(got.match_eq.items()) == list(ref.match_eq.items())
+    got.match_eq, got.match_var = {}, {}
+    assert got._matching is None and got.match_eq == {} and got.match_var == {}
