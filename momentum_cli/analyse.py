@@ -172,6 +172,7 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
         _augment(extra, matchable, meq, mvar, eq_first, var_first)
     under: set[str] = set()
     under_eqs: set[int] = set()
+    mvar_all = mvar
     if len(var_first) < n_cols:  # unmatched unknowns: some may be under-determined
         eq_under = _under(cols, known, rank, col_name, meq, mvar, under, under_eqs)
         redundant = [k for k in order if meq[k] < 0]
@@ -185,43 +186,13 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
             redundant = []
             det = order
     # BLT over the matched, determined equations (Tarjan's SCC, iterative)
-    succ: list = [None] * n_eqs
-    at = mvar.__getitem__
-    if eq_under is None:
-        for k in det:
-            succ[k] = [d for d in map(at, cols[k]) if d != k and d >= 0]
-    else:
-        for k in det:
-            succ[k] = [d for d in map(at, cols[k]) if d != k and d >= 0 and not eq_under[d]]
-    comps = _tarjan(det, succ, n_eqs)
-    blocks: list[Block] = []
-    block_of_eq = [-1] * n_eqs
-    for comp in comps:  # Tarjan emits dependencies first: theirs have their blocks
-        idx = len(blocks)
-        if len(comp) == 1:  # its successors are all in blocks before
-            k = comp[0]
-            block_of_eq[k] = idx
-            out = succ[k]
-            blocks.append(Block(idx, comp, [col_name[meq[k]]],
-                                {block_of_eq[d] for d in out} if out else NO_DEPENDS))
-            continue
-        for k in comp:
-            block_of_eq[k] = idx
-        comp.sort()
-        b = Block(idx, comp, [col_name[meq[k]] for k in comp], NO_DEPENDS)
-        blocks.append(b)
-        dep = None
-        for k in comp:
-            for d in succ[k]:
-                bd = block_of_eq[d]
-                if bd != idx:
-                    if dep is None:
-                        dep = b.depends = set()
-                    dep.add(bd)
+    if eq_under is not None:  # an under-determined equation is no one's successor
+        mvar = [-1 if k < 0 or eq_under[k] else k for k in mvar]
+    blocks, block_of_eq = _blt(det, cols, mvar, meq, col_name, n_eqs)
     name_of, col_of = col_name.__getitem__, meq.__getitem__  # (maps: one C loop a dict)
     block_of_var = dict(zip(map(name_of, map(col_of, det)), map(block_of_eq.__getitem__, det)))
     return Structure(full, None, None, under, under_eqs, redundant, blocks, block_of_var,
-                     constant, (eq_first, var_first, meq, mvar, col_name))
+                     constant, (eq_first, var_first, meq, mvar_all, col_name))
 
 
 _STATED = ("stated", "user")  # the kinds matched after the scene's own equations
@@ -387,29 +358,37 @@ def _augment(order: list[int], incidence: list[list[int]], meq: list[int], mvar:
             v = prev
 
 
-def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
-    """Strongly connected components, dependencies before dependents (iterative).
-
-    A node whose successors are all finished (in a component already: the common case
-    of an explicit equation) is its own component at once, where the full walk would
-    emit it too, without entering the walk."""
+def _blt(det: list[int], cols: list, mvar: list[int], meq: list[int], col_name: list,
+         n: int) -> tuple[list[Block], list[int]]:
+    """The blocks of the equations `det` in solving order, and each equation's block:
+    Tarjan's walk (iterative; a node whose successors are all finished is its own component at once, where the full walk would emit it too, without entering the walk), each component
+    made a Block as it is emitted, and an equation's successors (the equations matched
+    to its other columns, `mvar`: -1 for none) listed as the walk first reaches it. One
+    pass over the equations instead of three (successor lists, components, blocks): a
+    big scene's blocks are mostly one equation whose successors are all done, made at
+    once where the walk meets it."""
+    at = mvar.__getitem__
+    succ: list = [None] * n
     index = [-1] * n
     low = [0] * n
     on = [False] * n
+    block_of_eq = [-1] * n
+    blocks: list[Block] = []
     stack: list[int] = []
-    out: list[list[int]] = []
     counter = 0
-    for root in nodes:
+    for root in det:
         if index[root] >= 0:
             continue
-        ws = succ[root]
+        ws = succ[root] = [d for d in map(at, cols[root]) if d != root and d >= 0]
         for x in ws:
             if index[x] < 0 or on[x]:
                 break
-        else:  # every successor finished
-            index[root] = low[root] = counter
+        else:  # every successor finished: a block of its own, now
+            index[root] = counter
             counter += 1
-            out.append([root])
+            idx = block_of_eq[root] = len(blocks)
+            blocks.append(Block(idx, [root], [col_name[meq[root]]],
+                                {block_of_eq[d] for d in ws} if ws else NO_DEPENDS))
             continue
         index[root] = low[root] = counter
         counter += 1
@@ -421,14 +400,16 @@ def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
             for w in it:
                 iw = index[w]
                 if iw < 0:
-                    sw = succ[w]
+                    sw = succ[w] = [d for d in map(at, cols[w]) if d != w and d >= 0]
                     for x in sw:
                         if index[x] < 0 or on[x]:
                             break
-                    else:  # a finished leaf: its own component, v's low unchanged
+                    else:  # a finished leaf: its own block, v's low unchanged
                         index[w] = low[w] = counter
                         counter += 1
-                        out.append([w])
+                        idx = block_of_eq[w] = len(blocks)
+                        blocks.append(Block(idx, [w], [col_name[meq[w]]],
+                                            {block_of_eq[d] for d in sw} if sw else NO_DEPENDS))
                         continue
                     index[w] = low[w] = counter
                     counter += 1
@@ -449,7 +430,34 @@ def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
                         comp.append(w)
                         if w == v:
                             break
-                    out.append(comp)
+                    _block(comp, succ, block_of_eq, blocks, col_name, meq)
                 elif lv < low[work[-1][0]]:  # not a root: a parent is on the walk
                     low[work[-1][0]] = lv
-    return out
+    return blocks, block_of_eq
+
+
+def _block(comp: list[int], succ: list, block_of_eq: list[int], blocks: list,
+           col_name: list, meq: list[int]) -> None:
+    """Append the Block of the component `comp` (Tarjan emits dependencies first: the
+    blocks its successors are in exist)."""
+    idx = len(blocks)
+    if len(comp) == 1:
+        k = comp[0]
+        block_of_eq[k] = idx
+        out = succ[k]
+        blocks.append(Block(idx, comp, [col_name[meq[k]]],
+                            {block_of_eq[d] for d in out} if out else NO_DEPENDS))
+        return
+    for k in comp:
+        block_of_eq[k] = idx
+    comp.sort()
+    b = Block(idx, comp, [col_name[meq[k]] for k in comp], NO_DEPENDS)
+    blocks.append(b)
+    dep = None
+    for k in comp:
+        for d in succ[k]:
+            bd = block_of_eq[d]
+            if bd != idx:
+                if dep is None:
+                    dep = b.depends = set()
+                dep.add(bd)

@@ -10,7 +10,7 @@ import pytest
 
 import reference_analyse as R
 from momentum_cli import rowcode
-from momentum_cli.analyse import Incidence, _tarjan, analyse
+from momentum_cli.analyse import Incidence, _blt, analyse
 from momentum_cli.bench import chain_text
 from test_compile_equal import _structure_order
 from test_hard import cradle_text
@@ -56,9 +56,8 @@ def test_incidence_reads_as_the_list_of_sets():
     assert inc != [{"a"}, {"c"}, set()]
 
 
-@pytest.mark.parametrize("seed", range(60))
-def test_tarjan_shortcut_emits_what_the_plain_walk_emits(seed):
-    """Random graphs: sparse and dense, with cycles, self-free, nodes in any order."""
+def _graph(seed: int):
+    """A random graph: sparse and dense, with cycles, self-free, nodes in any order."""
     rng = random.Random(seed)
     n = rng.randint(1, 60)
     p = rng.choice((0.02, 0.05, 0.1, 0.3))
@@ -67,13 +66,34 @@ def test_tarjan_shortcut_emits_what_the_plain_walk_emits(seed):
     for v in range(n):
         ws = [w for w in range(n) if w != v and rng.random() < (p if not back or w < v
                                                                   else p / 10)]
-        rng.shuffle(ws)
-        succ.append(ws)
+        succ.append(sorted(ws))
     nodes = list(range(n))
     if rng.random() < 0.5:
         rng.shuffle(nodes)
-    # the walk before the shortcut: tests/reference_analyse.py (successors by dict)
-    assert _tarjan(nodes, succ, n) == R._tarjan(nodes, dict(enumerate(succ)))
+    return n, succ, nodes
+
+
+@pytest.mark.parametrize("seed", range(80))
+def test_blocks_made_as_the_walk_emits_them_are_the_plain_walks(seed):
+    """`_blt` (successors listed as the walk reaches them, blocks made as components are
+    emitted) against the walk before the shortcut (tests/reference_analyse.py) and the
+    blocks made afterwards from its components: the same components in the same order,
+    the same unknowns and dependencies. Equation k is matched to column 2k+1 (its
+    columns: its own and its successors'); the even columns are unmatched."""
+    n, succ, nodes = _graph(seed)
+    cols = [sorted([2 * k + 1] + [2 * d + 1 for d in succ[k]] + [2 * k]) for k in range(n)]
+    mvar = [k // 2 if k % 2 else -1 for k in range(2 * n)]
+    meq = [2 * k + 1 for k in range(n)]
+    col_name = [f"x{c}" for c in range(2 * n)]
+    blocks, block_of_eq = _blt(nodes, cols, mvar, meq, col_name, n)
+    comps = R._tarjan(nodes, dict(enumerate(succ)))
+    assert [b.equations for b in blocks] == [sorted(c) for c in comps]
+    assert [b.index for b in blocks] == list(range(len(comps)))
+    ref_of = {k: i for i, c in enumerate(comps) for k in c}
+    assert block_of_eq == [ref_of.get(k, -1) for k in range(n)]
+    for b in blocks:
+        assert b.unknowns == [f"x{2 * k + 1}" for k in b.equations]
+        assert b.depends == {ref_of[d] for k in b.equations for d in succ[k]} - {b.index}
 
 
 def test_the_matching_dicts_are_made_when_asked_and_forgotten_when_replaced():
