@@ -8,7 +8,9 @@ comes before the first statement: the caller parses the text whole. Lines of one
 """
 from __future__ import annotations
 
-from . import regex_store, source
+import sys
+
+from . import builder_store, regex_store, source
 
 _NODES = ("Arg", "AtRest", "BodyDecl", "Clause", "Contact", "Find", "FindItem", "Given",
           "Gravity", "Let", "Neg", "Num", "PointRef", "Problem", "Prop", "Ref", "RollsIn",
@@ -52,6 +54,7 @@ def _maker(cls):
 
 
 _TWIN_OF: dict = {}  # record class -> its plain twin (_maker)
+_ENV: dict = {}  # a builder's globals (setup)
 
 
 def setup(syntax) -> None:
@@ -64,13 +67,20 @@ def setup(syntax) -> None:
     _MAKERS_OF = {c: _maker(c) for c in classes}
     _NumClass = syntax.Num
     IMPACT_LAWS = syntax.IMPACT_LAWS
-    _KEYWORDS = keywords(syntax.grammar_text())
+    grammar = syntax.grammar_text()
+    _KEYWORDS = keywords(grammar)
     g = globals()
     g["Span"] = _MAKERS_OF[source.Span]
     for n, c in zip(_NODES, classes[1:]):
         g[n] = _MAKERS_OF[c]
     _UNIT_OK.clear()
     _SHAPES.clear()
+    # the globals of a builder's code: the records it makes, and their plain twins
+    _ENV.clear()
+    _ENV["_new"] = object.__new__
+    for c, twin in _TWIN_OF.items():
+        _ENV["_T" + c.__name__], _ENV["_C" + c.__name__] = twin, c
+    builder_store.configure(grammar, (sys.modules[__name__], syntax, source))
     _SETUP[0] = syntax
 
 
@@ -188,6 +198,8 @@ def parse(text: str, rest, syntax):
             out.append(_statement(lines, a, b))
         except _No:
             out.extend(rest("\n".join(lines[a:b]) + "\n", a + 1))
+    if STORE:
+        builder_store.flush()
     return out
 
 
@@ -281,6 +293,12 @@ def _shaped(kind, f, s: str, L: int):
     key = s.encode().translate(_MASK)  # (its first word tells the kind: a statement's
     # keyword, or the indentation of a clause)
     hit = _SHAPES.get(key)
+    if hit is None and STORE:
+        hit = _stored(key)
+        if hit is not None:  # a builder, or False: none can be written for this shape
+            if len(_SHAPES) >= MAX_SHAPES:
+                _SHAPES.clear()
+            _SHAPES[key] = hit
     if hit is None or hit.__class__ is int:
         run = _line_clause if kind is None else _line_statement
         node = run(f, s, L)  # (_No: not a form read here; the count stays)
@@ -309,13 +327,34 @@ def _builder(run, f, s: str):
         out = _code(trees, texts, (env, body))
         src = "def build(s, L):\n" + "".join(f"    {x}\n" for x in body) + \
             f"    return {out}\n"
-        exec(compile(src, "<syntax_lines>", "exec"), env)  # noqa: S102 (from the nodes)
+        code = compile(src, "<syntax_lines>", "exec")
+        exec(code, env)  # noqa: S102 (from the nodes)
         fn = env["build"]
         if any(fn(x, 7) != run(f, x, 7) for x in texts):
-            return False
+            fn = code = False
     except Exception:  # a field found nowhere or at two places, a deep tree...: read each
-        return False
+        fn = code = False
+    if STORE:
+        builder_store.add(s.encode().translate(_MASK), code)
     return fn
+
+
+STORE = True  # builders kept in the cache folder between runs (tests turn it off)
+
+
+def _stored(key: bytes):
+    """The builder of the shape `key` made by an earlier run (builder_store), False when
+    that run found none can be written, None when it met no such line. Its code was
+    checked against the readings when it was made, from these modules."""
+    code = builder_store.get(key)
+    if code is None or code is False:
+        return code
+    env = dict(_ENV)
+    try:
+        exec(code, env)  # noqa: S102 (written by _builder, read from a private file)
+        return env["build"]
+    except Exception:  # not a builder's code: read the line
+        return None
 
 
 def _code(vs: list, texts: tuple, out: tuple) -> str:
