@@ -12,7 +12,7 @@ from __future__ import annotations
 import sys
 
 FORMAT = 1
-LIMIT = 4096  # builders kept in the file (the newest when more)
+LIMIT = 1024  # builders kept in the file (the newest when more; ~2.5 kB each)
 
 _STORED: list = []  # [codes by shape] once loaded ({} when there is no file or no folder)
 _ADDED: dict = {}  # shape -> code made in this run, not in the file yet

@@ -184,6 +184,18 @@ def parse(text: str, rest, syntax):
         if s and s[0] != "#":
             return None  # something before the first statement: the whole parse decides
     heads.append(n)
+    _STORING[0] = STORE and len(text) >= STORE_BYTES
+    try:
+        return _statements(lines, heads, rest)
+    finally:
+        if _STORING[0]:
+            builder_store.flush()
+            _STORING[0] = False
+
+
+def _statements(lines, heads, rest) -> list:
+    """The nodes of the statements starting at `heads` (line indices, the last one the
+    end), each by its shape's builder, its form, or `rest`."""
     out = []
     shapes, mask, fn = _SHAPES, _MASK, _FUNCTION
     for k in range(len(heads) - 1):
@@ -198,8 +210,6 @@ def parse(text: str, rest, syntax):
             out.append(_statement(lines, a, b))
         except _No:
             out.extend(rest("\n".join(lines[a:b]) + "\n", a + 1))
-    if STORE:
-        builder_store.flush()
     return out
 
 
@@ -293,7 +303,7 @@ def _shaped(kind, f, s: str, L: int):
     key = s.encode().translate(_MASK)  # (its first word tells the kind: a statement's
     # keyword, or the indentation of a clause)
     hit = _SHAPES.get(key)
-    if hit is None and STORE:
+    if hit is None and _STORING[0]:
         hit = _stored(key)
         if hit is not None:  # a builder, or False: none can be written for this shape
             if len(_SHAPES) >= MAX_SHAPES:
@@ -334,12 +344,16 @@ def _builder(run, f, s: str):
             fn = code = False
     except Exception:  # a field found nowhere or at two places, a deep tree...: read each
         fn = code = False
-    if STORE:
+    if _STORING[0]:
         builder_store.add(s.encode().translate(_MASK), code)
     return fn
 
 
 STORE = True  # builders kept in the cache folder between runs (tests turn it off)
+# a text this long reads and keeps stored builders: a smaller one (a batch's files) makes
+# its few builders itself, where loading and writing the file would cost it more
+STORE_BYTES = 1 << 17
+_STORING = [False]  # within `parse` of such a text
 
 
 def _stored(key: bytes):

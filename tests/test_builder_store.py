@@ -18,8 +18,10 @@ TEXTS = [chain_text(300), cradle_text(200, "sequence"), cradle_text(60, "simulta
 
 @pytest.fixture
 def store(tmp_path, monkeypatch):
-    """A fresh cache folder and a run that has met no shape yet."""
+    """A fresh cache folder and a run that has met no shape yet; texts of every size
+    keep their builders."""
     monkeypatch.setenv("MOMENTUM_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(syntax_lines, "STORE_BYTES", 0)
     builder_store.forget()
     syntax_lines._SETUP[0] = None  # setup() again: configures the store
     syntax_lines._SHAPES.clear()
@@ -112,3 +114,18 @@ def test_switched_off_nothing_is_stored(store, monkeypatch):
     monkeypatch.setattr(syntax_lines, "STORE", False)
     assert _parse(TEXTS[0], []) == _by_run(TEXTS[0])
     assert _files(store) == []
+
+
+def test_a_small_text_neither_reads_nor_writes_the_file(store, monkeypatch):
+    """A batch's files are small: they make their few builders (no file to load, none
+    written after each file)."""
+    _parse(TEXTS[1], [])
+    (name,) = _files(store)
+    before = os.path.getmtime(os.path.join(store, name))
+    _new_run()
+    monkeypatch.setattr(syntax_lines, "STORE_BYTES", len(TEXTS[0]) + 1)
+    made: list = []
+    assert _parse(TEXTS[1], made) == _by_run(TEXTS[1]) and made  # not read from the file
+    assert _parse(TEXTS[0], []) == _by_run(TEXTS[0])
+    assert _files(store) == [name] and os.path.getmtime(os.path.join(store, name)) == before
+    assert not builder_store._STORED  # never loaded
