@@ -8,7 +8,6 @@ ordinary statements; spans are mapped back when the nodes are built (syntax.py).
 """
 from __future__ import annotations
 
-import difflib
 import functools
 import re
 
@@ -87,6 +86,8 @@ class Expansion:
             key = (o.line, _DIGIT.sub("0", self._lines[line - 1]))
             blocks = self._blocks.get(key)
             if blocks is None:
+                import difflib  # (here: only a loop's error is placed so)
+
                 blocks = difflib.SequenceMatcher(None, _DIGIT.sub("0", o.text), key[1],
                                                  autojunk=False).get_matching_blocks()
                 self._blocks[key] = blocks
