@@ -28,56 +28,81 @@ NO_DEPENDS = frozenset()  # shared by the blocks that need none (a set each: 216
 class Structure:
     incidence: list[set[str]]  # unknowns of each equation
     # equation -> its matched unknown, and back (the `match_eq`, `match_var` properties):
-    # None until asked, made then from `_matching` (only an inconsistent equation's
-    # message reads them: two dicts an equation the solve never needs)
+    # None until asked, made then from `_walk` (only an inconsistent equation's message
+    # reads them: two dicts an equation the solve never needs)
     _match_eq: dict[int, str] | None
     _match_var: dict[str, int] | None
     under: set[str]  # unknowns not determined
     under_eqs: set[int]
     redundant: list[int]  # equations left over: checked after solving
     blocks: list[Block]  # in solving order
-    block_of_var: dict[str, int]
+    # unknown -> its block (the `block_of_var` property): None until asked, `needed_blocks`
+    # reads `_walk`'s lists instead (a dict of every unknown made for a few look-ups)
+    _block_of_var: dict[str, int] | None
     constant_eqs: list[int]  # equations with no unknowns (pure checks)
-    # (eq_first, var_first, meq, mvar, col_name) of `analyse`'s integer walk
-    _matching: tuple | None = None
+    # `analyse`'s integer walk: (eq_first, var_first, meq, mvar, col_name, rank, det,
+    # block_of_eq); None once the three dicts were replaced (run._shed)
+    _walk: tuple | None = None
 
     @property
     def match_eq(self) -> dict[int, str]:
         if self._match_eq is None:
-            self._matched(True)
+            eq_first, _, meq, _, col_name, _, _, _ = self._walk
+            self._match_eq = dict(zip(eq_first, map(col_name.__getitem__,
+                                                    map(meq.__getitem__, eq_first))))
         return self._match_eq
 
     @match_eq.setter
     def match_eq(self, value) -> None:
         self._match_eq = value
-        if self._match_var is not None:
-            self._matching = None  # nothing left to make from it
+        self._replaced()
 
     @property
     def match_var(self) -> dict[str, int]:
         if self._match_var is None:
-            self._matched(False)
+            _, var_first, _, mvar, col_name, _, _, _ = self._walk
+            self._match_var = dict(zip(map(col_name.__getitem__, var_first),
+                                       map(mvar.__getitem__, var_first)))
         return self._match_var
 
     @match_var.setter
     def match_var(self, value) -> None:
         self._match_var = value
-        if self._match_eq is not None:
-            self._matching = None
+        self._replaced()
 
-    def _matched(self, by_equation: bool) -> None:
-        """One of the matching's dicts, in the order the string-keyed walk filled it (the
-        order equations and unknowns were first matched)."""
-        eq_first, var_first, meq, mvar, col_name = self._matching
-        name_of = col_name.__getitem__
-        if by_equation:
-            self._match_eq = dict(zip(eq_first, map(name_of, map(meq.__getitem__, eq_first))))
-        else:
-            self._match_var = dict(zip(map(name_of, var_first), map(mvar.__getitem__, var_first)))
+    @property
+    def block_of_var(self) -> dict[str, int]:
+        if self._block_of_var is None:
+            _, _, meq, _, col_name, _, det, block_of_eq = self._walk
+            self._block_of_var = dict(zip(map(col_name.__getitem__, map(meq.__getitem__, det)),
+                                          map(block_of_eq.__getitem__, det)))
+        return self._block_of_var
+
+    @block_of_var.setter
+    def block_of_var(self, value) -> None:
+        self._block_of_var = value
+        self._replaced()
+
+    def _replaced(self) -> None:
+        """The dicts (in the order the string-keyed walk filled them) are made from the
+        walk's lists: once all three were given, nothing is left to make from them."""
+        if self._match_eq is not None and self._match_var is not None and \
+                self._block_of_var is not None:
+            self._walk = None
 
     def needed_blocks(self, names) -> list[int]:
         """The blocks that determine `names`, with everything they depend on, in order."""
-        todo = [self.block_of_var[n] for n in names if n in self.block_of_var]
+        if self._block_of_var is None:  # an unknown's column, its equation, its block
+            _, _, _, mvar, _, rank, _, block_of_eq = self._walk
+            todo = []
+            for n in names:
+                c = rank.get(n)
+                if c is not None:
+                    k = mvar[c]
+                    if k >= 0 and block_of_eq[k] >= 0:
+                        todo.append(block_of_eq[k])
+        else:
+            todo = [self._block_of_var[n] for n in names if n in self._block_of_var]
         seen: set[int] = set()
         while todo:
             b = todo.pop()
@@ -189,10 +214,8 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
     if eq_under is not None:  # an under-determined equation is no one's successor
         mvar = [-1 if k < 0 or eq_under[k] else k for k in mvar]
     blocks, block_of_eq = _blt(det, cols, mvar, meq, col_name, n_eqs)
-    name_of, col_of = col_name.__getitem__, meq.__getitem__  # (maps: one C loop a dict)
-    block_of_var = dict(zip(map(name_of, map(col_of, det)), map(block_of_eq.__getitem__, det)))
-    return Structure(full, None, None, under, under_eqs, redundant, blocks, block_of_var,
-                     constant, (eq_first, var_first, meq, mvar_all, col_name))
+    return Structure(full, None, None, under, under_eqs, redundant, blocks, None, constant,
+                     (eq_first, var_first, meq, mvar_all, col_name, rank, det, block_of_eq))
 
 
 _STATED = ("stated", "user")  # the kinds matched after the scene's own equations

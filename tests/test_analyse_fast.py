@@ -97,15 +97,42 @@ def test_blocks_made_as_the_walk_emits_them_are_the_plain_walks(seed):
 
 
 def test_the_matching_dicts_are_made_when_asked_and_forgotten_when_replaced():
-    """A solve never reads the matching's dicts (only an inconsistency's message does):
-    they are made from the integer walk on first use, equal to the reference's, and
-    replacing both (run._shed) drops what they were made from."""
+    """A solve never reads the matching's dicts (only an inconsistency's message does),
+    nor the unknowns' blocks as a dict: they are made from the integer walk on first
+    use, equal to the reference's, and replacing all three (run._shed) drops the walk."""
     system = _system(cradle_text(5, "sequence"))
     got = analyse(system)
-    assert got._match_eq is None and got._match_var is None
+    assert got._match_eq is None and got._match_var is None and got._block_of_var is None
     ref = R.analyse(system)
     assert list(got.match_var.items()) == list(ref.match_var.items())
-    assert got._match_eq is None  # one asked, the other still not made
+    assert got._match_eq is None  # one asked, the others still not made
     assert list(got.match_eq.items()) == list(ref.match_eq.items())
+    assert got._block_of_var is None
+    assert list(got.block_of_var.items()) == list(ref.block_of_var.items())
+    got = analyse(system)
     got.match_eq, got.match_var = {}, {}
-    assert got._matching is None and got.match_eq == {} and got.match_var == {}
+    assert got._walk is not None  # the blocks' dict may still be asked for
+    got.block_of_var = {}
+    assert got._walk is None and got.match_eq == {} and got.block_of_var == {}
+    assert got.needed_blocks(list(system.unknowns)) == []  # as with the dict emptied
+
+
+@pytest.mark.parametrize("text", TEXTS)
+def test_needed_blocks_from_the_walk_equal_those_from_the_dict(text):
+    """needed_blocks reads an unknown's block through the walk's lists (no dict): the
+    same blocks as through the reference's dict, for every unknown alone, random sets,
+    names that are no unknown, and with unknowns known and equations excluded."""
+    system = _system(text)
+    names = list(system.unknowns) + ["nobody.vx@1"]
+    rng = random.Random(len(text))
+    n_eqs = len(system.equations)
+    for excluded, known in ((frozenset(), None), (frozenset(range(0, n_eqs, 3)), None),
+                            (frozenset(), {v: 1.0 for v in names[::4]})):
+        got = analyse(system, excluded, known)
+        ref = R.analyse(system, excluded, known)
+        assert got._block_of_var is None
+        asks = [[n] for n in names] + [rng.sample(names, min(len(names), k))
+                                       for k in (2, 5, 40) for _ in range(10)] + [names]
+        for ask in asks:
+            assert got.needed_blocks(ask) == ref.needed_blocks(ask), ask
+        assert got._block_of_var is None  # never made to answer them
