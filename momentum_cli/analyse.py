@@ -27,18 +27,82 @@ NO_DEPENDS = frozenset()  # shared by the blocks that need none (a set each: 216
 @record
 class Structure:
     incidence: list[set[str]]  # unknowns of each equation
-    match_eq: dict[int, str]  # equation -> its matched unknown
-    match_var: dict[str, int]
+    # equation -> its matched unknown, and back (the `match_eq`, `match_var` properties):
+    # None until asked, made then from `_walk` (only an inconsistent equation's message
+    # reads them: two dicts an equation the solve never needs)
+    _match_eq: dict[int, str] | None
+    _match_var: dict[str, int] | None
     under: set[str]  # unknowns not determined
     under_eqs: set[int]
     redundant: list[int]  # equations left over: checked after solving
     blocks: list[Block]  # in solving order
-    block_of_var: dict[str, int]
+    # unknown -> its block (the `block_of_var` property): None until asked, `needed_blocks`
+    # reads `_walk`'s lists instead (a dict of every unknown made for a few look-ups)
+    _block_of_var: dict[str, int] | None
     constant_eqs: list[int]  # equations with no unknowns (pure checks)
+    # `analyse`'s integer walk: (eq_first, var_first, meq, mvar, col_name, rank, det,
+    # block_of_eq); None once the three dicts were replaced (run._shed)
+    _walk: tuple | None = None
+
+    @property
+    def match_eq(self) -> dict[int, str]:
+        if self._match_eq is None:
+            eq_first, _, meq, _, col_name, _, _, _ = self._walk
+            self._match_eq = dict(zip(eq_first, map(col_name.__getitem__,
+                                                    map(meq.__getitem__, eq_first))))
+        return self._match_eq
+
+    @match_eq.setter
+    def match_eq(self, value) -> None:
+        self._match_eq = value
+        self._replaced()
+
+    @property
+    def match_var(self) -> dict[str, int]:
+        if self._match_var is None:
+            _, var_first, _, mvar, col_name, _, _, _ = self._walk
+            self._match_var = dict(zip(map(col_name.__getitem__, var_first),
+                                       map(mvar.__getitem__, var_first)))
+        return self._match_var
+
+    @match_var.setter
+    def match_var(self, value) -> None:
+        self._match_var = value
+        self._replaced()
+
+    @property
+    def block_of_var(self) -> dict[str, int]:
+        if self._block_of_var is None:
+            _, _, meq, _, col_name, _, det, block_of_eq = self._walk
+            self._block_of_var = dict(zip(map(col_name.__getitem__, map(meq.__getitem__, det)),
+                                          map(block_of_eq.__getitem__, det)))
+        return self._block_of_var
+
+    @block_of_var.setter
+    def block_of_var(self, value) -> None:
+        self._block_of_var = value
+        self._replaced()
+
+    def _replaced(self) -> None:
+        """The dicts (in the order the string-keyed walk filled them) are made from the
+        walk's lists: once all three were given, nothing is left to make from them."""
+        if self._match_eq is not None and self._match_var is not None and \
+                self._block_of_var is not None:
+            self._walk = None
 
     def needed_blocks(self, names) -> list[int]:
         """The blocks that determine `names`, with everything they depend on, in order."""
-        todo = [self.block_of_var[n] for n in names if n in self.block_of_var]
+        if self._block_of_var is None:  # an unknown's column, its equation, its block
+            _, _, _, mvar, _, rank, _, block_of_eq = self._walk
+            todo = []
+            for n in names:
+                c = rank.get(n)
+                if c is not None:
+                    k = mvar[c]
+                    if k >= 0 and block_of_eq[k] >= 0:
+                        todo.append(block_of_eq[k])
+        else:
+            todo = [self._block_of_var[n] for n in names if n in self._block_of_var]
         seen: set[int] = set()
         while todo:
             b = todo.pop()
@@ -133,6 +197,7 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
         _augment(extra, matchable, meq, mvar, eq_first, var_first)
     under: set[str] = set()
     under_eqs: set[int] = set()
+    mvar_all = mvar
     if len(var_first) < n_cols:  # unmatched unknowns: some may be under-determined
         eq_under = _under(cols, known, rank, col_name, meq, mvar, under, under_eqs)
         redundant = [k for k in order if meq[k] < 0]
@@ -146,45 +211,11 @@ def analyse(system: System, excluded=frozenset(), known=None) -> Structure:
             redundant = []
             det = order
     # BLT over the matched, determined equations (Tarjan's SCC, iterative)
-    succ: list = [None] * n_eqs
-    at = mvar.__getitem__
-    if eq_under is None:
-        for k in det:
-            succ[k] = [d for d in map(at, cols[k]) if d != k and d >= 0]
-    else:
-        for k in det:
-            succ[k] = [d for d in map(at, cols[k]) if d != k and d >= 0 and not eq_under[d]]
-    comps = _tarjan(det, succ, n_eqs)
-    blocks: list[Block] = []
-    block_of_eq = [-1] * n_eqs
-    for comp in comps:  # Tarjan emits dependencies first: theirs have their blocks
-        idx = len(blocks)
-        if len(comp) == 1:  # its successors are all in blocks before
-            k = comp[0]
-            block_of_eq[k] = idx
-            out = succ[k]
-            blocks.append(Block(idx, comp, [col_name[meq[k]]],
-                                {block_of_eq[d] for d in out} if out else NO_DEPENDS))
-            continue
-        for k in comp:
-            block_of_eq[k] = idx
-        comp.sort()
-        b = Block(idx, comp, [col_name[meq[k]] for k in comp], NO_DEPENDS)
-        blocks.append(b)
-        dep = None
-        for k in comp:
-            for d in succ[k]:
-                bd = block_of_eq[d]
-                if bd != idx:
-                    if dep is None:
-                        dep = b.depends = set()
-                    dep.add(bd)
-    name_of, col_of = col_name.__getitem__, meq.__getitem__  # (maps: one C loop a dict)
-    match_eq = dict(zip(eq_first, map(name_of, map(col_of, eq_first))))
-    match_var = dict(zip(map(name_of, var_first), map(mvar.__getitem__, var_first)))
-    block_of_var = dict(zip(map(name_of, map(col_of, det)), map(block_of_eq.__getitem__, det)))
-    return Structure(full, match_eq, match_var, under, under_eqs, redundant, blocks,
-                     block_of_var, constant)
+    if eq_under is not None:  # an under-determined equation is no one's successor
+        mvar = [-1 if k < 0 or eq_under[k] else k for k in mvar]
+    blocks, block_of_eq = _blt(det, cols, mvar, meq, col_name, n_eqs)
+    return Structure(full, None, None, under, under_eqs, redundant, blocks, None, constant,
+                     (eq_first, var_first, meq, mvar_all, col_name, rank, det, block_of_eq))
 
 
 _STATED = ("stated", "user")  # the kinds matched after the scene's own equations
@@ -350,29 +381,37 @@ def _augment(order: list[int], incidence: list[list[int]], meq: list[int], mvar:
             v = prev
 
 
-def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
-    """Strongly connected components, dependencies before dependents (iterative).
-
-    A node whose successors are all finished (in a component already: the common case
-    of an explicit equation) is its own component at once, where the full walk would
-    emit it too, without entering the walk."""
+def _blt(det: list[int], cols: list, mvar: list[int], meq: list[int], col_name: list,
+         n: int) -> tuple[list[Block], list[int]]:
+    """The blocks of the equations `det` in solving order, and each equation's block:
+    Tarjan's walk (iterative; a node whose successors are all finished is its own component at once, where the full walk would emit it too, without entering the walk), each component
+    made a Block as it is emitted, and an equation's successors (the equations matched
+    to its other columns, `mvar`: -1 for none) listed as the walk first reaches it. One
+    pass over the equations instead of three (successor lists, components, blocks): a
+    big scene's blocks are mostly one equation whose successors are all done, made at
+    once where the walk meets it."""
+    at = mvar.__getitem__
+    succ: list = [None] * n
     index = [-1] * n
     low = [0] * n
     on = [False] * n
+    block_of_eq = [-1] * n
+    blocks: list[Block] = []
     stack: list[int] = []
-    out: list[list[int]] = []
     counter = 0
-    for root in nodes:
+    for root in det:
         if index[root] >= 0:
             continue
-        ws = succ[root]
+        ws = succ[root] = [d for d in map(at, cols[root]) if d != root and d >= 0]
         for x in ws:
             if index[x] < 0 or on[x]:
                 break
-        else:  # every successor finished
-            index[root] = low[root] = counter
+        else:  # every successor finished: a block of its own, now
+            index[root] = counter
             counter += 1
-            out.append([root])
+            idx = block_of_eq[root] = len(blocks)
+            blocks.append(Block(idx, [root], [col_name[meq[root]]],
+                                {block_of_eq[d] for d in ws} if ws else NO_DEPENDS))
             continue
         index[root] = low[root] = counter
         counter += 1
@@ -384,14 +423,16 @@ def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
             for w in it:
                 iw = index[w]
                 if iw < 0:
-                    sw = succ[w]
+                    sw = succ[w] = [d for d in map(at, cols[w]) if d != w and d >= 0]
                     for x in sw:
                         if index[x] < 0 or on[x]:
                             break
-                    else:  # a finished leaf: its own component, v's low unchanged
+                    else:  # a finished leaf: its own block, v's low unchanged
                         index[w] = low[w] = counter
                         counter += 1
-                        out.append([w])
+                        idx = block_of_eq[w] = len(blocks)
+                        blocks.append(Block(idx, [w], [col_name[meq[w]]],
+                                            {block_of_eq[d] for d in sw} if sw else NO_DEPENDS))
                         continue
                     index[w] = low[w] = counter
                     counter += 1
@@ -412,7 +453,34 @@ def _tarjan(nodes: list[int], succ: list, n: int) -> list[list[int]]:
                         comp.append(w)
                         if w == v:
                             break
-                    out.append(comp)
+                    _block(comp, succ, block_of_eq, blocks, col_name, meq)
                 elif lv < low[work[-1][0]]:  # not a root: a parent is on the walk
                     low[work[-1][0]] = lv
-    return out
+    return blocks, block_of_eq
+
+
+def _block(comp: list[int], succ: list, block_of_eq: list[int], blocks: list,
+           col_name: list, meq: list[int]) -> None:
+    """Append the Block of the component `comp` (Tarjan emits dependencies first: the
+    blocks its successors are in exist)."""
+    idx = len(blocks)
+    if len(comp) == 1:
+        k = comp[0]
+        block_of_eq[k] = idx
+        out = succ[k]
+        blocks.append(Block(idx, comp, [col_name[meq[k]]],
+                            {block_of_eq[d] for d in out} if out else NO_DEPENDS))
+        return
+    for k in comp:
+        block_of_eq[k] = idx
+    comp.sort()
+    b = Block(idx, comp, [col_name[meq[k]] for k in comp], NO_DEPENDS)
+    blocks.append(b)
+    dep = None
+    for k in comp:
+        for d in succ[k]:
+            bd = block_of_eq[d]
+            if bd != idx:
+                if dep is None:
+                    dep = b.depends = set()
+                dep.add(bd)

@@ -27,11 +27,14 @@ def _flapack():
             import os
             import sys
 
-            import scipy
-
             mod = sys.modules.get("scipy.linalg._flapack")
             if mod is None:
-                here = os.path.join(os.path.dirname(scipy.__file__), "linalg")
+                # scipy's folder found without running its __init__ (~10 ms: its
+                # version checks and test helpers), which the extension never needs
+                spec = importlib.util.find_spec("scipy")
+                if spec is None or not spec.submodule_search_locations:
+                    raise ImportError("scipy")
+                here = os.path.join(list(spec.submodule_search_locations)[0], "linalg")
                 name = next(f for f in os.listdir(here)
                             if f.startswith("_flapack.") and f.endswith((".so", ".pyd")))
                 spec = importlib.util.spec_from_file_location("scipy.linalg._flapack",

@@ -6,7 +6,6 @@ those `let` values replaced. An option that names no `let` of a file is a usage 
 """
 from __future__ import annotations
 
-import difflib
 import re
 
 from . import syntax as S
@@ -53,6 +52,8 @@ def check_names(overrides, text: str, file: str) -> None:
     for name, _ in overrides:
         if name not in names:
             have = f" (it has: {', '.join(names)})" if names and len(names) <= 8 else ""
+            import difflib  # (here: an error's hint)
+
             close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
             raise OverrideError(f"--set {name}: {file} has no `let {name}`" +
                                 (f"; did you mean '{close[0]}'?" if close else have))

@@ -7,7 +7,6 @@ quantity.
 """
 from __future__ import annotations
 
-import difflib
 import math
 
 from . import syntax as S
@@ -119,6 +118,8 @@ class ReferencesMixin:
             known = _FAMILIES + list(sc.bodies) + list(sc.points)
             if not hint and name not in known:
                 # a misspelt family, body or point with a good rest: `T_lots@1->2`
+                import difflib  # (here: an error's hint; its import costs every run)
+
                 close = difflib.get_close_matches(name, sorted(set(known)), n=1, cutoff=0.6)
                 hint = f"; did you mean '{close[0]}{text[len(name):]}'?" if close else ""
             raise ProblemError(f"unknown quantity '{text}'" + hint,

@@ -10,7 +10,6 @@ from __future__ import annotations
 import os
 import sys
 from enum import Enum
-from typing import List, Optional
 
 from .diagnostics import Diagnostic, ExitCode
 
@@ -90,7 +89,7 @@ def _pick_format(fmt: Format, json_flag: bool, plain: bool) -> str:
     return "rich" if sys.stdout.isatty() and os.environ.get("TERM") != "dumb" else "plain"
 
 
-def _read_all(files: List[str]):
+def _read_all(files: list[str]):
     """Yield (name, Source, None), or (name, None, FileResult) for a file that cannot be
     used, for each path; `-` (named `<stdin>`) is read once."""
     from .run import FileResult, SourceTextError, read_source
@@ -129,9 +128,9 @@ def _read_all(files: List[str]):
             yield name, source, None
 
 
-def _expand(files: List[str]) -> List[str]:
+def _expand(files: list[str]) -> list[str]:
     """A directory argument means the `*.mom` files under it (recursively, sorted)."""
-    out: List[str] = []
+    out: list[str] = []
     for f in files:
         if f != "-" and os.path.isdir(f):
             from pathlib import Path  # here: a one-shot solve of a file never needs it
@@ -584,7 +583,7 @@ def _text_renderer(mode: str, quiet: bool, digits: int, detail: str, jsonl: bool
     return partial(text.render, sig=digits, detail=detail)
 
 
-def _overrides_for(sets: Optional[List[str]], sources) -> tuple:
+def _overrides_for(sets: list[str] | None, sources) -> tuple:
     """The `--set` pairs, checked: each parses as a value and names a `let` of every
     file given (else a usage error, exit 2, with "did you mean")."""
     if not sets:

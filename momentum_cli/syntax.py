@@ -11,6 +11,9 @@ from __future__ import annotations
 import functools
 import os
 
+from .cache_files import cache_dir as _cache_dir
+from .cache_files import read as _read_cache
+from .cache_files import write as _write_cache
 from .diagnostics import ProblemError
 from .records import record
 from .source import Source, Span
@@ -444,23 +447,6 @@ def grammar_text() -> str:
     raise FileNotFoundError("momentum.lark: the grammar is missing from the installation")
 
 
-def _cache_dir() -> str | None:
-    """The cache folder: $MOMENTUM_CACHE_DIR, else $XDG_CACHE_HOME/momentum (only when
-    absolute, as the XDG spec says), else ~/.cache/momentum; created private (0700)."""
-    base = os.environ.get("MOMENTUM_CACHE_DIR")
-    if not base:
-        xdg = os.environ.get("XDG_CACHE_HOME", "")
-        root = xdg if os.path.isabs(xdg) else os.path.join(os.path.expanduser("~"), ".cache")
-        base = os.path.join(root, "momentum")
-    if not os.path.isabs(base):
-        base = os.path.abspath(base)
-    try:
-        os.makedirs(base, mode=0o700, exist_ok=True)
-    except OSError:
-        return None
-    return base
-
-
 def _cache_key(text: str) -> str:
     import hashlib  # here: its import (OpenSSL) costs a one-shot run that never needs lark
     import sys
@@ -468,71 +454,6 @@ def _cache_key(text: str) -> str:
     import lark
 
     return hashlib.sha256((text + lark.__version__ + sys.version).encode()).hexdigest()[:16]
-
-
-def _note(message: str) -> None:
-    import sys
-
-    try:
-        sys.stderr.write(f"momentum: note: {message}\n")
-    except (OSError, ValueError):
-        pass
-
-
-def _read_cache(path: str) -> bytes | None:
-    """The cache file's bytes, only when it is a regular file owned by this user and
-    writable by nobody else: a pickle runs code when loaded. A symlink, FIFO or device
-    is never opened for reading (O_NOFOLLOW, O_NONBLOCK, then fstat)."""
-    import stat
-
-    flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
-    try:
-        fd = os.open(path, flags)
-    except FileNotFoundError:
-        return None
-    except OSError:  # a symlink (ELOOP), no permission...
-        _note(f"parser cache {path} is not a plain file of yours; not used")
-        return None
-    try:
-        st = os.fstat(fd)
-        owner = os.getuid() if hasattr(os, "getuid") else st.st_uid
-        if not stat.S_ISREG(st.st_mode) or st.st_uid != owner or \
-                st.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
-            _note(f"parser cache {path} is not a private file of yours (owner, mode or type); "
-                  "not loaded, the parser is built in memory")
-            return None
-        chunks = []
-        while True:
-            chunk = os.read(fd, 1 << 20)
-            if not chunk:
-                break
-            chunks.append(chunk)
-        return b"".join(chunks)
-    except OSError:
-        return None
-    finally:
-        os.close(fd)
-
-
-def _write_cache(path: str, data: bytes) -> None:
-    """Write atomically: a private temporary file in the same folder, then rename, so
-    that a concurrent start reads the old file or the new one, never half of one."""
-    import tempfile
-
-    folder = os.path.dirname(path)
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=".grammar-", suffix=".tmp", dir=folder)
-    except OSError:
-        return
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except OSError:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
 
 
 @functools.lru_cache(maxsize=1)

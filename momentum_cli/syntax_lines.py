@@ -8,9 +8,9 @@ comes before the first statement: the caller parses the text whole. Lines of one
 """
 from __future__ import annotations
 
-import re
+import sys
 
-from . import source
+from . import builder_store, regex_store, source
 
 _NODES = ("Arg", "AtRest", "BodyDecl", "Clause", "Contact", "Find", "FindItem", "Given",
           "Gravity", "Let", "Neg", "Num", "PointRef", "Problem", "Prop", "Ref", "RollsIn",
@@ -54,6 +54,7 @@ def _maker(cls):
 
 
 _TWIN_OF: dict = {}  # record class -> its plain twin (_maker)
+_ENV: dict = {}  # a builder's globals (setup)
 
 
 def setup(syntax) -> None:
@@ -66,13 +67,20 @@ def setup(syntax) -> None:
     _MAKERS_OF = {c: _maker(c) for c in classes}
     _NumClass = syntax.Num
     IMPACT_LAWS = syntax.IMPACT_LAWS
-    _KEYWORDS = keywords(syntax.grammar_text())
+    grammar = syntax.grammar_text()
+    _KEYWORDS = keywords(grammar)
     g = globals()
     g["Span"] = _MAKERS_OF[source.Span]
     for n, c in zip(_NODES, classes[1:]):
         g[n] = _MAKERS_OF[c]
     _UNIT_OK.clear()
     _SHAPES.clear()
+    # the globals of a builder's code: the records it makes, and their plain twins
+    _ENV.clear()
+    _ENV["_new"] = object.__new__
+    for c, twin in _TWIN_OF.items():
+        _ENV["_T" + c.__name__], _ENV["_C" + c.__name__] = twin, c
+    builder_store.configure(grammar, (sys.modules[__name__], syntax, source))
     _SETUP[0] = syntax
 
 
@@ -97,32 +105,43 @@ _A = (rf"(?:(-) *)?(?>({_NUM})(?: *({_UNIT}))?|({_NAME})(?: *\[ *({_NAME}(?: *- 
       rf" *\])?(?: *\. *({_NAME}))?(?: *@ *({_ID})(?: *-> *({_ID}))?)?)()")
 _X = rf"(?:(\() *{_A} *, *{_A} *\)()|{_A})"
 _PREF = rf"(?>({_NAME})(?: *\. *(?:end *\( *([+-]) *\)|({_NAME})))?)()"  # 4 groups
-_TAIL = re.compile(r" *(?:#.*)?")
-_SP = re.compile(r" *")
-_WORD = re.compile(_NAME)
-_HEAD = re.compile(r"[a-z]+(?![A-Za-z_0-9\[])")  # a whole word: a keyword
-_BODY = re.compile(rf"body +({_NAME}) *: *({_NAME}) *\( *")
-_ARG = re.compile(rf"({_NAME}) *= *{_X} *")  # 1 name, 2.. the value
-_LET = re.compile(rf"let +({_NAME}) *= *{_X} *")
-_ITEM = re.compile(rf"({_NAME}) *(?:\. *({_NAME})() *([=<>]) *{_X}|at +rest{_END}()"
-                   rf"|rolls +on +({_NAME})()) *")  # 1 2 3 4, 5.. value, 34, 35 36
-_REST = re.compile(rf"({_NAME}) +at +rest{_END}() *, *(?=[A-Za-z_])")  # not the last
-_STATE = re.compile(rf'state *(?P<id>{_ID}) *(?P<s>"[^"\n]*")? *(?P<c>:)? *')
-_TRANS = re.compile(rf"(?P<k>impact|interval|energy) *(?P<a>{_ID}) *-> *(?P<b>{_ID})"
-                    rf"(?P<z>) *(?P<c>:)?")
-# 1 label, 2-5 and 6-9 the points, 10.. the normal, 39 the colon of the properties
-_CONTACT = re.compile(rf"contact *(?:({_NAME}) *: *)?{_PREF} *with{_END} *{_PREF} *"
-                      rf"(?:normal{_END} *{_X} *)?(:)? *")
-_PROP = re.compile(rf"(restitution|smooth|rough|friction|slip|separation|static){_END}"
-                   rf"(?: *(\?)| *{_X})?() *")  # 1 kind, 2 `?`, 3.. the value, 32 its end
-_STOPS = re.compile(rf"(?P<n>{_NAME}) +(?:stops{_END}(?P<z>) *|rolls +on +(?P<s>{_NAME})"
-                    rf"(?P<sz>) *)")
-_FREE = re.compile(rf"free +(?P<n>{_NAME})(?P<z>) *")
-_FIND = re.compile(r"find *")
-# 1 name, 2.. the expression, 31 the unit, 32 its end
-_FINDITEM = re.compile(rf"(?:({_NAME}) *= *)?{_X}(?: *in +({_UNIT})())? *")
-_PROBLEM = re.compile(r'problem *(?P<s>"[^"\n]*")')
-_GRAVITY = re.compile(rf"gravity *{_X} *(down|up|left|right){_END}")
+# the patterns below, compiled from code kept in the cache folder (regex_store): the
+# regex compiler would cost each big file's process ~13 ms
+_RE = regex_store.compiled("syntax_lines", {
+    "TAIL": r" *(?:#.*)?",
+    "SP": r" *",
+    "WORD": _NAME,
+    "HEAD": r"[a-z]+(?![A-Za-z_0-9\[])",  # a whole word: a keyword
+    "BODY": rf"body +({_NAME}) *: *({_NAME}) *\( *",
+    "ARG": rf"({_NAME}) *= *{_X} *",  # 1 name, 2.. the value
+    "LET": rf"let +({_NAME}) *= *{_X} *",
+    "ITEM": rf"({_NAME}) *(?:\. *({_NAME})() *([=<>]) *{_X}|at +rest{_END}()"
+            rf"|rolls +on +({_NAME})()) *",  # 1 2 3 4, 5.. value, 34, 35 36
+    "REST": rf"({_NAME}) +at +rest{_END}() *, *(?=[A-Za-z_])",  # not the last
+    "STATE": rf'state *(?P<id>{_ID}) *(?P<s>"[^"\n]*")? *(?P<c>:)? *',
+    "TRANS": rf"(?P<k>impact|interval|energy) *(?P<a>{_ID}) *-> *(?P<b>{_ID})"
+             rf"(?P<z>) *(?P<c>:)?",
+    # 1 label, 2-5 and 6-9 the points, 10.. the normal, 39 the colon of the properties
+    "CONTACT": rf"contact *(?:({_NAME}) *: *)?{_PREF} *with{_END} *{_PREF} *"
+               rf"(?:normal{_END} *{_X} *)?(:)? *",
+    "PROP": rf"(restitution|smooth|rough|friction|slip|separation|static){_END}"
+            rf"(?: *(\?)| *{_X})?() *",  # 1 kind, 2 `?`, 3.. the value, 32 its end
+    "STOPS": rf"(?P<n>{_NAME}) +(?:stops{_END}(?P<z>) *|rolls +on +(?P<s>{_NAME})"
+             rf"(?P<sz>) *)",
+    "FREE": rf"free +(?P<n>{_NAME})(?P<z>) *",
+    "FIND": r"find *",
+    # 1 name, 2.. the expression, 31 the unit, 32 its end
+    "FINDITEM": rf"(?:({_NAME}) *= *)?{_X}(?: *in +({_UNIT})())? *",
+    "PROBLEM": r'problem *(?P<s>"[^"\n]*")',
+    "GRAVITY": rf"gravity *{_X} *(down|up|left|right){_END}",
+    "NUMBER": _NUM,
+    "QUOTED": r'"([A-Za-z_][A-Za-z_0-9]*)"',  # a keyword in the grammar
+})
+_TAIL, _SP, _WORD, _HEAD = _RE["TAIL"], _RE["SP"], _RE["WORD"], _RE["HEAD"]
+_BODY, _ARG, _LET, _ITEM, _REST = _RE["BODY"], _RE["ARG"], _RE["LET"], _RE["ITEM"], _RE["REST"]
+_STATE, _TRANS, _CONTACT, _PROP = _RE["STATE"], _RE["TRANS"], _RE["CONTACT"], _RE["PROP"]
+_STOPS, _FREE, _FIND, _FINDITEM = _RE["STOPS"], _RE["FREE"], _RE["FIND"], _RE["FINDITEM"]
+_PROBLEM, _GRAVITY, _NUMBER = _RE["PROBLEM"], _RE["GRAVITY"], _RE["NUMBER"]
 
 # words the grammar writes in quotes: where one is acceptable the lexer tries it before a
 # UNIT (a lower priority), and it wins even as a prefix (`5 inch` is `in` then `ch`); the
@@ -136,7 +155,7 @@ IMPACT_LAWS: tuple = ()
 
 def keywords(grammar: str) -> frozenset:
     """The words `grammar` writes in quotes (its keywords)."""
-    return frozenset(re.findall(r'"([A-Za-z_][A-Za-z_0-9]*)"', grammar))
+    return frozenset(_RE["QUOTED"].findall(grammar))
 
 
 def _unit_ok(u: str) -> bool:
@@ -165,6 +184,18 @@ def parse(text: str, rest, syntax):
         if s and s[0] != "#":
             return None  # something before the first statement: the whole parse decides
     heads.append(n)
+    _STORING[0] = STORE and len(text) >= STORE_BYTES
+    try:
+        return _statements(lines, heads, rest)
+    finally:
+        if _STORING[0]:
+            builder_store.flush()
+            _STORING[0] = False
+
+
+def _statements(lines, heads, rest) -> list:
+    """The nodes of the statements starting at `heads` (line indices, the last one the
+    end), each by its shape's builder, its form, or `rest`."""
     out = []
     shapes, mask, fn = _SHAPES, _MASK, _FUNCTION
     for k in range(len(heads) - 1):
@@ -259,7 +290,6 @@ def _line_clause(_, s: str, L: int):
 # written for that shape builds the nodes straight from slices of the line.
 _MASK = bytes.maketrans(b"123456789", b"000000000")
 _PROBE = str.maketrans("0123456789", "1234567890")
-_NUMBER = re.compile(_NUM)
 BUILD_AFTER = 4  # lines of one shape read before its builder is written
 MAX_SHAPES = 5_000  # (then forgotten: a bound on the memory they hold)
 _SHAPES: dict = {}  # masked text -> lines of that shape read so far, or its builder
@@ -273,6 +303,12 @@ def _shaped(kind, f, s: str, L: int):
     key = s.encode().translate(_MASK)  # (its first word tells the kind: a statement's
     # keyword, or the indentation of a clause)
     hit = _SHAPES.get(key)
+    if hit is None and _STORING[0]:
+        hit = _stored(key)
+        if hit is not None:  # a builder, or False: none can be written for this shape
+            if len(_SHAPES) >= MAX_SHAPES:
+                _SHAPES.clear()
+            _SHAPES[key] = hit
     if hit is None or hit.__class__ is int:
         run = _line_clause if kind is None else _line_statement
         node = run(f, s, L)  # (_No: not a form read here; the count stays)
@@ -301,13 +337,38 @@ def _builder(run, f, s: str):
         out = _code(trees, texts, (env, body))
         src = "def build(s, L):\n" + "".join(f"    {x}\n" for x in body) + \
             f"    return {out}\n"
-        exec(compile(src, "<syntax_lines>", "exec"), env)  # noqa: S102 (from the nodes)
+        code = compile(src, "<syntax_lines>", "exec")
+        exec(code, env)  # noqa: S102 (from the nodes)
         fn = env["build"]
         if any(fn(x, 7) != run(f, x, 7) for x in texts):
-            return False
+            fn = code = False
     except Exception:  # a field found nowhere or at two places, a deep tree...: read each
-        return False
+        fn = code = False
+    if _STORING[0]:
+        builder_store.add(s.encode().translate(_MASK), code)
     return fn
+
+
+STORE = True  # builders kept in the cache folder between runs (tests turn it off)
+# a text this long reads and keeps stored builders: a smaller one (a batch's files) makes
+# its few builders itself, where loading and writing the file would cost it more
+STORE_BYTES = 1 << 17
+_STORING = [False]  # within `parse` of such a text
+
+
+def _stored(key: bytes):
+    """The builder of the shape `key` made by an earlier run (builder_store), False when
+    that run found none can be written, None when it met no such line. Its code was
+    checked against the readings when it was made, from these modules."""
+    code = builder_store.get(key)
+    if code is None or code is False:
+        return code
+    env = dict(_ENV)
+    try:
+        exec(code, env)  # noqa: S102 (written by _builder, read from a private file)
+        return env["build"]
+    except Exception:  # not a builder's code: read the line
+        return None
 
 
 def _code(vs: list, texts: tuple, out: tuple) -> str:

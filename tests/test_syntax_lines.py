@@ -336,6 +336,7 @@ def test_shape_builders_same_nodes(monkeypatch):
     from test_hard import cradle_text
 
     monkeypatch.setattr(syntax_lines, "BUILD_AFTER", 1)
+    monkeypatch.setattr(syntax_lines, "STORE", False)  # (stored ones: test_builder_store)
     syntax_lines.setup(syntax)
     monkeypatch.setattr(syntax_lines, "_SHAPES", {})
     rng = random.Random(7)
