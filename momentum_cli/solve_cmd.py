@@ -281,6 +281,12 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
         if detail != "full":
             _write_text(sys.stdout, text.render(report, digits, detail=detail))
             return console
+        if failed is not None and \
+                (report.counts or {}).get("equations", 0) >= FORK_MIN_EQUATIONS:
+            from . import forked_text
+
+            if forked_text.write(sys.stdout, report, digits, failed):
+                return console
         parts = text.iter_parts(report, digits)
         _write_text(sys.stdout, parts if failed is None else _caught(parts, failed))
     return console
@@ -296,6 +302,9 @@ def _caught(parts, failed: list):
 
 
 WRITE_CHUNK = 1 << 20  # characters
+# a plain report from which its text is made by two processes (forked_text): below it the
+# text costs less than ~30 ms, not worth a fork
+FORK_MIN_EQUATIONS = 2000
 
 
 def _write_text(out, text) -> None:

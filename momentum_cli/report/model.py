@@ -138,12 +138,14 @@ class Lazy:
     rows, blocks and unknowns of 10^5 balls are half a gigabyte as objects). `make()`
     gives an iterator over the items; a copy (`list`, pickle) is a plain list."""
 
-    __slots__ = ("_n", "_make", "texts")
+    __slots__ = ("_n", "_make", "texts", "part")
 
-    def __init__(self, n: int, make, texts=None):
+    def __init__(self, n: int, make, texts=None, part=None):
         """`texts`: None, or a function giving an iterator over the items' plain text
-        (`equation_text` of each row), made without the items (plain text reads no more)."""
-        self._n, self._make, self.texts = n, make, texts
+        (`equation_text` of each row), made without the items (plain text reads no more).
+        `part`: None, or a function giving items i to j - 1 (`part(i, j)`) as a Lazy, the
+        others not made (text.part_of: a range of the text made by another process)."""
+        self._n, self._make, self.texts, self.part = n, make, texts, part
 
     def __iter__(self):
         return self._make()
@@ -159,6 +161,19 @@ class Lazy:
 
     def __reduce__(self):
         return (list, (list(self._make()),))
+
+
+class LazyTransitions(Lazy):
+    """A lazy report's transitions, with what splitting its text needs without making
+    them: a transition's rows alone (`rows(i)`), and each one's size (`sizes()`)."""
+
+    __slots__ = ("rows", "sizes")
+
+    def __init__(self, n: int, make, part, rows, sizes):
+        """`rows(i)`: transition i's equation rows (its `equations`) without its
+        statements and diagram; `sizes()`: (rows, bodies moved) of each transition."""
+        super().__init__(n, make, None, part)
+        self.rows, self.sizes = rows, sizes
 
 
 def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
@@ -263,7 +278,8 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
 
     def group_rows(ks: list):
         if lazy:  # made as read: a transition of 10^5 bodies is not held as rows
-            return Lazy(len(ks), lambda: map(row, ks), lambda: row_texts(ks))
+            return Lazy(len(ks), lambda: map(row, ks), lambda: row_texts(ks),
+                        lambda i, j: group_rows(ks[i:j]))
         return [rows[k] for k in ks]
 
     k_mass, k_inertia = reader.factor(MASS), reader.factor(INERTIA)  # once, not per body
@@ -303,13 +319,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
         # items: (name, value, unit) in the reader's units, unit "hint" for a bound (its
         # unit in `units`, one per item)
         knowns.append(dict(id=sid, label=spec.label or "", items=items, units=units))
-    used_groups = set()
-    for t in system.transitions:
-        used_groups.add(f"{t.kind} {t.before} -> {t.after}")
+    used_groups = set(map(_group_of, system.transitions))
 
-    def transition_items():
-        for t in system.transitions:
-            group = f"{t.kind} {t.before} -> {t.after}"
+    def transition_items(trs):
+        for t in trs:
+            group = _group_of(t)
             # system: the principles stated for the system (sum of momenta, moments about
             # a pin with I_O = I_G + m d^2), shown before the body-by-body rows
             # (statements.py)
@@ -410,7 +424,16 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     if lazy:
         from .diagram import lazy_diagrams
 
-        transitions = Lazy(len(system.transitions), transition_items)
+        trs = system.transitions
+
+        def transitions_part(i: int, j: int) -> Lazy:
+            some = trs[i:j]
+            return Lazy(len(some), lambda: transition_items(some))
+
+        transitions = LazyTransitions(
+            len(trs), lambda: transition_items(trs), transitions_part,
+            lambda i: group_rows(by_group.get(_group_of(trs[i]), ())),
+            lambda: [(len(by_group.get(_group_of(t), ())), len(t.bodies)) for t in trs])
         blocks = Lazy(len(sol.blocks), block_items, block_texts)
         unknowns = Lazy(sum(1 for n in system.unknowns if n in values), unknown_items,
                         unknown_texts)
@@ -418,7 +441,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     else:
         from .diagram import build_diagrams
 
-        transitions = list(transition_items())
+        transitions = list(transition_items(system.transitions))
         blocks = list(block_items())
         unknowns = list(unknown_items())
     flows = _flow_rows(system, values)
@@ -448,6 +471,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                      mass=reader.label(MASS), inertia=reader.label(INERTIA),
                      length=reader.label(LENGTH), velocity=reader.label(VELOCITY))
     return rep
+
+
+def _group_of(t) -> str:
+    """The group of a transition's equations (`Equation.group`)."""
+    return f"{t.kind} {t.before} -> {t.after}"
 
 
 _DIAGRAM_INDEX: list = [None, 0, {}]  # the diagrams list last indexed, its length, the index
