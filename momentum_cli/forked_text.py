@@ -31,11 +31,12 @@ def _serial_asked() -> bool:
     return os.environ.get("MOMENTUM_SERIAL_REPORT", "") not in ("", "0")
 
 
-def write(out, report, sig: int, failed: list) -> bool:
-    """Write `report`'s full plain text to `out` (`solve_cmd._write_text`'s way), made by
-    this process and a forked child; False (nothing written) where that cannot be set up
-    (no fork, serial asked, a report not lazy): the caller makes the text alone. A piece that fails to be made ends the text there
-    with its exception in `failed`, as `solve_cmd._caught` does."""
+def write(out, report, sig: int, failed: list, write_text) -> bool:
+    """Write `report`'s full plain text to `out` by `write_text(stream, pieces)`
+    (solve_cmd._write_text), made by this process and a forked child; False (nothing
+    written) where that cannot be set up (no fork, serial asked, a report not lazy): the
+    caller makes the text alone. A piece that fails to be made ends the text there, its
+    exception in `failed` (as solve_cmd._caught)."""
     if not hasattr(os, "fork") or _serial_asked():
         return False
     from .report.text_cuts import cuts
@@ -66,10 +67,11 @@ def write(out, report, sig: int, failed: list) -> bool:
         spill.close()
         return False
     if pid == 0:  # the child: never returns
-        _child(report, sig, bounds, spill.fileno(), shared, encoding, errors, fcntl)
+        _child(report, sig, bounds, spill.fileno(), shared, encoding, errors, fcntl,
+               write_text)
     CHILDREN.add(pid)
     try:
-        _front(out, report, sig, bounds, spill.fileno(), shared, failed, fcntl)
+        _front(out, report, sig, bounds, spill.fileno(), shared, failed, fcntl, write_text)
         if failed:
             return True
         _wait(pid)
@@ -78,7 +80,7 @@ def write(out, report, sig: int, failed: list) -> bool:
             offset, length = _PAIR.unpack_from(shared, _PAIR.size * (1 + k))
             if length >= 0:
                 _copy(out, spill.fileno(), offset, length, binary, encoding, errors)
-            elif not _make(out, report, sig, bounds, k, failed):
+            elif not _make(out, report, sig, bounds, k, failed, write_text):
                 return True
         return True
     finally:
@@ -119,7 +121,7 @@ def _claim(fd: int, shared, fcntl, front: bool):
 
 def _pieces(report, sig: int, bounds: list, k: int):
     """Range k's pieces, a newline before them from the second range on (an empty
-    piece first: `_write_text` writes it only before the range's first piece)."""
+    piece first: the writer puts a newline only before the range's first piece)."""
     from .report.text import iter_parts
 
     if k:
@@ -127,22 +129,29 @@ def _pieces(report, sig: int, bounds: list, k: int):
     yield from iter_parts(report, sig, True, bounds[k], bounds[k + 1])
 
 
-def _make(out, report, sig: int, bounds: list, k: int, failed: list) -> bool:
+def _make(out, report, sig: int, bounds: list, k: int, failed: list, write_text) -> bool:
     """Write range k here; False if a piece of it failed (its exception in `failed`)."""
-    from .solve_cmd import _caught, _write_text
-
-    _write_text(out, _caught(_pieces(report, sig, bounds, k), failed))
+    write_text(out, _until_failure(_pieces(report, sig, bounds, k), failed))
     return not failed
 
 
-def _front(out, report, sig, bounds, fd, shared, failed, fcntl) -> None:
+def _until_failure(parts, failed: list):
+    """The pieces of `parts` until one fails to be made; its exception goes to `failed`
+    (a write's own errors, raised in the writer, are not caught here)."""
+    try:
+        yield from parts
+    except Exception as exc:
+        failed.append(exc)
+
+
+def _front(out, report, sig, bounds, fd, shared, failed, fcntl, write_text) -> None:
     """This process's ranges: 0, then each next one from the front until the child's."""
     k = 0
-    while k is not None and _make(out, report, sig, bounds, k, failed):
+    while k is not None and _make(out, report, sig, bounds, k, failed, write_text):
         k = _claim(fd, shared, fcntl, True)
 
 
-def _child(report, sig, bounds, fd, shared, encoding, errors, fcntl) -> None:
+def _child(report, sig, bounds, fd, shared, encoding, errors, fcntl, write_text) -> None:
     """The forked child: ranges from the back into the file `fd`, each recorded in
     `shared` once its bytes are all written. Leaves by os._exit (no atexit, no flush of
     the parent's streams, no teardown); any error ends it (the parent makes the rest)."""
@@ -156,15 +165,13 @@ def _child(report, sig, bounds, fd, shared, encoding, errors, fcntl) -> None:
         null = os.open(os.devnull, os.O_WRONLY)
         os.dup2(null, 1)  # never the parent's output, nor holding its pipe open
         os.close(null)
-        from .solve_cmd import _write_text
-
         sink = _Sink(fd, encoding, errors)
         while True:
             k = _claim(fd, shared, fcntl, False)
             if k is None:
                 break
             start = sink.size
-            _write_text(sink, _pieces(report, sig, bounds, k))
+            write_text(sink, _pieces(report, sig, bounds, k))
             _PAIR.pack_into(shared, _PAIR.size * (1 + k), start, sink.size - start)
         code = 0
     except BaseException:  # noqa: B036 (the parent makes what is missing)
@@ -191,10 +198,9 @@ def _copy(out, fd: int, offset: int, length: int, binary: bool, encoding, errors
     """The child's bytes of one range to `out`: as bytes after the text written so far,
     or decoded (a range is whole characters)."""
     if not binary:
-        data = os.pread(fd, length, offset)
-        from .solve_cmd import _write_long
-
-        _write_long(out, data.decode(encoding, errors))
+        text = os.pread(fd, length, offset).decode(encoding, errors)
+        for i in range(0, len(text), COPY_BLOCK):
+            out.write(text[i:i + COPY_BLOCK])
         return
     out.flush()
     buffer = out.buffer

@@ -285,7 +285,7 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
                 (report.counts or {}).get("equations", 0) >= FORK_MIN_EQUATIONS:
             from . import forked_text
 
-            if forked_text.write(sys.stdout, report, digits, failed):
+            if forked_text.write(sys.stdout, report, digits, failed, _write_text):
                 return console
         parts = text.iter_parts(report, digits)
         _write_text(sys.stdout, parts if failed is None else _caught(parts, failed))
