@@ -59,6 +59,7 @@ def write(out, report, sig: int, failed: list, write_text) -> bool:
         _PAIR.pack_into(shared, 0, 1, n)  # range 0 is this process's
         for k in range(n):
             _PAIR.pack_into(shared, _PAIR.size * (1 + k), -1, -1)
+        _prepare(report)
         binary = _byte_stream(out)
         encoding, errors = (out.encoding, out.errors) if binary else ("utf-8", "surrogatepass")
         out.flush()  # before the fork: the child's copy of the buffer is empty
@@ -87,6 +88,18 @@ def write(out, report, sig: int, failed: list, write_text) -> bool:
         _end(pid)
         spill.close()
         shared.close()
+
+
+def _prepare(report) -> None:
+    """What both processes' first ranges would make, made once before the fork: the
+    diagrams' shared lookups (this process's first range needs them anyway). A bug met
+    here is met again, as the text would meet it, by the range that needs them."""
+    prepare = getattr(report.diagrams, "prepare", None)
+    if prepare is not None:
+        try:
+            prepare()
+        except Exception:  # noqa: BLE001 (said where the text meets it)
+            pass
 
 
 def _byte_stream(out) -> bool:

@@ -163,6 +163,46 @@ class Lazy:
         return (list, (list(self._make()),))
 
 
+class Deferred:
+    """A list made when it is first read, then held (a lazy report's checks: a tenth of a
+    second for 10^4 impacts, made by whoever reads them first). What is appended before
+    it is made comes after the made items; a copy (`list`, pickle) is a plain list."""
+
+    __slots__ = ("_make", "_items", "_later")
+
+    def __init__(self, make):
+        self._make, self._items, self._later = make, None, []
+
+    def _made(self) -> list:
+        if self._items is None:
+            self._items = self._make() + self._later
+            self._make = self._later = None
+        return self._items
+
+    def append(self, item) -> None:
+        (self._later if self._items is None else self._items).append(item)
+
+    def __iter__(self):
+        return iter(self._made())
+
+    def __len__(self) -> int:
+        return len(self._made())
+
+    def __bool__(self) -> bool:
+        return bool(self._made())
+
+    def __getitem__(self, i):
+        return self._made()[i]
+
+    def __eq__(self, other) -> bool:
+        return self._made() == (list(other) if isinstance(other, Deferred) else other)
+
+    __hash__ = None
+
+    def __reduce__(self):
+        return (list, (self._made(),))
+
+
 class LazyTransitions(Lazy):
     """A lazy report's transitions, with what splitting its text needs without making
     them: a transition's rows alone (`rows(i)`), and each one's size (`sizes()`)."""
@@ -445,9 +485,14 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
         blocks = list(block_items())
         unknowns = list(unknown_items())
     flows = _flow_rows(system, values)
-    checks = list(sol.checks) + _energy_checks(sol, sig, reader) + _residual_checks(sol) + \
-        _flux_checks(flows)
-    checks += _error_estimates(sol)
+
+    def made_checks() -> list:
+        return list(sol.checks) + _energy_checks(sol, sig, reader) + _residual_checks(sol) + \
+            _flux_checks(flows) + _error_estimates(sol)
+
+    # a lazy report's checks are made where they are first read: by the process that
+    # writes the Checks section (forked_text: the child, beside the other's transitions)
+    checks = Deferred(made_checks) if lazy else made_checks()
     answers = []
     for f, (n, v, u, si) in zip(system.finds, sol.answers):
         if not f.explicit and f.factor == 1.0:  # no `in UNIT`: the reader's units
