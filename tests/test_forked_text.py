@@ -1,9 +1,10 @@
-"""One big file's plain report made by two processes (forked_text): the text in ranges
-between cuts (text.iter_parts' `start`, `stop`; report/text_cuts.py) joins to the whole
-text, and `solve --plain` through the fork writes the same bytes, exit code and errors
-as one process (MOMENTUM_SERIAL_REPORT=1): whatever share of the ranges the child takes,
-when the child fails, dies or never runs, and when a piece meets a bug half-way (in
-either process's part). No child is left behind."""
+"""One big file's report made by two processes (forked_text, two_process): the plain
+text in ranges between cuts (text.iter_parts' `start`, `stop`; report/text_cuts.py)
+joins to the whole text, and `solve --plain` through the fork writes the same bytes,
+exit code and errors as one process (MOMENTUM_SERIAL_REPORT=1): whatever share of the
+ranges the child takes, when the child fails, dies or never runs, and when a piece meets
+a bug half-way (in either process's part). `solve --json`'s report fields, shared out
+the same way, are the same strings. No child is left behind."""
 from __future__ import annotations
 
 import os
@@ -14,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from momentum_cli import forked_text, solve_cmd
+from momentum_cli import forked_text, solve_cmd, two_process
 from momentum_cli.bench import chain_text
 from momentum_cli.report import text
 from momentum_cli.report.text_cuts import cuts
@@ -125,7 +126,7 @@ def _no_children() -> bool:
     try:
         os.waitpid(-1, os.WNOHANG)
     except ChildProcessError:
-        return not forked_text.CHILDREN
+        return not two_process.CHILDREN
     return False
 
 
@@ -197,7 +198,7 @@ def test_a_child_that_fails_or_dies_leaves_the_text_whole(tmp_path, capsys, monk
 def test_a_child_that_never_runs(tmp_path, capsys, monkeypatch, forked):
     path = _big(tmp_path, "chain", 200)
     want = _serial([str(path)], capsys, monkeypatch)
-    monkeypatch.setattr(forked_text, "_child", lambda *a: os._exit(1))
+    monkeypatch.setattr(two_process, "_child", lambda *a: os._exit(1))
     assert _run([str(path)], capsys) == want
     assert forked == [True] and _no_children()
 
@@ -286,3 +287,73 @@ def test_one_shot_process_and_a_closed_pipe(tmp_path):
                           "echo \"status ${PIPESTATUS[0]}\"", shell=True, cwd=ROOT, env=env,
                           capture_output=True, text=True, timeout=300, executable="/bin/bash")
     assert head.stdout.endswith("status 141\n") and head.stderr == ""
+
+
+# ---- JSON: the report's fields made by two processes ------------------------------------
+def test_json_fields_of_two_processes_are_the_fields(tmp_path, monkeypatch):
+    """Each field's JSON text made by whichever process takes it: the same strings as
+    one process makes, in the same key order, ASCII-only or not; the checks are this
+    process's (read again by the caller)."""
+    from momentum_cli.report import json_out
+
+    monkeypatch.delenv("MOMENTUM_SERIAL_REPORT", raising=False)
+    paths = [_big(tmp_path, kind, n) for kind, n in (("chain", 150), ("cradle", 150),
+                                                     ("simultaneous", 60))]
+    for path in paths + EXAMPLES[::7]:
+        res = solve_source(read_source(str(path)), False, 6, "float", lazy=True)
+        if res.report is None:
+            continue
+        for ascii_only in (False, True):
+            want = json_out.encoded_fields(_lazy(path), ascii_only)
+            rep = _lazy(path)
+            got = forked_text.encoded_fields(rep, ascii_only, 0)
+            assert list(got) == list(want) and got == want, path.name
+            assert all(type(v) is json_out.Encoded for k, v in got.items() if k != "title")
+            assert rep.checks._items is not None  # made here
+    assert _no_children()
+
+
+def test_json_fields_when_the_child_fails_or_a_field_has_a_bug(tmp_path, monkeypatch):
+    from momentum_cli.report import json_out
+
+    monkeypatch.delenv("MOMENTUM_SERIAL_REPORT", raising=False)
+    path = _big(tmp_path, "cradle", 150)
+    want = json_out.encoded_fields(_lazy(path))
+    parent = os.getpid()
+    real = json_out._diagrams
+
+    def broken_in_child(rep):
+        if os.getpid() != parent:
+            os.kill(os.getpid(), signal.SIGKILL)
+        return real(rep)
+    monkeypatch.setattr(json_out, "_diagrams", broken_in_child)
+    assert forked_text.encoded_fields(_lazy(path), False, 0) == want
+
+    def bug(rep):
+        raise RuntimeError("boom")
+    monkeypatch.setattr(json_out, "_diagrams", bug)
+    with pytest.raises(RuntimeError, match="boom"):
+        forked_text.encoded_fields(_lazy(path), False, 0)
+    assert _no_children()
+
+
+def test_json_of_one_big_file_through_the_fork(tmp_path, capsys, monkeypatch, forked):
+    """`solve --json` of one file: the same document as one process (the fork is for a
+    single file: a batch's workers use both cores already)."""
+    calls = []
+    real = forked_text.encoded_fields
+
+    def counted(*a, **k):
+        if not os.environ.get("MOMENTUM_SERIAL_REPORT"):
+            calls.append(1)
+        return real(*a, **k)
+    monkeypatch.setattr(forked_text, "encoded_fields", counted)
+    for path in (_big(tmp_path, "cradle", 120), _big(tmp_path, "chain", 120)):
+        want = _serial([str(path)], capsys, monkeypatch, json_flag=True, plain=False)
+        assert want[0] == 0 and want[1].startswith("{")
+        assert _run([str(path)], capsys, json_flag=True, plain=False) == want
+    assert len(calls) == 2
+    both = [str(p) for p in tmp_path.glob("*.mom")]
+    _run(both, capsys, json_flag=True, plain=False)
+    assert len(calls) == 2
+    assert _no_children()

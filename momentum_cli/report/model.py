@@ -163,6 +163,19 @@ class Lazy:
         return (list, (list(self._make()),))
 
 
+def part_of(items, i: int, j: int):
+    """Items `i` to `j - 1` of a report's list, or of a `Lazy` (made as read)."""
+    part = getattr(items, "part", None)
+    return part(i, j) if part is not None else items[i:j]
+
+
+def rows_of(transitions, i: int):
+    """The equation rows of transition `i`: a lazy report's without making the
+    transition (its statements and diagram)."""
+    rows = getattr(transitions, "rows", None)
+    return rows(i) if rows is not None else transitions[i]["equations"]
+
+
 class Deferred:
     """A list made when it is first read, then held (a lazy report's checks: a tenth of a
     second for 10^4 impacts, made by whoever reads them first). What is appended before

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from ..numbers import fmt_num, fmt_tiny
 from .abbrev import abbreviate
-from .model import Report, diagram_lines, equation_text
+from .model import Report, diagram_lines, equation_text, part_of, rows_of
 
 
 _FORMATS: dict = {}  # (indent, column widths) -> (line format, rule): small tables recur
@@ -265,19 +265,6 @@ def _transition_parts(rep: Report, start, stop):
         if k == j:  # the range ends inside this transition's rows
             rows = part_of(rows, 0, s)
         yield from _equation_texts(rows)  # one piece an equation, as made
-
-
-def part_of(items, i: int, j: int):
-    """Items `i` to `j - 1` of a report's list, or of a `model.Lazy` (made as read)."""
-    part = getattr(items, "part", None)
-    return part(i, j) if part is not None else items[i:j]
-
-
-def rows_of(transitions, i: int):
-    """The equation rows of transition `i`: a lazy report's without making the
-    transition (its statements and diagram)."""
-    rows = getattr(transitions, "rows", None)
-    return rows(i) if rows is not None else transitions[i]["equations"]
 
 
 def _matrix(unknowns: list, matrix: list, rhs: list, f, out: list) -> None:
