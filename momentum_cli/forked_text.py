@@ -36,6 +36,10 @@ def write(out, report, sig: int, failed: list, write_text) -> bool:
     out.flush()  # before the fork: the child's copy of the buffer is empty
 
     def here(k: int) -> bool:
+        if k == 0:  # the child makes the checks: their trees' memory goes to the text
+            release = getattr(report.checks, "release", None)
+            if release is not None:
+                release()
         write_text(out, _until_failure(_pieces(report, sig, bounds, k), failed))
         return not failed
 

@@ -181,15 +181,21 @@ class Deferred:
     second for 10^4 impacts, made by whoever reads them first). What is appended before
     it is made comes after the made items; a copy (`list`, pickle) is a plain list."""
 
-    __slots__ = ("_make", "_items", "_later")
+    __slots__ = ("_make", "_items", "_later", "_release")
 
-    def __init__(self, make):
-        self._make, self._items, self._later = make, None, []
+    def __init__(self, make, release=None):
+        """`release()`: drop what only `make` reads (made again if it must be), for a
+        process that leaves the making to another (forked_text's parent)."""
+        self._make, self._items, self._later, self._release = make, None, [], release
+
+    def release(self) -> None:
+        if self._items is None and self._release is not None:
+            self._release()
 
     def _made(self) -> list:
         if self._items is None:
             self._items = self._make() + self._later
-            self._make = self._later = None
+            self._make = self._later = self._release = None
         return self._items
 
     def append(self, item) -> None:
@@ -505,7 +511,7 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
 
     # a lazy report's checks are made where they are first read: by the process that
     # writes the Checks section (forked_text: the child, beside the other's transitions)
-    checks = Deferred(made_checks) if lazy else made_checks()
+    checks = Deferred(made_checks, lambda: _drop_residuals(system)) if lazy else made_checks()
     answers = []
     for f, (n, v, u, si) in zip(system.finds, sol.answers):
         if not f.explicit and f.factor == 1.0:  # no `in UNIT`: the reader's units
@@ -788,6 +794,14 @@ def value_and_magnitude(e, values) -> tuple[float, float]:
             return r, abs(k) * m
     v = evaluate(e, values)
     return v, abs(v)
+
+
+def _drop_residuals(system: System) -> None:
+    """The residual trees `_residual_checks` reads and then drops, dropped unread (made
+    again, the same trees, if it runs after all)."""
+    for e in system.equations:
+        if e.momentum_row:
+            e._residual = None
 
 
 def _residual_checks(sol: Solution) -> list[CheckReport]:
