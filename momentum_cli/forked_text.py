@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from . import two_process
 
+_CLAIM_ORDER = {"checks": 0, "blocks": 2, "diagrams": 3}  # the others: 1, in key order
 RANGES = 32  # ranges of the transitions' section (the rest after it is one more)
 COPY_BLOCK = 1 << 20  # bytes copied at once from the child's file
 
@@ -62,10 +63,12 @@ def encoded_fields(rep, ascii_only: bool = False, min_equations: int = 0) -> dic
     if (rep.counts or {}).get("equations", 0) < min_equations or \
             two_process.serial_asked() or len(makers) < 3:
         return json_out.encoded_fields(rep, ascii_only)
-    # shared: every field but the title, the checks first: this process's part 0 (the
-    # caller reads the checks again)
+    # shared: every field but the title, the checks first (this process's part 0: the
+    # caller reads the checks again), then the rows' fields; the blocks' and diagrams'
+    # (matrices, bodies: the longest texts) last, the child's first; the small ones meet
+    # in the middle
     shared = sorted((i for i, (key, _) in enumerate(makers) if key != "title"),
-                    key=lambda i: makers[i][0] != "checks")
+                    key=lambda i: _CLAIM_ORDER.get(makers[i][0], 1))
     made: dict = {}
 
     def encoded(k: int) -> str:
