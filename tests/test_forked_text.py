@@ -357,3 +357,26 @@ def test_json_of_one_big_file_through_the_fork(tmp_path, capsys, monkeypatch, fo
     _run(both, capsys, json_flag=True, plain=False)
     assert len(calls) == 2
     assert _no_children()
+
+
+def test_deferred_checks_are_the_checks_of_a_whole_report():
+    """A lazy report's checks, made when first read (model.Deferred), with `expect`
+    lines appended before: the checks of the report built whole, in the same order;
+    dropped trees (`release`) are made again the same."""
+    import pickle
+
+    from momentum_cli.report.model import Deferred
+
+    for path in EXAMPLES:
+        whole = solve_source(read_source(str(path)), False, 6, "float")
+        if whole.report is None:
+            continue
+        lazy = solve_source(read_source(str(path)), False, 6, "float", lazy=True).report
+        assert type(lazy.checks) is Deferred
+        lazy.checks.release()
+        want = [(c.name, c.status, c.detail, c.value) for c in whole.report.checks]
+        assert [(c.name, c.status, c.detail, c.value) for c in lazy.checks] == want, path.name
+        assert len(pickle.loads(pickle.dumps(lazy.checks))) == len(want)
+    late = Deferred(lambda: [1, 2])
+    late.append(3)
+    assert list(late) == [1, 2, 3] and late == [1, 2, 3] and len(late) == 3 and late[-1] == 3
