@@ -4,7 +4,8 @@
 A benchmark, not a test. Stages: parse, build (the scene), compile, analyse, solve
 (`solve._solve`: the blocks, bounds and answers), rest (the rest of `solve_scene`:
 regimes, checks), report (`build_report` as `solve --plain` makes it: streamed, its
-checks now, its transitions, blocks and unknowns as they are read), render (plain text,
+transitions, blocks, unknowns and, since the twelfth session, checks as they are
+read: the checks are in render), render (plain text,
 `text.render_parts`, with what of the report it reads). CPU seconds
 (process time: robust against a busy machine), the minimum over --reps runs of
 build and solve (the parse and report run once); cyclic GC off, as `solve` runs.

@@ -23,6 +23,9 @@ def _on_signal(signum, _frame) -> None:
                 child.kill()
             except OSError:
                 pass
+    forked = sys.modules.get("momentum_cli.two_process")  # a report's second process
+    if forked is not None:
+        forked.kill_children()
     os._exit(128 + signum)
 
 

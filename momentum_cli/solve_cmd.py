@@ -280,6 +280,12 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
         if detail != "full":
             _write_text(sys.stdout, text.render(report, digits, detail=detail))
             return console
+        if failed is not None and \
+                (report.counts or {}).get("equations", 0) >= FORK_MIN_EQUATIONS:
+            from . import forked_text
+
+            if forked_text.write(sys.stdout, report, digits, failed, _write_text):
+                return console
         parts = text.iter_parts(report, digits)
         _write_text(sys.stdout, parts if failed is None else _caught(parts, failed))
     return console
@@ -295,6 +301,9 @@ def _caught(parts, failed: list):
 
 
 WRITE_CHUNK = 1 << 20  # characters
+# a plain report from which its text is made by two processes (forked_text): below it the
+# text costs less than ~30 ms, not worth a fork
+FORK_MIN_EQUATIONS = 2000
 
 
 def _write_text(out, text) -> None:
@@ -403,7 +412,7 @@ def _solve_files(files, mode, quiet, digits, solve_all, precision, traceback_fla
         solved = solve_many([s for _, s, r in items if r is None], solve_all, digits,
                             precision.value, overrides, view["units"], sensitivity,
                             _text_renderer(mode, quiet, digits, view["detail"], jsonl,
-                                           not _is_utf8(out)), stream=stream)
+                                           not _is_utf8(out), many), stream=stream)
     try:
         worst = _solve_loop(items, solved, mode, quiet, many, digits, solve_all, precision,
                             traceback_flag, results, strict, color, deterministic,
@@ -561,13 +570,16 @@ def _json_result(name, res, out, results, jsonl: bool) -> None:
 
 
 def _text_renderer(mode: str, quiet: bool, digits: int, detail: str, jsonl: bool = False,
-                   ascii_only: bool = False):
+                   ascii_only: bool = False, many: bool = True):
     """What turns a report into its printed text where the file is solved (a worker
     ships that text, not the report), for the outputs that are such a text: -q's
     answers, plain's report, the JSON document's report fields (`ascii_only` as the
-    document); None for the others (rich, documents, --jsonl)."""
+    document; one file's, if big, made by two processes: forked_text); None for the
+    others (rich, documents, --jsonl)."""
     from functools import partial
 
+    if mode == "json" and not jsonl and not many:
+        return partial(_json_fields, ascii_only=ascii_only, min_equations=FORK_MIN_EQUATIONS)
     if mode == "json" and not jsonl:
         from .report import json_out
 
@@ -581,6 +593,18 @@ def _text_renderer(mode: str, quiet: bool, digits: int, detail: str, jsonl: bool
     if detail == "full":  # in pieces, joined by solve_many once the report is freed
         return partial(text.render_parts, sig=digits)
     return partial(text.render, sig=digits, detail=detail)
+
+
+def _json_fields(rep, ascii_only: bool, min_equations: int) -> dict:
+    """One file's JSON report fields (json_out.encoded_fields); a big report's made by
+    two processes (forked_text)."""
+    if (rep.counts or {}).get("equations", 0) < min_equations:
+        from .report import json_out
+
+        return json_out.encoded_fields(rep, ascii_only)
+    from . import forked_text
+
+    return forked_text.encoded_fields(rep, ascii_only, min_equations)
 
 
 def _overrides_for(sets: list[str] | None, sources) -> tuple:

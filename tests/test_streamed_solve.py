@@ -146,8 +146,8 @@ _MAIN = ("import atexit, sys\n"
          "main()\n")
 _BUG = ("from momentum_cli.report import text\n"
         "real = text.iter_parts\n"
-        "def parts(rep, sig=6, steps=True):\n"
-        "    for i, p in enumerate(real(rep, sig, steps)):\n"
+        "def parts(rep, sig=6, steps=True, *cuts):\n"  # a range of it: forked_text
+        "    for i, p in enumerate(real(rep, sig, steps, *cuts)):\n"
         "        if i == 5:\n"
         "            raise RuntimeError('boom')\n"
         "        yield p\n"

@@ -283,6 +283,12 @@ class LazyDiagrams:
             got = d.lines(indent)
         return got
 
+    def prepare(self) -> None:
+        """The lookups every diagram shares, made now (before a fork: both processes
+        inherit them instead of each making them, forked_text)."""
+        if self.shared is None and self.ts:
+            self.shared = _Shared(self.sol)
+
     def __iter__(self):
         for t in self.sol.system.transitions:
             if t.kind in ("impact", "interval"):

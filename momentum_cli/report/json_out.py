@@ -188,37 +188,92 @@ def result_dict(file: str, status: str, rep=None, diagnostics=(), check_counts=N
 
 def report_fields(rep) -> dict:
     """The report's part of a result, in the result's key order (title first)."""
+    return {key: make(rep) for key, make in field_makers(rep)}
+
+
+def field_makers(rep) -> list:
+    """(key, make) of each field of `report_fields`, in its order: `make(rep)` gives the
+    field's value, made apart from the others (two processes may make them: forked_text)."""
     # the schema's fields only: unknowns in SI; an answer's value in its unit (`find
     # ... in UNIT`, else the reader's units) beside si_value
-    d: dict = {"title": rep.title}
-    d["answers"] = [{k: a[k] for k in ("name", "value", "unit", "si_value")}
-                    for a in rep.answers]
-    d["unknowns"] = [{k: u[k] for k in ("name", "si_value", "unit")} for u in rep.unknowns]
-    rows, transitions = [], []  # one pass over the transitions (made as read if lazy)
-    for t in rep.transitions:
-        rows += t["equations"]
-        transitions.append(dict(kind=t["kind"], before=t["before"], after=t["after"],
-                                line=t["line"], why=t["why"]))
+    out = [("title", _title), ("answers", _answers), ("unknowns", _unknowns),
+           ("equations", _equations), ("checks", _checks), ("blocks", _blocks),
+           ("transitions", _transitions), ("regimes", _regimes), ("counts", _counts)]
+    if rep.flows:
+        out.append(("flows", _flows))
+    if rep.diagrams:
+        out.append(("diagrams", _diagrams))
+    if rep.expectations:
+        out.append(("expectations", _expectations))
+    if rep.sensitivities:
+        out.append(("sensitivities", _sensitivities))
+    return out
+
+
+def _title(rep):
+    return rep.title
+
+
+def _answers(rep) -> list:
+    return [{k: a[k] for k in ("name", "value", "unit", "si_value")} for a in rep.answers]
+
+
+def _unknowns(rep) -> list:
+    return [{k: u[k] for k in ("name", "si_value", "unit")} for u in rep.unknowns]
+
+
+def _equations(rep) -> list:
+    """Every row, by its equation's number (a lazy report's made without its
+    transitions' statements and diagrams)."""
+    from .model import rows_of  # here: the batch's parent writes JSON without the model
+
+    rows: list = []
+    ts = rep.transitions
+    for i in range(len(ts)):
+        rows += rows_of(ts, i)
     rows += [r for rs in rep.other_equations.values() for r in rs]
     rows.sort(key=lambda r: r.index)
-    d["equations"] = [dict(index=r.index + 1, principle=r.principle, group=r.group,
-                           line=r.line, symbolic=r.symbolic, numeric=r.numeric,
-                           kind=r.kind, role=r.role) for r in rows]
-    d["checks"] = [dict(name=c.name, status=c.status, detail=c.detail, value=c.value)
-                   for c in rep.checks]
-    d["blocks"] = [dict(b) for b in rep.blocks]
-    d["transitions"] = transitions
-    d["regimes"] = list(rep.regimes)
-    d["counts"] = dict(rep.counts)
-    if rep.flows:
-        d["flows"] = [dict(r) for r in rep.flows]
-    if rep.diagrams:
-        d["diagrams"] = [x.to_dict() for x in rep.diagrams]
-    if rep.expectations:
-        d["expectations"] = [dict(e) for e in rep.expectations]
-    if rep.sensitivities:
-        d["sensitivities"] = rep.sensitivities
-    return d
+    return [dict(index=r.index + 1, principle=r.principle, group=r.group, line=r.line,
+                 symbolic=r.symbolic, numeric=r.numeric, kind=r.kind, role=r.role)
+            for r in rows]
+
+
+def _checks(rep) -> list:
+    return [dict(name=c.name, status=c.status, detail=c.detail, value=c.value)
+            for c in rep.checks]
+
+
+def _blocks(rep) -> list:
+    return [dict(b) for b in rep.blocks]
+
+
+def _transitions(rep) -> list:
+    return [dict(kind=t["kind"], before=t["before"], after=t["after"], line=t["line"],
+                 why=t["why"]) for t in rep.transitions]
+
+
+def _regimes(rep) -> list:
+    return list(rep.regimes)
+
+
+def _counts(rep) -> dict:
+    return dict(rep.counts)
+
+
+def _flows(rep) -> list:
+    return [dict(r) for r in rep.flows]
+
+
+def _diagrams(rep) -> list:
+    return [x.to_dict() for x in rep.diagrams]
+
+
+def _expectations(rep) -> list:
+    return [dict(e) for e in rep.expectations]
+
+
+def _sensitivities(rep):
+    return rep.sensitivities
 
 
 class Encoded(str):
@@ -229,9 +284,17 @@ class Encoded(str):
 def encoded_fields(rep, ascii_only: bool = False) -> dict:
     """`report_fields` with each value already JSON text, indented as `DocumentStream`
     writes a result's values: a worker ships this small dict of strings, not the report,
-    and the parent only joins it."""
-    return {k: v if k == "title" else Encoded(dumps(v, ascii_only, "      "))
-            for k, v in report_fields(rep).items()}
+    and the parent only joins it. Each field is made and encoded before the next (its
+    records are not held beside the others')."""
+    return {key: encoded(key, make, rep, ascii_only) for key, make in field_makers(rep)}
+
+
+def encoded(key: str, make, rep, ascii_only: bool = False):
+    """One field of `encoded_fields`: its value made by `make` (`field_makers`), as JSON
+    text (the title as it is)."""
+    if key == "title":
+        return make(rep)
+    return Encoded(dumps(make(rep), ascii_only, "      "))
 
 
 class DocumentStream:

@@ -138,12 +138,14 @@ class Lazy:
     rows, blocks and unknowns of 10^5 balls are half a gigabyte as objects). `make()`
     gives an iterator over the items; a copy (`list`, pickle) is a plain list."""
 
-    __slots__ = ("_n", "_make", "texts")
+    __slots__ = ("_n", "_make", "texts", "part")
 
-    def __init__(self, n: int, make, texts=None):
+    def __init__(self, n: int, make, texts=None, part=None):
         """`texts`: None, or a function giving an iterator over the items' plain text
-        (`equation_text` of each row), made without the items (plain text reads no more)."""
-        self._n, self._make, self.texts = n, make, texts
+        (`equation_text` of each row), made without the items (plain text reads no more).
+        `part`: None, or a function giving items i to j - 1 (`part(i, j)`) as a Lazy, the
+        others not made (text.part_of: a range of the text made by another process)."""
+        self._n, self._make, self.texts, self.part = n, make, texts, part
 
     def __iter__(self):
         return self._make()
@@ -159,6 +161,78 @@ class Lazy:
 
     def __reduce__(self):
         return (list, (list(self._make()),))
+
+
+def part_of(items, i: int, j: int):
+    """Items `i` to `j - 1` of a report's list, or of a `Lazy` (made as read)."""
+    part = getattr(items, "part", None)
+    return part(i, j) if part is not None else items[i:j]
+
+
+def rows_of(transitions, i: int):
+    """The equation rows of transition `i`: a lazy report's without making the
+    transition (its statements and diagram)."""
+    rows = getattr(transitions, "rows", None)
+    return rows(i) if rows is not None else transitions[i]["equations"]
+
+
+class Deferred:
+    """A list made when it is first read, then held (a lazy report's checks: a tenth of a
+    second for 10^4 impacts, made by whoever reads them first). What is appended before
+    it is made comes after the made items; a copy (`list`, pickle) is a plain list."""
+
+    __slots__ = ("_make", "_items", "_later", "_release")
+
+    def __init__(self, make, release=None):
+        """`release()`: drop what only `make` reads (made again if it must be), for a
+        process that leaves the making to another (forked_text's parent)."""
+        self._make, self._items, self._later, self._release = make, None, [], release
+
+    def release(self) -> None:
+        if self._items is None and self._release is not None:
+            self._release()
+
+    def _made(self) -> list:
+        if self._items is None:
+            self._items = self._make() + self._later
+            self._make = self._later = self._release = None
+        return self._items
+
+    def append(self, item) -> None:
+        (self._later if self._items is None else self._items).append(item)
+
+    def __iter__(self):
+        return iter(self._made())
+
+    def __len__(self) -> int:
+        return len(self._made())
+
+    def __bool__(self) -> bool:
+        return bool(self._made())
+
+    def __getitem__(self, i):
+        return self._made()[i]
+
+    def __eq__(self, other) -> bool:
+        return self._made() == (list(other) if isinstance(other, Deferred) else other)
+
+    __hash__ = None
+
+    def __reduce__(self):
+        return (list, (self._made(),))
+
+
+class LazyTransitions(Lazy):
+    """A lazy report's transitions, with what splitting its text needs without making
+    them: a transition's rows alone (`rows(i)`), and each one's size (`sizes()`)."""
+
+    __slots__ = ("rows", "sizes")
+
+    def __init__(self, n: int, make, part, rows, sizes):
+        """`rows(i)`: transition i's equation rows (its `equations`) without its
+        statements and diagram; `sizes()`: (rows, bodies moved) of each transition."""
+        super().__init__(n, make, None, part)
+        self.rows, self.sizes = rows, sizes
 
 
 def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
@@ -263,7 +337,8 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
 
     def group_rows(ks: list):
         if lazy:  # made as read: a transition of 10^5 bodies is not held as rows
-            return Lazy(len(ks), lambda: map(row, ks), lambda: row_texts(ks))
+            return Lazy(len(ks), lambda: map(row, ks), lambda: row_texts(ks),
+                        lambda i, j: group_rows(ks[i:j]))
         return [rows[k] for k in ks]
 
     k_mass, k_inertia = reader.factor(MASS), reader.factor(INERTIA)  # once, not per body
@@ -303,13 +378,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
         # items: (name, value, unit) in the reader's units, unit "hint" for a bound (its
         # unit in `units`, one per item)
         knowns.append(dict(id=sid, label=spec.label or "", items=items, units=units))
-    used_groups = set()
-    for t in system.transitions:
-        used_groups.add(f"{t.kind} {t.before} -> {t.after}")
+    used_groups = set(map(_group_of, system.transitions))
 
-    def transition_items():
-        for t in system.transitions:
-            group = f"{t.kind} {t.before} -> {t.after}"
+    def transition_items(trs):
+        for t in trs:
+            group = _group_of(t)
             # system: the principles stated for the system (sum of momenta, moments about
             # a pin with I_O = I_G + m d^2), shown before the body-by-body rows
             # (statements.py)
@@ -410,7 +483,16 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     if lazy:
         from .diagram import lazy_diagrams
 
-        transitions = Lazy(len(system.transitions), transition_items)
+        trs = system.transitions
+
+        def transitions_part(i: int, j: int) -> Lazy:
+            some = trs[i:j]
+            return Lazy(len(some), lambda: transition_items(some))
+
+        transitions = LazyTransitions(
+            len(trs), lambda: transition_items(trs), transitions_part,
+            lambda i: group_rows(by_group.get(_group_of(trs[i]), ())),
+            lambda: [(len(by_group.get(_group_of(t), ())), len(t.bodies)) for t in trs])
         blocks = Lazy(len(sol.blocks), block_items, block_texts)
         unknowns = Lazy(sum(1 for n in system.unknowns if n in values), unknown_items,
                         unknown_texts)
@@ -418,13 +500,18 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     else:
         from .diagram import build_diagrams
 
-        transitions = list(transition_items())
+        transitions = list(transition_items(system.transitions))
         blocks = list(block_items())
         unknowns = list(unknown_items())
     flows = _flow_rows(system, values)
-    checks = list(sol.checks) + _energy_checks(sol, sig, reader) + _residual_checks(sol) + \
-        _flux_checks(flows)
-    checks += _error_estimates(sol)
+
+    def made_checks() -> list:
+        return list(sol.checks) + _energy_checks(sol, sig, reader) + _residual_checks(sol) + \
+            _flux_checks(flows) + _error_estimates(sol)
+
+    # a lazy report's checks are made where they are first read: by the process that
+    # writes the Checks section (forked_text: the child, beside the other's transitions)
+    checks = Deferred(made_checks, lambda: _drop_residuals(system)) if lazy else made_checks()
     answers = []
     for f, (n, v, u, si) in zip(system.finds, sol.answers):
         if not f.explicit and f.factor == 1.0:  # no `in UNIT`: the reader's units
@@ -448,6 +535,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                      mass=reader.label(MASS), inertia=reader.label(INERTIA),
                      length=reader.label(LENGTH), velocity=reader.label(VELOCITY))
     return rep
+
+
+def _group_of(t) -> str:
+    """The group of a transition's equations (`Equation.group`)."""
+    return f"{t.kind} {t.before} -> {t.after}"
 
 
 _DIAGRAM_INDEX: list = [None, 0, {}]  # the diagrams list last indexed, its length, the index
@@ -702,6 +794,14 @@ def value_and_magnitude(e, values) -> tuple[float, float]:
             return r, abs(k) * m
     v = evaluate(e, values)
     return v, abs(v)
+
+
+def _drop_residuals(system: System) -> None:
+    """The residual trees `_residual_checks` reads and then drops, dropped unread (made
+    again, the same trees, if it runs after all)."""
+    for e in system.equations:
+        if e.momentum_row:
+            e._residual = None
 
 
 def _residual_checks(sol: Solution) -> list[CheckReport]:

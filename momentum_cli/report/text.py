@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from ..numbers import fmt_num, fmt_tiny
 from .abbrev import abbreviate
-from .model import Report, diagram_lines, equation_text
+from .model import Report, diagram_lines, equation_text, part_of, rows_of
 
 
 _FORMATS: dict = {}  # (indent, column widths) -> (line format, rule): small tables recur
@@ -93,131 +93,178 @@ def _in_runs(lines: list):
         yield "\n".join(lines[i:i + RUN_LINES])
 
 
-def iter_parts(rep: Report, sig: int = 6, steps: bool = True):
+def iter_parts(rep: Report, sig: int = 6, steps: bool = True, start=None, stop=None):
     """`render`'s full text as pieces to join with newlines, made as they are read: a
     caller that writes each piece as it comes (solve_cmd._write_text) never holds the
     whole text beside the report (~120 MB for 10^5 balls). Every piece is non-empty
-    text or a line of its own (an empty piece is an empty line)."""
+    text or a line of its own (an empty piece is an empty line).
+
+    `start`, `stop`: cuts in the transitions' section (`_transition_parts`), None for the
+    text's beginning and its end: the pieces between the two only. The pieces of the
+    ranges between consecutive cuts, joined with newlines, are the whole text (two
+    processes make them: forked_text); each range is at least one piece."""
     f = formatter(sig)
+    u = rep.units or {}
+    if start is None:
+        yield from _head(rep, f, u, steps)
+    if not steps:
+        yield from _ending(rep, sig)
+        return
+    yield from _transition_parts(rep, start, stop)
+    if stop is not None:
+        return
+    for group, rows in rep.other_equations.items():
+        yield ""
+        yield group[0].upper() + group[1:]
+        yield from _equation_texts(rows)
+    yield ""
+    yield "Solving, block by block"
+    out: list[str] = []
+    add = out.append
+    shown = f.cache
+    plain = getattr(rep.blocks, "texts", None)  # a lazy report's: tuples, no dicts
+    for index, unknowns, method, cond, iterations, residual, lines, matrix, rhs in (
+            plain() if plain is not None else
+            ((b["index"], b["unknowns"], b["method"], b["condition_number"],
+              b["iterations"], b["residual"], b["lines"], b.get("matrix"), b.get("rhs"))
+             for b in rep.blocks)):
+        how = (f"linear, condition number {shown[cond] if cond in shown else f(cond)}"
+               if method == "linear" else
+               "integrated numerically from its inputs" if method == "integrated" else
+               f"Newton, {iterations} iterations, residual {fmt_tiny(residual or 0)}")
+        # a block of thousands: its first and last unknowns and lines, and how many
+        if len(unknowns) == 1 and len(lines) == 1:  # as `abbreviate` shows one name
+            add(f"  block {index}: {unknowns[0]} ({how}; lines {lines[0]})")
+        else:
+            names, n = abbreviate(unknowns)
+            lines, n_lines = abbreviate(lines)
+            lines = f"{n_lines} lines: {lines}" if n_lines else f"lines {lines}"
+            count = f"{n} unknowns; " if n else ""
+            add(f"  block {index}: {names} ({count}{how}; {lines})")
+        if matrix is not None:
+            _matrix(unknowns, matrix, rhs, f, out)
+        if len(out) >= RUN_LINES:  # a run of blocks' lines as one piece
+            yield "\n".join(out)
+            out.clear()
+    if out:
+        yield "\n".join(out)
+    yield ""
+    yield f"Solution ({u.get('name', 'SI')})"
+    plain = getattr(rep.unknowns, "texts", None)  # a lazy report's: tuples, no dicts
+    yield from _in_runs(table(["unknown", "value", "unit"], [
+        [n, shown[v] if v in shown else f(v), unit] for n, v, unit in (
+            plain() if plain is not None else
+            ((x["name"], x.get("value", x["si_value"]), x.get("shown_unit", x["unit"]))
+             for x in rep.unknowns))]))
+    out = []
+    if rep.regimes:
+        out.append("")
+        out.append("Friction regimes")
+        for r in rep.regimes:
+            out.append(f"  {r['contact']} ({r['transition']}): {r['regime']}")
+    out.append("")
+    out.append("Checks")
+    if rep.checks:
+        out.extend(table(["check", "status", "detail"],
+                         [[c.name, c.status, c.detail] for c in rep.checks]))
+    else:
+        out.append("  none: no impact, control volume or redundant equation to check")
+    out.append("")
+    out.append("Answers")
+    yield from out
+    yield from _ending(rep, sig)
+
+
+def _head(rep: Report, f, u: dict, steps: bool):
+    """The title, then (with `steps`) the bodies, effects, knowns and control volumes."""
     out: list[str] = []
     title = rep.title or "(untitled problem)"
     out.append(f"== {rep.file}: {title}")
-    u = rep.units or {}
-    if steps:
-        if rep.bodies:
-            out.append("")
-            out.append("Bodies")
-            yield from out
-            out = []
-            yield from _in_runs(table(
-                ["body", "shape", f"mass ({u.get('mass', 'kg')})",
-                 f"I_G ({u.get('inertia', 'kg*m^2')})", "inertia formula"],
-                [[b["name"], b["shape"], f(b.get("shown_mass", b["mass"])),
-                  "-" if b["particle"] else f(b.get("shown_inertia", b["inertia"])),
-                  b["formula"] + (" (mass = W/g)" if b["weight"] else "")]
-                 for b in rep.bodies]))
-        out.append("")
-        out.append("Effects and constraints")
-        out.extend("  " + e for e in rep.effects)
-        if rep.knowns:
-            out.append("")
-            out.append(f"Knowns ({u.get('name', 'SI')})")
-        for k in rep.knowns:
-            label = f' "{k["label"]}"' if k["label"] else ""
-            items = _items(k, f) or "(nothing given)"
-            out.append(f"  state {k['id']}{label}: {items}")
-        for volume in dict.fromkeys(r["volume"] for r in rep.flows):
-            out.append("")
-            out.append(f"Control volume {volume}: momentum fluxes (+ in, - out) and forces")
-            out.extend(table(["", "line", "mdot (kg/s)", "v (m/s)", "mdot v or F (N)",
-                              "r x (mdot v or F) (N*m)"],
-                             [[r["what"], str(r["line"]), f(r["rate"]),
-                               f"({f(r['vx'])}, {f(r['vy'])})" if r["rate"] is not None else "-",
-                               f"({f(r['flux_x'])}, {f(r['flux_y'])})", f(r["moment"])]
-                              for r in rep.flows if r["volume"] == volume]))
+    if not steps:
         yield from out
-        for t in rep.transitions:
-            out = [""]
-            out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
-            d = diagram_lines(rep, t, "  ")
-            if d is not None and len(d) <= RUN_LINES:
-                out.append("\n".join(d))
-            elif d is not None:  # in runs (the same text joined), freed before the rows:
-                yield from out  # 10^5 bodies' diagram is ~80 MB of lines and their join
-                out = []
-                yield from _in_runs(d)
-            d = None
-            for w in t["why"]:
-                out.append(f"  why: {w}")
-            out.extend(_system(t))
-            yield from out
-            out = []  # a system's long sums are not held while the rows are written
-            yield from _equation_texts(t["equations"])  # one piece an equation, as made
-        for group, rows in rep.other_equations.items():
-            yield ""
-            yield group[0].upper() + group[1:]
-            yield from _equation_texts(rows)
-        yield ""
-        yield "Solving, block by block"
-        out = []
-        add = out.append
-        shown = f.cache
-        plain = getattr(rep.blocks, "texts", None)  # a lazy report's: tuples, no dicts
-        for index, unknowns, method, cond, iterations, residual, lines, matrix, rhs in (
-                plain() if plain is not None else
-                ((b["index"], b["unknowns"], b["method"], b["condition_number"],
-                  b["iterations"], b["residual"], b["lines"], b.get("matrix"), b.get("rhs"))
-                 for b in rep.blocks)):
-            how = (f"linear, condition number {shown[cond] if cond in shown else f(cond)}"
-                   if method == "linear" else
-                   "integrated numerically from its inputs" if method == "integrated" else
-                   f"Newton, {iterations} iterations, residual {fmt_tiny(residual or 0)}")
-            # a block of thousands: its first and last unknowns and lines, and how many
-            if len(unknowns) == 1 and len(lines) == 1:  # as `abbreviate` shows one name
-                add(f"  block {index}: {unknowns[0]} ({how}; lines {lines[0]})")
-            else:
-                names, n = abbreviate(unknowns)
-                lines, n_lines = abbreviate(lines)
-                lines = f"{n_lines} lines: {lines}" if n_lines else f"lines {lines}"
-                count = f"{n} unknowns; " if n else ""
-                add(f"  block {index}: {names} ({count}{how}; {lines})")
-            if matrix is not None:
-                _matrix(unknowns, matrix, rhs, f, out)
-            if len(out) >= RUN_LINES:  # a run of blocks' lines as one piece
-                yield "\n".join(out)
-                out.clear()
-        if out:
-            yield "\n".join(out)
-        yield ""
-        yield f"Solution ({u.get('name', 'SI')})"
-        plain = getattr(rep.unknowns, "texts", None)  # a lazy report's: tuples, no dicts
-        yield from _in_runs(table(["unknown", "value", "unit"], [
-            [n, shown[v] if v in shown else f(v), unit] for n, v, unit in (
-                plain() if plain is not None else
-                ((x["name"], x.get("value", x["si_value"]), x.get("shown_unit", x["unit"]))
-                 for x in rep.unknowns))]))
-        out = []
-        if rep.regimes:
-            out.append("")
-            out.append("Friction regimes")
-            for r in rep.regimes:
-                out.append(f"  {r['contact']} ({r['transition']}): {r['regime']}")
+        return
+    if rep.bodies:
         out.append("")
-        out.append("Checks")
-        if rep.checks:
-            out.extend(table(["check", "status", "detail"],
-                             [[c.name, c.status, c.detail] for c in rep.checks]))
-        else:
-            out.append("  none: no impact, control volume or redundant equation to check")
+        out.append("Bodies")
+        yield from out
+        out = []
+        yield from _in_runs(table(
+            ["body", "shape", f"mass ({u.get('mass', 'kg')})",
+             f"I_G ({u.get('inertia', 'kg*m^2')})", "inertia formula"],
+            [[b["name"], b["shape"], f(b.get("shown_mass", b["mass"])),
+              "-" if b["particle"] else f(b.get("shown_inertia", b["inertia"])),
+              b["formula"] + (" (mass = W/g)" if b["weight"] else "")]
+             for b in rep.bodies]))
+    out.append("")
+    out.append("Effects and constraints")
+    out.extend("  " + e for e in rep.effects)
+    if rep.knowns:
         out.append("")
-        out.append("Answers")
-    out.extend(_answers(rep, sig))
+        out.append(f"Knowns ({u.get('name', 'SI')})")
+    for k in rep.knowns:
+        label = f' "{k["label"]}"' if k["label"] else ""
+        items = _items(k, f) or "(nothing given)"
+        out.append(f"  state {k['id']}{label}: {items}")
+    for volume in dict.fromkeys(r["volume"] for r in rep.flows):
+        out.append("")
+        out.append(f"Control volume {volume}: momentum fluxes (+ in, - out) and forces")
+        out.extend(table(["", "line", "mdot (kg/s)", "v (m/s)", "mdot v or F (N)",
+                          "r x (mdot v or F) (N*m)"],
+                         [[r["what"], str(r["line"]), f(r["rate"]),
+                           f"({f(r['vx'])}, {f(r['vy'])})" if r["rate"] is not None else "-",
+                           f"({f(r['flux_x'])}, {f(r['flux_y'])})", f(r["moment"])]
+                          for r in rep.flows if r["volume"] == volume]))
+    yield from out
+
+
+def _ending(rep: Report, sig: int):
+    """The answers' lines, the sensitivities, and the final newline."""
+    out = _answers(rep, sig)
     if rep.sensitivities:
         from .sensitivity import text_lines
 
         out.extend(text_lines(rep.sensitivities, sig, table))
     out.append("")  # the final newline
     yield from out
+
+
+def _transition_parts(rep: Report, start, stop):
+    """The transitions' section from cut `start` to cut `stop`. A cut `(i, r)` is the
+    place before row `r` of transition `i`'s equations (`r` 0: before its heading and
+    diagram), `(len(rep.transitions), 0)` the section's end; None is its beginning (as
+    `start`) or its end (as `stop`). A range that begins inside a transition makes only
+    its rows (`rows_of`): its statements and diagram are the range before's."""
+    ts = rep.transitions
+    i, r = start if start is not None else (0, 0)
+    j, s = stop if stop is not None else (len(ts), 0)
+    if r:  # the rest of a transition whose heading an earlier range made
+        rows = rows_of(ts, i)
+        yield from _equation_texts(part_of(rows, r, s if j == i else len(rows)))
+        i += 1
+    if start is None and stop is None:
+        items = ts
+    else:  # the transitions whose heading is in the range: i .. j (j only with rows of it)
+        items = part_of(ts, i, j + 1 if s else j)
+    for k, t in enumerate(items, i):
+        out = [""]
+        out.append(f"{t['kind'].capitalize()} {t['before']} -> {t['after']} (line {t['line']})")
+        d = diagram_lines(rep, t, "  ")
+        if d is not None and len(d) <= RUN_LINES:
+            out.append("\n".join(d))
+        elif d is not None:  # in runs (the same text joined), freed before the rows:
+            yield from out  # 10^5 bodies' diagram is ~80 MB of lines and their join
+            out = []
+            yield from _in_runs(d)
+        d = None
+        for w in t["why"]:
+            out.append(f"  why: {w}")
+        out.extend(_system(t))
+        yield from out
+        out = []  # a system's long sums are not held while the rows are written
+        rows = t["equations"]
+        if k == j:  # the range ends inside this transition's rows
+            rows = part_of(rows, 0, s)
+        yield from _equation_texts(rows)  # one piece an equation, as made
 
 
 def _matrix(unknowns: list, matrix: list, rhs: list, f, out: list) -> None:
