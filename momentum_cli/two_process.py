@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import os
 import struct
+import sys
 
 CHILDREN: set = set()  # children running now: guard._on_signal ends them too
 
@@ -27,8 +28,17 @@ _PAIR = struct.Struct("qq")  # the shared page: the next part from the front, th
 
 
 def serial_asked() -> bool:
-    return not hasattr(os, "fork") or \
-        os.environ.get("MOMENTUM_SERIAL_REPORT", "") not in ("", "0")
+    """One process: asked for, or a child would not help. Fork only on Linux (elsewhere,
+    macOS above all, a forked child of a process that loaded system libraries may crash:
+    Python's own multiprocessing spawns there) and only with a second CPU to run on."""
+    if os.environ.get("MOMENTUM_SERIAL_REPORT", "") not in ("", "0"):
+        return True
+    if not hasattr(os, "fork") or not sys.platform.startswith("linux"):
+        return True
+    try:
+        return len(os.sched_getaffinity(0)) < 2
+    except (AttributeError, OSError):
+        return True
 
 
 def share(n: int, here, there, collect, encoding: str = "utf-8",
