@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from bisect import bisect_right
 
-from .tracks import VELOCITIES, Track  # noqa: F401 (VELOCITIES: the tests' reference)
+from .tracks import Track
 
 
 class StateChains:
@@ -116,8 +116,7 @@ class StateChains:
         if pts is None:
             start = chain[0]
             return (body, qty, start), states[start].givens.get(bq)
-        k = bisect_right(pts, p) - 1
-        start = chain[pts[k]] if k >= 0 else chain[0]
+        k, start = last_break(chain, pts, p)
         g = states[start].givens.get(bq)
         if g is not None:
             return (body, qty, start), g
@@ -154,3 +153,13 @@ def _add(breaks: dict, late: dict, k, p) -> None:
         if p < v[-1]:
             late[(id(breaks), k)] = breaks
         breaks[k] = v + (p,)
+
+
+def last_break(chain: list, pts, p: int) -> tuple:
+    """The last of a quantity's breaks `pts` (sorted chain positions; None: none) at or
+    before chain position p: its index in pts (-1: none) and its state, the chain's first
+    state when there is none. Every state from there to p shares its variable."""
+    if pts is None:
+        return -1, chain[0]
+    k = bisect_right(pts, p) - 1
+    return k, (chain[pts[k]] if k >= 0 else chain[0])

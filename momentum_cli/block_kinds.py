@@ -177,7 +177,7 @@ def _fits(s: _Src, kind: Kind, layouts) -> None:
     s.lines.append(f"    if {' or '.join(f'sh{r}[0] is not K{r}' for r in range(n))}: "
                    "return MISS")
     _unpack(s, n)
-    s.lines.append(f"    names = block.unknowns")
+    s.lines.append("    names = block.unknowns")
     s.lines.append(f"    {''.join(f'nm{j}, ' for j in range(n))}= names")
     tests = []
     for r, (key, lay) in enumerate(zip(kind.keys, layouts)):

@@ -13,11 +13,10 @@ in `find` lines and equations), flows.py (control volumes and burning bodies).
 from __future__ import annotations
 
 import math
-from bisect import bisect_right
 from collections import defaultdict
 
 from . import syntax as S
-from .aliases import StateChains
+from .aliases import StateChains, last_break
 from .diagnostics import Collector, ProblemError
 from .elements.base import FrictionSite, ImpulseSource, Phase
 from .elements.contacts import contact_element
@@ -483,12 +482,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         svs = tr.sv
         pts = breaks.get(("vx", c))
         if pts == breaks.get(("vy", c)):
-            if pts is None:
-                k = -1
-                start = chain[0]
-            else:
-                k = bisect_right(pts, p) - 1
-                start = chain[pts[k]] if k >= 0 else chain[0]
+            k, start = last_break(chain, pts, p)
             ax, ay = ("vx", start), ("vy", start)
             x, y = svs.get(ax), svs.get(ay)
             if x is not None and y is not None:
@@ -527,12 +521,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
 
     def _on_chain_q(self, body: str, qty: str, c, p, chain, pts, svs) -> E:
         """A velocity component's node at chain position p (see _on_chain_v)."""
-        if pts is None:
-            k = -1
-            start = chain[0]
-        else:
-            k = bisect_right(pts, p) - 1
-            start = chain[pts[k]] if k >= 0 else chain[0]
+        k, start = last_break(chain, pts, p)
         # sv's memo holds the node of each head (made once, found again through it;
         # sv may have made it): no break lies between start and sid, so sid's node is
         # start's; vel's memo, the velocity at sid

@@ -22,9 +22,10 @@ def write(out, report, sig: int, failed: list, write_text) -> bool:
     (solve_cmd._write_text), made by this process and a forked child; False (nothing
     written) where that cannot be set up (no fork, serial asked, a report not lazy): the
     caller makes the text alone. A piece that fails to be made ends the text there, its
-    exception in `failed` (as solve_cmd._caught)."""
+    exception in `failed` (text.until_failure)."""
     if two_process.serial_asked():
         return False
+    from .report.text import until_failure
     from .report.text_cuts import cuts
 
     marks = cuts(report.transitions, RANGES)
@@ -41,7 +42,7 @@ def write(out, report, sig: int, failed: list, write_text) -> bool:
             release = getattr(report.checks, "release", None)
             if release is not None:
                 release()
-        write_text(out, _until_failure(_pieces(report, sig, bounds, k), failed))
+        write_text(out, until_failure(_pieces(report, sig, bounds, k), failed))
         return not failed
 
     def there(k: int, sink) -> None:
@@ -129,15 +130,6 @@ def _pieces(report, sig: int, bounds: list, k: int):
     if k:
         yield ""
     yield from iter_parts(report, sig, True, bounds[k], bounds[k + 1])
-
-
-def _until_failure(parts, failed: list):
-    """The pieces of `parts` until one fails to be made; its exception goes to `failed`
-    (a write's own errors, raised in the writer, are not caught here)."""
-    try:
-        yield from parts
-    except Exception as exc:
-        failed.append(exc)
 
 
 def _copy(out, fd: int, offset: int, length: int, binary: bool, encoding, errors) -> None:

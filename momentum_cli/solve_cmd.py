@@ -287,17 +287,8 @@ def _render(report, mode: str, console, index: int, digits: int, simulation: boo
             if forked_text.write(sys.stdout, report, digits, failed, _write_text):
                 return console
         parts = text.iter_parts(report, digits)
-        _write_text(sys.stdout, parts if failed is None else _caught(parts, failed))
+        _write_text(sys.stdout, parts if failed is None else text.until_failure(parts, failed))
     return console
-
-
-def _caught(parts, failed: list):
-    """The pieces of `parts` until one fails to be made; its exception goes to `failed`
-    (a write's own errors, raised in the writer, are not caught here)."""
-    try:
-        yield from parts
-    except Exception as exc:
-        failed.append(exc)
 
 
 WRITE_CHUNK = 1 << 20  # characters

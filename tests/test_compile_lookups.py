@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from momentum_cli.aliases import VELOCITIES
+from momentum_cli.tracks import VELOCITIES
 from momentum_cli.bench import chain_text
 from structure_dump import system_lines
 from test_hard import cradle_text

@@ -80,6 +80,16 @@ def render_parts(rep: Report, sig: int = 6, steps: bool = True) -> list[str]:
     return list(iter_parts(rep, sig, steps))
 
 
+def until_failure(parts, failed: list):
+    """The pieces of `parts` until one fails to be made; its exception goes to `failed`
+    (a write's own errors, raised in the writer, are not caught here): the text before
+    a bug is written, then the bug is reported as any other."""
+    try:
+        yield from parts
+    except Exception as exc:
+        failed.append(exc)
+
+
 RUN_LINES = 4096  # lines of a long section joined into one piece
 
 
