@@ -358,6 +358,8 @@ class _Kinds:
         by: dict = {}
         for s in st:
             k = type(s)
+            if k is tuple:  # a line kept as its text (scene_deferred): its node's class
+                k = s[0]
             got = by.get(k)
             if got is None:
                 by[k] = [s]
@@ -377,7 +379,8 @@ class _Kinds:
             return []
         if len(types) == 1:
             return self._by[types[0]]
-        return [s for s in self._st if isinstance(s, kinds)]
+        return [s for s in self._st if isinstance(s, kinds) or
+                (type(s) is tuple and issubclass(s[0], kinds))]
 
 
 class _Builder:
@@ -390,6 +393,7 @@ class _Builder:
         self.gravity_span = None
         self.ev = Evaluator(self._resolve_constant)
         self._contacts_seen: dict | None = None  # _contact's memo (a big file's)
+        self._deferred = None  # the reader of lines kept as text (a big file's)
         self._bodies_seen: dict | None = None  # _body's memo (a big file's)
         self.bodies: dict[str, Body] = {}
         self.points: dict[str, PointOn] = {}
@@ -542,7 +546,13 @@ class _Builder:
 
     # ---- the passes
     def run(self) -> Scene:
-        st = self.doc.statements
+        st = getattr(self.doc, "parts", None)  # a big file's, some lines kept as text
+        if st is None:
+            st = self.doc.statements
+        else:
+            from .scene_deferred import Deferred
+
+            self._deferred = Deferred(self, sys.modules[__name__])
         of = _Kinds(st)  # the statements of some kinds, in file order (one pass, not 25)
         title = ""
         for s in of(S.Problem):
@@ -557,7 +567,10 @@ class _Builder:
         if CONTACT_MEMO and len(of(S.BodyDecl)) >= CONTACT_MEMO_FROM:
             self._bodies_seen = {}
         for s in of(S.BodyDecl):
-            self._body(s)
+            if type(s) is tuple:
+                self._deferred.body(s)
+            else:
+                self._body(s)
         for s in of(S.Let):
             if s.name in self.bodies:
                 raise ProblemError(f"'{s.name}' is a body; a `let` constant needs another name",
@@ -590,10 +603,15 @@ class _Builder:
             states[s.id] = self._state(s)
         transitions = []
         by_key: dict[str, list] = {}  # the transitions on each pair of states, in file order
-        if CONTACT_MEMO and sum(len(s.clauses) for s in of(S.Transition)) >= CONTACT_MEMO_FROM:
+        if CONTACT_MEMO and sum(len(s.clauses) if type(s) is not tuple else
+                                self._deferred.clause_count(s)
+                                for s in of(S.Transition)) >= CONTACT_MEMO_FROM:
             self._contacts_seen = {}  # many clauses (contacts): a memo
         for s in of(S.Transition):
-            t = self._transition(s, states)
+            if type(s) is tuple:
+                t = self._deferred.transition(s, states)
+            else:
+                t = self._transition(s, states)
             for other in by_key.get(t.key, ()):
                 # an energy statement beside an impact is a redundant statement to
                 # check (true for e = 1); two impacts or intervals contradict
@@ -1120,6 +1138,15 @@ class _Builder:
         t = TransitionSpec(tk or TransitionKind(s.kind), s.before, s.after, s.span)
         labels = set()
         for c in s.clauses:
+            if type(c) is tuple:  # a contact line kept as its text (scene_deferred)
+                con = None
+                if s.kind != TransitionKind.ENERGY:
+                    con = self._deferred.contact(c, s.kind, states[s.before])
+                if con is not None and con.label not in labels:
+                    labels.add(con.label)
+                    t.contacts.append(con)
+                    continue
+                c = c[1](c[2], c[3])  # its node, read below
             if isinstance(c, S.Contact):
                 if s.kind == TransitionKind.ENERGY:
                     raise ProblemError("contacts belong to impacts and intervals; an energy phase "
