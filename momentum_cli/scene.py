@@ -43,6 +43,7 @@ STATE_QTYS: dict[str, tuple[Dim, str]] = {
     "vx": (VELOCITY, "m/s"), "vy": (VELOCITY, "m/s"), "omega": (RATE, "rad/s"),
 }
 VECTOR_QTYS = {"v": ("vx", "vy"), "pos": ("x", "y")}
+_AT_REST_PARTICLE, _AT_REST = ("vx", "vy"), ("vx", "vy", "omega")  # what `B at rest` gives
 ROTATION_QTYS = ("angle", "omega")
 
 
@@ -1069,11 +1070,16 @@ class _Builder:
     # ---- states
     def _state(self, s: S.StateDecl) -> StateSpec:
         spec = StateSpec(s.id, s.label, s.span)
+        givens, bodies = spec.givens, self.bodies
         for it in s.items:
-            if isinstance(it, S.AtRest):
-                body = self._body_named(it.body, it.span)
-                for q in ("vx", "vy") + (() if body.is_particle else ("omega",)):
-                    self._give(spec, body.name, q, 0.0, it.span)
+            if isinstance(it, S.AtRest):  # (a big file's state lists 10^4 of them)
+                body = bodies.get(it.body) or self._body_named(it.body, it.span)
+                name, span = body.name, it.span
+                for q in _AT_REST_PARTICLE if body.is_particle else _AT_REST:
+                    k = (name, q)
+                    if k in givens:
+                        self._give(spec, name, q, 0.0, span)  # its error
+                    givens[k] = (0.0, span)
             elif isinstance(it, S.RollsIn):
                 self._body_named(it.body, it.span)
                 spec.rolls.append((it.body, it.surface, it.span))

@@ -207,34 +207,26 @@ class Deferred:
         return (cols[0], cols[1], label, (c.span.column, c.span.end_column),
                 c.normal.span.column - 1, props, {})  # the last: results by kind and text
 
-    def _point(self, name: str, L: int, c0: int, c1: int):
-        """`_Builder.fixed_point` of a plain name at columns c0..c1 of line L, or None
-        (the usual code decides)."""
-        b = self.b
-        if b.points:
-            p = b.points.get(name)
-            if p is not None:
-                if p.located_by is not None:
-                    return None
-                return self.PointOn(p.body, p.offset, p.name, self.Span(L, c0, L, c1), False,
-                                    None)
-        body = b.bodies.get(name)
-        if body is None:
-            return None
-        return self.PointOn(body.name, (0.0, 0.0), body.name, self.Span(L, c0, L, c1), True,
-                            None)
-
     def _contact_from(self, r, x: str, L: int, kind: str, before, make):
         (a0, a1), (b0, b1), label_at, (c0, c1), n0, props, hits = r
         b = self.b
         if b._contacts_seen is None:
             return None  # no memo (few clauses, or too many kinds): the usual code
-        pa = self._point(x[a0:a1], L, a0 + 1, a1 + 1)
-        if pa is None or pa.body is None:
-            return None
-        pb = self._point(x[b0:b1], L, b0 + 1, b1 + 1)
-        if pb is None or pb.body is None or pb.body == pa.body:
-            return None
+        # `_Builder.fixed_point` of the two names (a named point, else a body's centre);
+        # anything else (the ground, a surface, an unknown name) by the usual code
+        bodies, points, Span_, PointOn = b.bodies, b.points, self.Span, self.PointOn
+        na, nb = x[a0:a1], x[b0:b1]
+        if points and (na in points or nb in points):
+            pa = self._point(na, L, a0 + 1, a1 + 1)
+            pb = self._point(nb, L, b0 + 1, b1 + 1)
+            if pa is None or pb is None or pb.body == pa.body:
+                return None
+        else:
+            ba, bb = bodies.get(na), bodies.get(nb)
+            if ba is None or bb is None or ba is bb:
+                return None
+            pa = PointOn(ba.name, (0.0, 0.0), ba.name, Span_(L, a0 + 1, L, a1 + 1), True, None)
+            pb = PointOn(bb.name, (0.0, 0.0), bb.name, Span_(L, b0 + 1, L, b1 + 1), True, None)
         key = (kind, x[n0:])
         hit = hits.get(key)
         if hit is None:
@@ -255,12 +247,27 @@ class Deferred:
         law_span = None
         if law_at >= 0:
             p0, p1 = props[law_at]
-            law_span = self.Span(L, p0, L, p1)
+            law_span = Span_(L, p0, L, p1)
         # Contact's fields in order: label, span, a, b, normal, restitution,
         # restitution_unknown, mode, mu, slip, surface, restitution_name, separation, law,
         # law_span, mu_static
-        return self.Contact(label, self.Span(L, c0, L, c1), pa, pb, normal, e, e_unknown, mode,
-                            mu, slip, None, None, separation, law, law_span, mu_static)
+        return self.Contact(label, Span_(L, c0, L, c1), pa, pb, normal, e, e_unknown, mode, mu,
+                            slip, None, None, separation, law, law_span, mu_static)
+
+    def _point(self, name: str, L: int, c0: int, c1: int):
+        """`_Builder.fixed_point` of a plain name at columns c0..c1 of line L when it is
+        on a body, or None (the usual code decides)."""
+        b = self.b
+        p = b.points.get(name)
+        if p is not None:
+            if p.located_by is not None or p.body is None:
+                return None
+            return self.PointOn(p.body, p.offset, p.name, self.Span(L, c0, L, c1), False, None)
+        body = b.bodies.get(name)
+        if body is None:
+            return None
+        return self.PointOn(body.name, (0.0, 0.0), body.name, self.Span(L, c0, L, c1), True,
+                            None)
 
     # ---- impacts of one contact (a short block kept whole)
     def clause_count(self, item) -> int:
