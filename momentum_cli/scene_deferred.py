@@ -133,15 +133,23 @@ class Deferred:
         # the drawing's sizes, when no number gives one: the same for every line
         sized = any(name in ("radius", "length", "width", "height") for name, _, _ in plan)
         outline = None if sized else ((kind, (0.0, 0.0), b._dims(shape, fixed), 0.0),)
-        return n0, n0 + len(node.name), tuple(nums), {}, shape, fixed, tuple(plan), outline
+        # a particle whose one number is its mass: `_Builder._simple` passes the mass
+        # through and makes the rest from the constants, the same for every line
+        rest = None
+        if kind == "particle" and [name for name, _, _ in plan] == ["mass"]:
+            got = self._body_values((None,) * 4 + (shape, fixed, (), outline, None),
+                                    (), {"mass": (1.0, None)})
+            rest = got[2:]
+        return (n0, n0 + len(node.name), tuple(nums), {}, shape, fixed, tuple(plan), outline,
+                rest)
 
-    def _body_values(self, r, texts):
+    def _body_values(self, r, texts, args=None):
         """The body's (kind, mass, inertia, ...) from its numbers' texts as
         `_Builder._body` makes them, or None (then the usual code reads the line)."""
-        shape, fixed, plan, outline = r[4:]
+        shape, fixed, plan, outline, rest = r[4:]
         sc = self.scene
         factors, tiny, huge = sc._FACTORS, sc.TINY, sc.HUGE
-        args = dict(fixed)
+        args = dict(fixed) if args is None else dict(fixed, **args)
         for (name, unit_dim, zero_ok), text in zip(plan, texts):
             factor = factors.get(unit_dim)
             if factor is None:
@@ -151,6 +159,8 @@ class Deferred:
                     (v <= 0 and not (zero_ok and v == 0)):
                 return None  # the usual code reports it
             args[name] = (v, None)
+            if rest is not None:  # a particle's mass: the rest is known
+                return (shape.kind, v) + rest
         if len(args) > 1:
             args = {a.name: args[a.name] for a in shape.args}  # the usual code's order
         b = self.b
