@@ -1143,15 +1143,20 @@ class _Builder:
         tk = _TRANSITION_KINDS.get(s.kind) if type(s.kind) is str else None
         t = TransitionSpec(tk or TransitionKind(s.kind), s.before, s.after, s.span)
         labels = set()
-        for c in s.clauses:
+        done = 0  # clauses before this one read by scene_deferred
+        for i, c in enumerate(s.clauses):
             if type(c) is tuple:  # a contact line kept as its text (scene_deferred)
-                con = None
-                if s.kind != TransitionKind.ENERGY:
-                    con = self._deferred.contact(c, s.kind, states[s.before])
-                if con is not None and con.label not in labels:
-                    labels.add(con.label)
-                    t.contacts.append(con)
+                if i < done:
                     continue
+                if s.kind != TransitionKind.ENERGY:
+                    done = self._deferred.contacts(s.clauses, i, s.kind, labels, t.contacts)
+                    if done > i:
+                        continue
+                    con = self._deferred.contact(c, s.kind, states[s.before])
+                    if con is not None and con.label not in labels:
+                        labels.add(con.label)
+                        t.contacts.append(con)
+                        continue
                 c = c[1](c[2], c[3])  # its node, read below
             if isinstance(c, S.Contact):
                 if s.kind == TransitionKind.ENERGY:

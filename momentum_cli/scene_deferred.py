@@ -174,16 +174,52 @@ class Deferred:
                 point_mass, w, outline)
 
     # ---- contacts
+    def contacts(self, clauses, i: int, kind: str, labels: set, out: list) -> int:
+        """The Contacts of clauses[i:] while they are contact lines read through their
+        recipe with results known (`_fast`) and new labels, appended to `out` (their
+        labels to `labels`); the index of the first clause left to the caller."""
+        b = self.b
+        if b._contacts_seen is None or b.points:
+            return i  # no memo, or named points: the usual code
+        recipes, fast, bodies = self._contacts, self._fast, b.bodies
+        n = len(clauses)
+        while i < n:
+            c = clauses[i]
+            if c.__class__ is not tuple:
+                break
+            r = recipes.get(c[1])
+            if not r:
+                break
+            con = fast(r, c[2], c[3], kind, bodies)
+            if con is None or con.label in labels:
+                break
+            labels.add(con.label)
+            out.append(con)
+            i += 1
+        return i
+
     def contact(self, item, kind: str, before):
-        """The Contact of a deferred contact line, as `_Builder._contact` makes it, or
-        None (the caller reads the line's node the usual way)."""
+        """The Contact of a deferred contact line by the usual code, whose results the
+        line's recipe then keeps for `_fast`; None when the recipe cannot read the line
+        (the caller reads its node the usual way)."""
         _, make, x, L = item
         r = self._contacts.get(make)
         if r is None:
             r = self._contacts[make] = self._contact_recipe(make(x, L), x)
-        if r is False:
+        if r is False or self.b._contacts_seen is None:
             return None
-        return self._contact_from(r, x, L, kind, before, make)
+        return self._slow(r, make(x, L), x, kind, before)
+
+    def _slow(self, r, node, x: str, kind: str, before):
+        """`_Builder._contact` of a line's node; its results kept by the line's recipe
+        when the usual code keeps them (its memo) and the line's bodies are plain."""
+        b = self.b
+        con = b._contact(node, kind, before)  # the usual code, its memo filled
+        seen = b._contacts_seen
+        k = self.scene._contact_key(node, kind)
+        if seen is not None and k is not None and k in seen and con.restitution_name is None:
+            r[6][(kind, x[r[4]:])] = seen[k]
+        return con
 
     def _contact_recipe(self, c, x: str):
         """The columns of a plain contact line's names and spans, and where its normal
@@ -217,43 +253,22 @@ class Deferred:
         return (cols[0], cols[1], label, (c.span.column, c.span.end_column),
                 c.normal.span.column - 1, props, {})  # the last: results by kind and text
 
-    def _contact_from(self, r, x: str, L: int, kind: str, before, make):
+    def _fast(self, r, x: str, L: int, kind: str, bodies):
+        """The Contact of contact line x (line L) from its recipe, when its two names
+        are two bodies and the results of its normal and properties are known; else
+        None. What `_Builder._contact` makes of it: the bodies' centres as points."""
         (a0, a1), (b0, b1), label_at, (c0, c1), n0, props, hits = r
-        b = self.b
-        if b._contacts_seen is None:
-            return None  # no memo (few clauses, or too many kinds): the usual code
-        # `_Builder.fixed_point` of the two names (a named point, else a body's centre);
-        # anything else (the ground, a surface, an unknown name) by the usual code
-        bodies, points, Span_, PointOn = b.bodies, b.points, self.Span, self.PointOn
-        na, nb = x[a0:a1], x[b0:b1]
-        if points and (na in points or nb in points):
-            pa = self._point(na, L, a0 + 1, a1 + 1)
-            pb = self._point(nb, L, b0 + 1, b1 + 1)
-            if pa is None or pb is None or pb.body == pa.body:
-                return None
-        else:
-            ba, bb = bodies.get(na), bodies.get(nb)
-            if ba is None or bb is None or ba is bb:
-                return None
-            pa = PointOn(ba.name, (0.0, 0.0), ba.name, Span_(L, a0 + 1, L, a1 + 1), True, None)
-            pb = PointOn(bb.name, (0.0, 0.0), bb.name, Span_(L, b0 + 1, L, b1 + 1), True, None)
-        key = (kind, x[n0:])
-        hit = hits.get(key)
+        hit = hits.get((kind, x[n0:]))
         if hit is None:
-            if make.__class__ is tuple:  # (make, text, L) of an impact block
-                node = make[0](make[1], make[2]).clauses[0]
-            else:
-                node = make(x, L)
-            con = b._contact(node, kind, before)  # the usual code, its memo filled
-            seen = b._contacts_seen
-            k = self.scene._contact_key(node, kind)
-            if seen is not None and k is not None and k in seen and \
-                    con.restitution_name is None:
-                hits[key] = seen[k]
-            return con
+            return None
+        na, nb = x[a0:a1], x[b0:b1]
+        ba, bb = bodies.get(na), bodies.get(nb)
+        if ba is None or bb is None or ba is bb:
+            return None
+        Span_, PointOn = self.Span, self.PointOn
+        pa = PointOn(na, (0.0, 0.0), na, Span_(L, a0 + 1, L, a1 + 1), True, None)
+        pb = PointOn(nb, (0.0, 0.0), nb, Span_(L, b0 + 1, L, b1 + 1), True, None)
         normal, e, e_unknown, mode, mu, slip, separation, law, law_at, mu_static = hit
-        label = x[label_at[0]:label_at[1]] if label_at is not None else \
-            f"{pa.name}-{pb.name}"
         law_span = None
         if law_at >= 0:
             p0, p1 = props[law_at]
@@ -261,23 +276,9 @@ class Deferred:
         # Contact's fields in order: label, span, a, b, normal, restitution,
         # restitution_unknown, mode, mu, slip, surface, restitution_name, separation, law,
         # law_span, mu_static
-        return self.Contact(label, Span_(L, c0, L, c1), pa, pb, normal, e, e_unknown, mode, mu,
-                            slip, None, None, separation, law, law_span, mu_static)
-
-    def _point(self, name: str, L: int, c0: int, c1: int):
-        """`_Builder.fixed_point` of a plain name at columns c0..c1 of line L when it is
-        on a body, or None (the usual code decides)."""
-        b = self.b
-        p = b.points.get(name)
-        if p is not None:
-            if p.located_by is not None or p.body is None:
-                return None
-            return self.PointOn(p.body, p.offset, p.name, self.Span(L, c0, L, c1), False, None)
-        body = b.bodies.get(name)
-        if body is None:
-            return None
-        return self.PointOn(body.name, (0.0, 0.0), body.name, self.Span(L, c0, L, c1), True,
-                            None)
+        return self.Contact(x[label_at[0]:label_at[1]] if label_at is not None else
+                            f"{na}-{nb}", Span_(L, c0, L, c1), pa, pb, normal, e, e_unknown,
+                            mode, mu, slip, None, None, separation, law, law_span, mu_static)
 
     # ---- impacts of one contact (a short block kept whole)
     def clause_count(self, item) -> int:
@@ -302,8 +303,12 @@ class Deferred:
             f0, f1, t0, t1, dl, nl, k = r
             before, after = text[f0:f1], text[t0:t1]
             spec = states.get(before)
-            if spec is not None and after in states and before != after:
-                con = self._contact_from(k, text[nl:], L + 1, "impact", spec, (make, text, L))
+            if spec is not None and after in states and before != after and \
+                    b._contacts_seen is not None and not b.points:
+                x = text[nl:]
+                con = self._fast(k, x, L + 1, "impact", b.bodies)
+                if con is None:
+                    con = self._slow(k, make(text, L).clauses[0], x, "impact", spec)
                 if con is not None:
                     sc = self.scene
                     t = sc.TransitionSpec(sc.TransitionKind.IMPACT, before, after,
