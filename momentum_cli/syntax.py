@@ -748,7 +748,7 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
             if deferred:  # lines kept as their text: their nodes are made when read
                 from .statement_deferred import document
 
-                return document(source, statements, si)
+                return document(Document, source, statements, si)
             return Document(source, statements, si)
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 

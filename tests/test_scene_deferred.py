@@ -16,7 +16,7 @@ from momentum_cli import syntax, syntax_lines
 from momentum_cli.bench import chain_text
 from momentum_cli.diagnostics import ProblemError
 from momentum_cli.source import Source
-from momentum_cli.statement_deferred import DeferredDocument
+from momentum_cli.statement_deferred import deferred_class
 from test_hard import cradle_text
 from test_scene_memo import PROPS, SHAPES, TEXTS, _varied
 
@@ -117,7 +117,7 @@ def test_lines_kept_as_text_give_the_scene_and_errors_of_the_nodes(name, text, m
 def test_big_layouts_are_kept_as_text_and_read_as_nodes(name, text, monkeypatch):
     doc = _parse(text, True, monkeypatch)
     plain = _parse(text, False, monkeypatch)
-    assert type(doc) is DeferredDocument and type(plain) is syntax.Document
+    assert type(doc) is deferred_class(syntax.Document) and type(plain) is syntax.Document
     kept = sum(type(p) is tuple for p in doc.parts)
     assert kept > 10  # most of its bodies (and impacts) are kept as text
     assert doc.statements == plain.statements  # made when read, the same nodes
