@@ -43,6 +43,7 @@ STATE_QTYS: dict[str, tuple[Dim, str]] = {
     "vx": (VELOCITY, "m/s"), "vy": (VELOCITY, "m/s"), "omega": (RATE, "rad/s"),
 }
 VECTOR_QTYS = {"v": ("vx", "vy"), "pos": ("x", "y")}
+_AT_REST_PARTICLE, _AT_REST = ("vx", "vy"), ("vx", "vy", "omega")  # what `B at rest` gives
 ROTATION_QTYS = ("angle", "omega")
 
 
@@ -358,6 +359,8 @@ class _Kinds:
         by: dict = {}
         for s in st:
             k = type(s)
+            if k is tuple:  # a line kept as its text (scene_deferred): its node's class
+                k = s[0]
             got = by.get(k)
             if got is None:
                 by[k] = [s]
@@ -377,7 +380,8 @@ class _Kinds:
             return []
         if len(types) == 1:
             return self._by[types[0]]
-        return [s for s in self._st if isinstance(s, kinds)]
+        return [s for s in self._st if isinstance(s, kinds) or
+                (type(s) is tuple and issubclass(s[0], kinds))]
 
 
 class _Builder:
@@ -390,6 +394,7 @@ class _Builder:
         self.gravity_span = None
         self.ev = Evaluator(self._resolve_constant)
         self._contacts_seen: dict | None = None  # _contact's memo (a big file's)
+        self._deferred = None  # the reader of lines kept as text (a big file's)
         self._bodies_seen: dict | None = None  # _body's memo (a big file's)
         self.bodies: dict[str, Body] = {}
         self.points: dict[str, PointOn] = {}
@@ -542,7 +547,13 @@ class _Builder:
 
     # ---- the passes
     def run(self) -> Scene:
-        st = self.doc.statements
+        st = getattr(self.doc, "parts", None)  # a big file's, some lines kept as text
+        if st is None:
+            st = self.doc.statements
+        else:
+            from .scene_deferred import Deferred
+
+            self._deferred = Deferred(self, sys.modules[__name__])
         of = _Kinds(st)  # the statements of some kinds, in file order (one pass, not 25)
         title = ""
         for s in of(S.Problem):
@@ -557,7 +568,10 @@ class _Builder:
         if CONTACT_MEMO and len(of(S.BodyDecl)) >= CONTACT_MEMO_FROM:
             self._bodies_seen = {}
         for s in of(S.BodyDecl):
-            self._body(s)
+            if type(s) is tuple:
+                self._deferred.body(s)
+            else:
+                self._body(s)
         for s in of(S.Let):
             if s.name in self.bodies:
                 raise ProblemError(f"'{s.name}' is a body; a `let` constant needs another name",
@@ -590,10 +604,15 @@ class _Builder:
             states[s.id] = self._state(s)
         transitions = []
         by_key: dict[str, list] = {}  # the transitions on each pair of states, in file order
-        if CONTACT_MEMO and sum(len(s.clauses) for s in of(S.Transition)) >= CONTACT_MEMO_FROM:
+        if CONTACT_MEMO and sum(len(s.clauses) if type(s) is not tuple else
+                                self._deferred.clause_count(s)
+                                for s in of(S.Transition)) >= CONTACT_MEMO_FROM:
             self._contacts_seen = {}  # many clauses (contacts): a memo
         for s in of(S.Transition):
-            t = self._transition(s, states)
+            if type(s) is tuple:
+                t = self._deferred.transition(s, states)
+            else:
+                t = self._transition(s, states)
             for other in by_key.get(t.key, ()):
                 # an energy statement beside an impact is a redundant statement to
                 # check (true for e = 1); two impacts or intervals contradict
@@ -1051,11 +1070,16 @@ class _Builder:
     # ---- states
     def _state(self, s: S.StateDecl) -> StateSpec:
         spec = StateSpec(s.id, s.label, s.span)
+        givens, bodies = spec.givens, self.bodies
         for it in s.items:
-            if isinstance(it, S.AtRest):
-                body = self._body_named(it.body, it.span)
-                for q in ("vx", "vy") + (() if body.is_particle else ("omega",)):
-                    self._give(spec, body.name, q, 0.0, it.span)
+            if isinstance(it, S.AtRest):  # (a big file's state lists 10^4 of them)
+                body = bodies.get(it.body) or self._body_named(it.body, it.span)
+                name, span = body.name, it.span
+                for q in _AT_REST_PARTICLE if body.is_particle else _AT_REST:
+                    k = (name, q)
+                    if k in givens:
+                        self._give(spec, name, q, 0.0, span)  # its error
+                    givens[k] = (0.0, span)
             elif isinstance(it, S.RollsIn):
                 self._body_named(it.body, it.span)
                 spec.rolls.append((it.body, it.surface, it.span))
@@ -1119,7 +1143,21 @@ class _Builder:
         tk = _TRANSITION_KINDS.get(s.kind) if type(s.kind) is str else None
         t = TransitionSpec(tk or TransitionKind(s.kind), s.before, s.after, s.span)
         labels = set()
-        for c in s.clauses:
+        done = 0  # clauses before this one read by scene_deferred
+        for i, c in enumerate(s.clauses):
+            if type(c) is tuple:  # a contact line kept as its text (scene_deferred)
+                if i < done:
+                    continue
+                if s.kind != TransitionKind.ENERGY:
+                    done = self._deferred.contacts(s.clauses, i, s.kind, labels, t.contacts)
+                    if done > i:
+                        continue
+                    con = self._deferred.contact(c, s.kind, states[s.before])
+                    if con is not None and con.label not in labels:
+                        labels.add(con.label)
+                        t.contacts.append(con)
+                        continue
+                c = c[1](c[2], c[3])  # its node, read below
             if isinstance(c, S.Contact):
                 if s.kind == TransitionKind.ENERGY:
                     raise ProblemError("contacts belong to impacts and intervals; an energy phase "

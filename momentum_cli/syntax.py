@@ -717,6 +717,7 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
         _SPANS[0] = loops  # the nodes' spans point into the file, not the expanded text
         whole = text if text.endswith("\n") else text + "\n"
         nodes = None
+        deferred = False  # syntax_lines kept lines as their text
         _READ[0] += len(whole)
         hook = STATEMENTS[0] if loops is None or len(text) < FAST_BYTES else None
         try:
@@ -725,9 +726,11 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
             elif loops is None and _READ[0] >= LINES_BYTES:  # the common statement forms
                 import sys  # a line at a time, the rest by syntax_run
 
+                from .syntax_lines import DEFERRED
                 from .syntax_lines import parse as by_lines
 
-                nodes = by_lines(whole, fast.parse, sys.modules[__name__])
+                nodes = by_lines(whole, fast.parse, sys.modules[__name__], True)
+                deferred = nodes is not None and DEFERRED[0]
         except Exception:  # Fallback (a bracket open across lines, an error): parse whole
             nodes = None
         try:
@@ -739,9 +742,14 @@ def _parse_nodes(source: Source, expanded: Source, loops) -> Document:
             _SPANS[0] = None
         if nodes is not None:
             si = getattr(nodes, "si_text", None)  # the batch's table has it per statement
-            return Document(source, tuple([s if type(s) is not Expect else
-                                           _plus_minus(s, source.text) for s in nodes]),
-                            _si_text(text) if si is None else si)
+            statements = tuple([s if type(s) is not Expect else _plus_minus(s, source.text)
+                                for s in nodes])
+            si = _si_text(text) if si is None else si
+            if deferred:  # lines kept as their text: their nodes are made when read
+                from .statement_deferred import document
+
+                return document(Document, source, statements, si)
+            return Document(source, statements, si)
     from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
     try:

@@ -18,7 +18,7 @@ _NODES = ("Arg", "AtRest", "BodyDecl", "Clause", "Contact", "Find", "FindItem", 
 _SETUP = [None]  # the syntax module whose node classes the makers below build
 
 
-def _maker(cls):
+def _maker(cls, nodes: bool = True):
     """A function building `cls` records (frozen, slotted) as its constructor does, about
     twice as fast: the fields are set on a plain twin of the same slots, whose class then
     becomes `cls` (a frozen record sets each slot through a descriptor call). The class
@@ -49,22 +49,31 @@ def _maker(cls):
             return cls
     except Exception:  # a layout __class__ assignment refuses: the constructor
         return cls
-    _TWIN_OF[cls] = twin
+    if nodes:  # a syntax node class: builders name its twin (setup)
+        _TWIN_OF[cls] = twin
     return make
 
 
 _TWIN_OF: dict = {}  # record class -> its plain twin (_maker)
+
+
+def maker(cls):
+    """_maker of a record class other than the syntax nodes (scene_deferred's)."""
+    return _maker(cls, False)
+
+
 _ENV: dict = {}  # a builder's globals (setup)
 
 
 def setup(syntax) -> None:
     """Bind the node classes of `syntax` (passed in: syntax imports this module) and a
     maker for each; the keywords of its grammar."""
-    global _MAKERS_OF, _NumClass, _KEYWORDS, IMPACT_LAWS
+    global _MAKERS_OF, _NumClass, _KEYWORDS, IMPACT_LAWS, _CLASSES
     if _SETUP[0] is syntax:
         return
     classes = [source.Span] + [getattr(syntax, n) for n in _NODES]
     _MAKERS_OF = {c: _maker(c) for c in classes}
+    _CLASSES = dict(zip(_NODES, classes[1:]))
     _NumClass = syntax.Num
     IMPACT_LAWS = syntax.IMPACT_LAWS
     grammar = syntax.grammar_text()
@@ -149,6 +158,7 @@ _PROBLEM, _GRAVITY, _NUMBER = _RE["PROBLEM"], _RE["GRAVITY"], _RE["NUMBER"]
 _KEYWORDS: frozenset = frozenset()
 _UNIT_OK: dict = {}
 _MAKERS_OF: dict = {}  # node class -> its maker (setup)
+_CLASSES: dict = {}  # a node class's name -> the class (setup)
 _NumClass = None
 IMPACT_LAWS: tuple = ()
 
@@ -167,10 +177,11 @@ def _unit_ok(u: str) -> bool:
     return ok
 
 
-def parse(text: str, rest, syntax):
+def parse(text: str, rest, syntax, defer: bool = False):
     """The statements of `text` (ending in "\\n"), or None (not plain: parse it whole).
     `rest(chunk, line)` parses a statement not recognised here (it may raise); `syntax`:
-    the module whose nodes are built."""
+    the module whose nodes are built. `defer`: a big text's common lines may be kept as
+    deferred items (below; DEFERRED says whether any was)."""
     setup(syntax)
     lines = text.split("\n")
     n = len(lines) - 1  # the last element is the "" after the final newline
@@ -185,12 +196,41 @@ def parse(text: str, rest, syntax):
             return None  # something before the first statement: the whole parse decides
     heads.append(n)
     _STORING[0] = STORE and len(text) >= STORE_BYTES
+    _DEFERRING[0] = defer and DEFER and len(text) >= DEFER_BYTES
+    DEFERRED[0] = False
     try:
         return _statements(lines, heads, rest)
     finally:
+        _DEFERRING[0] = False
         if _STORING[0]:
             builder_store.flush()
             _STORING[0] = False
+
+
+# A big text's body lines and impacts' contact lines whose shape has a builder are kept
+# as their text: a deferred item (node class, make, text, line), the node being
+# make(text, line). The scene reads most of them from their text at the places their
+# shape fixes (scene_deferred.py), skipping ~20 records a line; anything else reading
+# the document gets the nodes (statement_deferred.DeferredDocument makes them then).
+DEFER = True  # (tests turn it off to compare)
+DEFER_BYTES = 1 << 17  # a smaller text (a batch's files) builds its nodes straight away
+_DEFERRING = [False]  # within `parse` of such a text
+DEFERRED = [False]  # whether the last `parse` returned a deferred item
+_CONTACT_SHAPES: dict = {}  # a clause line's shape -> whether it is a contact
+
+
+def _is_word(s: str, p: int, word: str) -> bool:
+    """s has the whole word `word` at p (no name character follows it)."""
+    q = p + len(word)
+    return s.startswith(word, p) and not (s[q:q + 1].isalnum() or s[q:q + 1] in ("_", "["))
+
+
+def fill_transition(node, _L=None):
+    """A Transition whose deferred contact lines (`_transition`) are made into nodes."""
+    clauses = tuple([c if c.__class__ is not tuple else c[1](c[2], c[3])
+                     for c in node.clauses])
+    return node.__class__(*[clauses if f == "clauses" else getattr(node, f)
+                            for f in node._fields])
 
 
 def _statements(lines, heads, rest) -> list:
@@ -198,13 +238,18 @@ def _statements(lines, heads, rest) -> list:
     end), each by its shape's builder, its form, or `rest`."""
     out = []
     shapes, mask, fn = _SHAPES, _MASK, _FUNCTION
+    defer, body_class = _DEFERRING[0], _CLASSES.get("BodyDecl")
     for k in range(len(heads) - 1):
         a, b = heads[k], heads[k + 1]
         if b == a + 1:  # a line of a shape already seen: its builder, straight away
             s = lines[a]
             hit = shapes.get(s.encode().translate(mask))
             if hit.__class__ is fn:
-                out.append(hit(s, b))
+                if defer and s.startswith("body "):  # kept as its text (a BodyDecl)
+                    out.append((body_class, hit, s, b))
+                    DEFERRED[0] = True
+                else:
+                    out.append(hit(s, b))
                 continue
         try:
             out.append(_statement(lines, a, b))
@@ -263,7 +308,15 @@ def _statement(lines, a, b):
     if b == a + 1:  # a line of its own: its nodes depend on its text and number only
         return _shaped(word, f, s, a + 1)
     if b - a <= SHORT_BLOCK:  # a short block: its nodes depend on its text and first line
-        return _shaped(word, f, "\n".join(lines[a:b]), a + 1)
+        text = "\n".join(lines[a:b])
+        if f is _transition and _DEFERRING[0]:
+            hit = _SHAPES.get(text.encode().translate(_MASK))
+            if hit.__class__ is _FUNCTION:  # kept as its text (a Transition)
+                DEFERRED[0] = True
+                return (_CLASSES["Transition"], hit, text, a + 1)
+        return _shaped(word, f, text, a + 1)
+    if f is _transition and _DEFERRING[0]:
+        return _transition(lines, a, b, s, a + 1, True)
     return f(lines, a, b, s, a + 1)
 
 
@@ -575,7 +628,7 @@ def _state(lines, a, b, s, L):
                      None if label is None else label[1:-1], tuple(items))
 
 
-def _transition(lines, a, b, s, L):
+def _transition(lines, a, b, s, L, defer: bool = False):
     m = _TRANS.match(s)
     if m is None:
         raise _No
@@ -584,12 +637,33 @@ def _transition(lines, a, b, s, L):
     if bool(block) != (m.group("c") is not None):
         raise _No
     clauses = []
+    kept = False
+    contact, shapes, mask, fn = _CLASSES.get("Contact"), _SHAPES, _MASK, _FUNCTION
+    contacts = _CONTACT_SHAPES
     for i in block:
         x = lines[i]
+        if defer:  # a contact line of a shape with a builder: kept as its text
+            key = x.encode().translate(mask)
+            hit = shapes.get(key)
+            if hit.__class__ is fn:
+                is_contact = contacts.get(key)
+                if is_contact is None:
+                    if len(contacts) >= MAX_SHAPES:
+                        contacts.clear()
+                    is_contact = contacts[key] = _is_word(x, len(x) - len(x.lstrip(" ")),
+                                                          "contact")
+                if is_contact:
+                    clauses.append((contact, hit, x, i + 1))
+                    kept = True
+                    continue
         clauses.append(_shaped(None, None, x, i + 1))
-    return Transition(Span(L, 1, _end(b), 1), m.group("k"), m.group("a"), m.group("b"),
+    node = Transition(Span(L, 1, _end(b), 1), m.group("k"), m.group("a"), m.group("b"),
                       tuple(clauses), Span(L, m.start("a") + 1, L, m.end("a") + 1),
                       Span(L, m.start("b") + 1, L, m.end("b") + 1))
+    if kept:
+        DEFERRED[0] = True
+        return (_CLASSES["Transition"], fill_transition, node, L)
+    return node
 
 
 def _contact(s: str, p: int, L: int):
