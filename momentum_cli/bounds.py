@@ -379,6 +379,9 @@ def propagate(system, reports, values, exact: bool = False, fused: dict | None =
         newton = rep.method == "newton"
         eqs, sget, eget = system.equations, size.get, err.get
         pairs = _flat_pairs if sparse else _same
+        if sparse and n >= COLUMNS_FROM and not exact and rep.method == "linear" and \
+                "numpy" in sys.modules and _rows_as_arrays(rep, eqs, col, values, size, err):
+            continue
         for i, k in enumerate(rep.equations):
             f = eqs[k].residual
             if not FAST:
@@ -442,6 +445,32 @@ def propagate(system, reports, values, exact: bool = False, fused: dict | None =
 
 def _same(x):
     return x
+
+
+def _rows_as_arrays(rep, eqs, col, values, size: dict, err: dict) -> bool:
+    """`propagate`'s step for a large linear block with its rows read per shape as
+    arrays (`bounds_rows`) and its columns' sizes and bounds as arrays (`bounds_columns`):
+    True where both took it (sizes and bounds set), False where either declined."""
+    from . import bounds_columns, bounds_rows
+
+    if not bounds_columns.ENABLED:
+        return False
+    got = bounds_rows.read(eqs, rep.equations, col, values, size, err, ROUNDOFF)
+    if got is None:
+        return False
+    rmax, scale, delta, rows, cols, ents = got
+    names = rep.unknowns
+    n = len(names)
+    q = rep.quality
+    out = bounds_columns.from_rows(
+        rows, cols, ents, rmax, scale, delta, [abs(values.get(nm, 0.0)) for nm in names],
+        q.components if q is not None and q.components else [0.0] * n,
+        rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0, True)
+    if out is None:
+        return False
+    size.update(zip(names, out[0]))
+    err.update(zip(names, out[1]))
+    return True
 
 
 def _matrix_parts(A, cols, square: bool):
