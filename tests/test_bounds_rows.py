@@ -166,3 +166,44 @@ def test_examples_bound_the_same_with_and_without_rows_as_arrays(monkeypatch, pa
             continue
         got.append((sol.answers, _bits(sol.size or {}), _bits(sol.errors or {})))
     assert got[0] == got[1]
+
+
+@pytest.mark.parametrize("n, kw", [(300, {}), (450, {"decades": 6.0, "e": 0.6})])
+def test_runs_of_one_unknown_bound_as_each_alone(monkeypatch, n, kw):
+    """A chain's run of 1x1 blocks (each ball's y velocity) bounded as arrays against
+    `_one` block by block; also with values that make some rows decline."""
+    sol, system = _chain(monkeypatch, n, **kw)
+    taken = []
+    ones = bounds._ones_as_arrays
+
+    def spy(*a, **k):
+        got = ones(*a, **k)
+        taken.append(got[1])
+        return got
+
+    monkeypatch.setattr(bounds, "_ones_as_arrays", spy)
+    for values in (dict(sol.values), {k: (v if i % 97 else math.inf)
+                                      for i, (k, v) in enumerate(sol.values.items())}):
+        out = []
+        for run in (64, 10**9):
+            monkeypatch.setattr(bounds, "ONES_RUN", run)
+            with rowcode.remembered():
+                size, err = bounds.propagate(system, sol.blocks, values, False)
+            out.append((_bits(size), _bits(err)))
+        assert out[0] == out[1]
+    assert True in taken
+
+
+def test_cradle_bounds_the_same_with_and_without_runs_of_ones(monkeypatch):
+    from test_hard import cradle_text
+
+    sol, system = solve_keeping_system(monkeypatch, cradle_text(300, "sequence"),
+                                       "cradle.mom")
+    values = dict(sol.values)
+    out = []
+    for run in (64, 10**9):
+        monkeypatch.setattr(bounds, "ONES_RUN", run)
+        with rowcode.remembered():
+            size, err = bounds.propagate(system, sol.blocks, values, False)
+        out.append((_bits(size), _bits(err)))
+    assert out[0] == out[1]
