@@ -11,6 +11,7 @@ chain has a handful of shapes; a scene's energy is walked at the top, its terms 
 from __future__ import annotations
 
 import math
+import sys as _sys
 
 from . import expr as _expr
 from .expr import Add, Const, Known, Mul, NonLinear, Var
@@ -647,6 +648,12 @@ def _vgs(e, w, values, out, walk):
                    walk(e, w, values, out))
     t = type(e)
     if t is Add:
+        if len(e.terms) >= 256 and "numpy" in _sys.modules:  # an energy of many bodies
+            from .terms_columns import walk_sum
+
+            got = walk_sum(e.terms, w, values, out, lambda x: _vgs(x, w, values, out, walk))
+            if got is not None:
+                return math.fsum(got[0]), sum(got[1])
         vs = []
         zs = []
         for x in e.terms:
