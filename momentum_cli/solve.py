@@ -1354,12 +1354,23 @@ def _answers(system: System, values, sol: Solution | None = None) -> list[tuple]
     return out
 
 
+def _big_sum():
+    """terms_columns' walk of a long sum's terms as arrays, where numpy is loaded (by a
+    large block's banded LU); else None (term by term)."""
+    if "numpy" not in sys.modules:
+        return None
+    from .terms_columns import walk_sum
+
+    return walk_sum
+
+
 def _value(expr: E, values, sol: Solution | None) -> tuple[float, float, float]:
     """(value, absolute error bound, round-off level) of a derived expression."""
     exact = sol.exact if sol is not None else None
     size = sol.size if sol is not None and sol.size is not None else {}
     err = sol.errors if sol is not None and sol.errors is not None else {}
-    got = rowcode.value_grad_size(expr, values, _grad_size) if exact is None else None
+    got = rowcode.value_grad_size(expr, values, _grad_size, _big_sum()) \
+        if exact is None else None
     if got is not None:  # a large sum (an energy): each term walked once for both
         si, dv, mag = got
         slope, scale = slopes_of(dv, mag, size)

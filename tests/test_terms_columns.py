@@ -19,7 +19,7 @@ np = pytest.importorskip("numpy")
 
 def _vgs(e, values):
     with rowcode.remembered():
-        got = rowcode.value_grad_size(e, values, bounds._grad_size)
+        got = rowcode.value_grad_size(e, values, bounds._grad_size, terms_columns.walk_sum)
     if got is None:
         return None
     v, out, z = got
@@ -86,7 +86,8 @@ def test_a_term_not_finite_or_missing_declines(monkeypatch):
     assert on == off
     del values["v7"]
     with rowcode.remembered():
-        assert rowcode.value_grad_size(e, values, bounds._grad_size) is None
+        assert rowcode.value_grad_size(e, values, bounds._grad_size,
+                                       terms_columns.walk_sum) is None
 
 
 @pytest.mark.parametrize("n, kw", [(400, {}), (900, {"decades": 9.0, "e": 0.3})])
