@@ -76,32 +76,23 @@ def read(eqs, equations, col: dict, values, size: dict, err: dict, roundoff: flo
     np = sys.modules.get("numpy")
     if not ENABLED or np is None or not rowcode.ENABLED:
         return None
-    shape_of = rowcode.shape_of
-    groups: dict = {}
-    for i, k in enumerate(equations):
-        sh = shape_of(eqs[k].residual)
-        if sh is None:
-            return None
-        g = groups.get(sh[0])
-        if g is None:
-            g = groups[sh[0]] = ([], [], [])
-        g[0].append(i)
-        g[1].append(sh[1])
-        g[2].append(sh[2])
+    from .block_rows import groups
+
+    g = groups(eqs, equations)
+    if g is None:
+        return None
     m = len(equations)
     rmax = np.zeros(m)
     scale = np.zeros(m)
     delta = np.zeros(m)
     e_rows, e_cols, e_ents = [], [], []
     sget, eget, cget = size.get, err.get, col.get
-    for key, (idx, nums, names) in groups.items():
+    for key, (idx, ii, c, by_pos) in g.by_key.items():
         walk = _walk_of(key)
         if walk is None:
             return None
         f, firsts = walk
         r = len(idx)
-        c = [np.array(cv, dtype=float) for cv in zip(*nums)] if nums[0] else []
-        by_pos = list(zip(*names)) if names[0] else []
         try:
             x = [np.array([values[nm] for nm in nms], dtype=float) for nms in by_pos]
         except (KeyError, TypeError, ValueError):
@@ -115,7 +106,6 @@ def read(eqs, equations, col: dict, values, size: dict, err: dict, roundoff: flo
             sc = np.zeros(r)
             d = np.zeros(r)
             m_row = np.zeros(r)
-            ii = np.array(idx, dtype=np.intp)
             for p, s in zip(firsts, slopes):
                 s = np.broadcast_to(np.asarray(s, dtype=float), (r,))
                 if not np.isfinite(s).all():
