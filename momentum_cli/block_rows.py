@@ -109,12 +109,7 @@ def rows(eqs, equations, col: dict, values):
                 flags |= (j >= 0).astype(np.int64) << p
             for pattern in np.unique(flags).tolist():
                 inside = tuple(bool(pattern >> p & 1) for p in range(len(js)))
-                k = (key, inside)
-                if k not in _AFF:
-                    if len(_AFF) >= rowcode.LIMIT:
-                        _AFF.clear()
-                    _AFF[k] = _affine_walk(key, inside)
-                walk = _AFF[k]
+                walk = _walk_for(key, inside)
                 if walk is None:
                     return None
                 f, positions = walk
@@ -138,3 +133,82 @@ def rows(eqs, equations, col: dict, values):
                                      [()] * n_sel, zip(*vcols) if vcols else [()] * n_sel):
                     out_rows[i] = {j: v for j, v in zip(jr, vr) if v != 0.0}
     return out_rows, rhs.tolist()
+
+
+def ones(eqs, equations, names, values):
+    """(a, b, stop) of a run of one-unknown rows (`solve_ones.run`: row i in names[i]
+    alone) as `rowcode.affine(row, {name: 0}, values)` gives them, a the coefficient of
+    the row's own unknown (0.0 where it has none), b the constant negated: the rows
+    before `stop`, the first row the run takes no further (a value missing, not linear,
+    a zero or a number not finite); None where a row has no shape."""
+    if not ENABLED:
+        return None
+    np = sys.modules.get("numpy")
+    g = groups(eqs, equations)
+    if g is None:
+        return None
+    m = g.m
+    A = np.zeros(m)
+    B = np.zeros(m)
+    bad = np.zeros(m, dtype=bool)
+    missing = _MISSING
+    with np.errstate(all="ignore"):
+        for key, (idx, ii, c, by_pos) in g.by_key.items():
+            own = [names[i] for i in idx]
+            r = len(idx)
+            flags = np.zeros(r, dtype=np.int64)
+            for p, nms in enumerate(by_pos):
+                if p >= 62:
+                    return None
+                mine = np.fromiter(map(str.__eq__, nms, own), dtype=bool, count=r)
+                flags |= mine.astype(np.int64) << p
+            for pattern in np.unique(flags).tolist():
+                inside = tuple(bool(pattern >> p & 1) for p in range(len(by_pos)))
+                sel = np.flatnonzero(flags == pattern)
+                rows_at = ii[sel]
+                walk = _walk_for(key, inside)
+                if walk is None:  # not linear in the row's own unknown
+                    bad[rows_at] = True
+                    continue
+                f, positions = walk
+                cs = c if len(sel) == r else [col_[sel] for col_ in c]
+                gone = np.zeros(len(sel), dtype=bool)
+                xs = []
+                for p, nms in enumerate(by_pos):
+                    if inside[p]:
+                        xs.append(None)
+                        continue
+                    got = [values.get(nms[t], missing) for t in sel.tolist()]
+                    lost = np.fromiter((v is missing for v in got), dtype=bool, count=len(got))
+                    if lost.any():
+                        gone |= lost
+                        got = [0.0 if v is missing else v for v in got]
+                    try:
+                        xs.append(np.array(got, dtype=float))
+                    except (TypeError, ValueError):
+                        return None
+                try:
+                    coefs, const = f(cs, list(range(len(by_pos))), xs)
+                except (TypeError, ValueError, NonLinear):
+                    return None
+                n_sel = len(sel)
+                a = np.broadcast_to(np.asarray(coefs[0], dtype=float), (n_sel,)) if coefs \
+                    else np.zeros(n_sel)
+                A[rows_at] = a
+                B[rows_at] = -np.broadcast_to(np.asarray(const, dtype=float), (n_sel,))
+                bad[rows_at] |= gone
+        bad |= (A == 0.0) | ~np.isfinite(A) | ~np.isfinite(B)
+    stop = int(np.argmax(bad)) if bad.any() else m
+    return A[:stop].tolist(), B[:stop].tolist(), stop
+
+
+_MISSING = object()
+
+
+def _walk_for(key, inside):
+    k = (key, inside)
+    if k not in _AFF:
+        if len(_AFF) >= rowcode.LIMIT:
+            _AFF.clear()
+        _AFF[k] = _affine_walk(key, inside)
+    return _AFF[k]

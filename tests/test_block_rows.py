@@ -158,3 +158,66 @@ def test_examples_solve_the_same_with_and_without(monkeypatch, path):
         got.append((repr(sol.answers), repr(sol.values), repr(sol.errors),
                     repr([c.__dict__ if hasattr(c, "__dict__") else c for c in sol.checks])))
     assert got[0] == got[1]
+
+
+class _Block:
+    def __init__(self, unknowns, equations):
+        self.unknowns, self.equations = unknowns, equations
+
+
+@pytest.mark.parametrize("spoil", ["none", "missing", "later", "zero", "inf", "nonlinear",
+                                   "two"])
+@pytest.mark.parametrize("seed", range(2))
+def test_runs_of_ones_read_as_one_by_one(seed, spoil):
+    """A run of one-unknown blocks (solve_ones) read as arrays against row by row: the
+    same blocks taken, coefficients and constants bit for bit, the run ending at the
+    same block (a value not set yet, a row using a later block's unknown, a zero or
+    non-finite coefficient, a row not linear, a block of two unknowns)."""
+    from momentum_cli import solve_ones
+
+    rng = random.Random(seed)
+    n = 400
+    own = [f"y{j}" for j in range(n)]
+    given = [f"g{j}" for j in range(50)]
+    values = {nm: rng.uniform(-2, 2) for nm in given}
+
+    def row(j):
+        k = rng.random()
+        g = Var(rng.choice(given))
+        if k < 0.5:
+            return Add((Mul((Const(rng.uniform(1, 9)), Var(own[j]))), Mul((Const(-1.0), g))))
+        if k < 0.8:
+            return Add((Var(own[j]), Mul((Const(0.5), Add((g, Var(own[j]))))), Const(1.25)))
+        return Add((Mul((Var(own[j]), Const(-2.0))), g, Const(3.0)))
+
+    rows = [row(j) for j in range(n)]
+    at = rng.randrange(100, 300)
+    if spoil == "missing":
+        rows[at] = Add((Var(own[at]), Var("nowhere")))
+    elif spoil == "later":
+        rows[at] = Add((Var(own[at]), Var(own[at + 5])))
+    elif spoil == "zero":
+        rows[at] = Add((Mul((Var(own[at]), Var("zero"))), Const(1.0)))
+        values["zero"] = 0.0
+    elif spoil == "inf":
+        values[given[1]] = math.inf
+    elif spoil == "nonlinear":
+        rows[at] = Add((Mul((Var(own[at]), Var(own[at]))), Const(-1.0)))
+    eqs = [_Eq(r) for r in rows]
+    blocks = [_Block([own[j]], [j]) for j in range(n)]
+    if spoil == "two":
+        blocks[at] = _Block([own[at], "other"], [at])
+    order = list(range(n))
+    with rowcode.remembered():
+        for e in eqs:  # met often enough to be compiled, as in a large solve
+            rowcode.shape_of(e.residual)
+        start = rng.randrange(0, 20)
+        want = solve_ones._read_one_by_one(eqs, blocks, order, start, values)
+        got = solve_ones._read_as_arrays(eqs, blocks, order, start, values)
+    if got is None:  # a run too short to read as arrays
+        assert len(want[0]) < solve_ones.MIN_RUN or want[3] - start < solve_ones.MIN_RUN
+        return
+    assert [b.unknowns for b in got[0]] == [b.unknowns for b in want[0]]
+    assert [_bits(v) for v in got[1]] == [_bits(v) for v in want[1]]
+    assert [_bits(v) for v in got[2]] == [_bits(v) for v in want[2]]
+    assert got[3] == want[3]
