@@ -41,15 +41,17 @@ def groups(eqs, equations, keep: bool = False) -> Groups | None:
     np = sys.modules.get("numpy")
     if np is None or not rowcode.ENABLED:
         return None
-    shape_of = rowcode.shape_of
     by_key: dict = {}
-    for i, k in enumerate(equations):
-        sh = shape_of(eqs[k].residual)
+    last = g = None  # rows of one shape come in runs: the group of the last key
+    for i, sh in enumerate(rowcode.shapes_of([eqs[k].residual for k in equations])):
         if sh is None:
             return None
-        g = by_key.get(sh[0])
-        if g is None:
-            g = by_key[sh[0]] = ([], [], [])
+        key = sh[0]
+        if key is not last:
+            g = by_key.get(key)
+            if g is None:
+                g = by_key[key] = ([], [], [])
+            last = key
         g[0].append(i)
         g[1].append(sh[1])
         g[2].append(sh[2])

@@ -272,6 +272,19 @@ def shape_of(e):
     return sh
 
 
+def shapes_of(trees) -> list:
+    """`shape_of` of each tree, in order (a large block's rows, a long sum's terms: the
+    remembered ones looked up in line)."""
+    if _PLAIN[0]:
+        return [None] * len(trees)
+    get = _SHAPES.get
+    out = []
+    for e in trees:
+        sh = get(e, _NONE)
+        out.append(shape_of(e) if sh is _NONE else sh)
+    return out
+
+
 def _walk(e, toks, nums, names, first):
     t = type(e)
     if len(toks) > MAX_TOKENS:

@@ -73,17 +73,19 @@ def walk_sum(terms, w, values, out, walk_term):
     np = sys.modules.get("numpy")
     if not ENABLED or np is None or len(terms) < MIN_TERMS:
         return None
-    shape_of = rowcode.shape_of
     groups: dict = {}
     free: list[int] = []  # the terms without a shape, in order
-    for i, x in enumerate(terms):
-        sh = shape_of(x)
+    last = g = None  # terms of one shape come in runs: the group of the last key
+    for i, sh in enumerate(rowcode.shapes_of(terms)):
         if sh is None:
             free.append(i)
             continue
-        g = groups.get(sh[0])
-        if g is None:
-            g = groups[sh[0]] = ([], [], [])
+        key = sh[0]
+        if key is not last:
+            g = groups.get(key)
+            if g is None:
+                g = groups[key] = ([], [], [])
+            last = key
         g[0].append(i)
         g[1].append(sh[1])
         g[2].append(sh[2])
@@ -133,10 +135,13 @@ def walk_sum(terms, w, values, out, walk_term):
                 parts.append((idx, nms, sl, lo, hi))
         if len(parts) == 1:  # one shape: its rows in order, each row's slopes in order
             _idx, nms, sl, lo, hi = parts[0]
-            pairs_n = chain.from_iterable(zip(*[col[lo:hi] for col in nms]))
+            pairs_n = list(chain.from_iterable(zip(*[col[lo:hi] for col in nms])))
             pairs_s = chain.from_iterable(zip(*[col[lo:hi] for col in sl]))
-            for nm, w_ in zip(pairs_n, pairs_s):
-                out[nm] = get(nm, 0.0) + w_
+            if len(set(pairs_n)) == len(pairs_n) and out.keys().isdisjoint(pairs_n):
+                out.update(zip(pairs_n, [0.0 + w_ for w_ in pairs_s]))  # each new: 0.0 + w
+            else:
+                for nm, w_ in zip(pairs_n, pairs_s):
+                    out[nm] = get(nm, 0.0) + w_
         elif parts:  # terms of several shapes: one by one
             mine = {}
             for idx, nms, sl, lo, hi in parts:
