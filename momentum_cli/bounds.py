@@ -358,7 +358,9 @@ def propagate(system, reports, values, exact: bool = False, fused: dict | None =
         if at < done:
             continue
         names = rep.unknowns
-        if at >= try_ones and len(names) == 1 and len(rep.equations) == 1:
+        if at >= try_ones and len(names) == 1 and len(rep.equations) == 1 and \
+                at + ONES_RUN <= len(reports) and \
+                len(reports[at + ONES_RUN - 1].unknowns) == 1:  # else a short run
             end, ok = _ones_as_arrays(system, reports, at, values, size, err, fused)
             if ok:
                 done = end
