@@ -136,24 +136,26 @@ def walk_sum(terms, w, values, out, walk_term):
         if len(parts) == 1:  # one shape: its rows in order, each row's slopes in order
             _idx, nms, sl, lo, hi = parts[0]
             pairs_n = list(chain.from_iterable(zip(*[col[lo:hi] for col in nms])))
-            pairs_s = chain.from_iterable(zip(*[col[lo:hi] for col in sl]))
-            if len(set(pairs_n)) == len(pairs_n) and out.keys().isdisjoint(pairs_n):
-                out.update(zip(pairs_n, [0.0 + w_ for w_ in pairs_s]))  # each new: 0.0 + w
-            else:
-                for nm, w_ in zip(pairs_n, pairs_s):
-                    out[nm] = get(nm, 0.0) + w_
-        elif parts:  # terms of several shapes: one by one
-            mine = {}
+            pairs_s = list(chain.from_iterable(zip(*[col[lo:hi] for col in sl])))
+        elif parts:  # terms of several shapes: their slopes sorted into term order
+            most = max(len(nms) for _idx, nms, _sl, _lo, _hi in parts)
+            keys, pairs_n, flat_s = [], [], []
             for idx, nms, sl, lo, hi in parts:
-                for r in range(lo, hi):
-                    mine[idx[r]] = (nms, sl, r)
-            for i in range(at, stop):
-                got = mine.get(i)
-                if got is not None:
-                    nms, sl, r = got
-                    for col_n, col_s in zip(nms, sl):
-                        nm = col_n[r]
-                        out[nm] = get(nm, 0.0) + col_s[r]
+                at_terms = np.array(idx[lo:hi], dtype=np.int64) * most
+                for a, (col_n, col_s) in enumerate(zip(nms, sl)):
+                    keys.append(at_terms + a)
+                    pairs_n.extend(col_n[lo:hi])
+                    flat_s.extend(col_s[lo:hi])
+            by_term = np.argsort(np.concatenate(keys), kind="stable").tolist()
+            pairs_n = [pairs_n[k] for k in by_term]
+            pairs_s = [flat_s[k] for k in by_term]
+        else:
+            pairs_n = pairs_s = []
+        if pairs_n and len(set(pairs_n)) == len(pairs_n) and out.keys().isdisjoint(pairs_n):
+            out.update(zip(pairs_n, [0.0 + w_ for w_ in pairs_s]))  # each new: 0.0 + w
+        else:
+            for nm, w_ in zip(pairs_n, pairs_s):
+                out[nm] = get(nm, 0.0) + w_
         if stop < n:
             vs[stop], zs[stop] = walk_term(terms[stop])
         at = stop + 1

@@ -98,3 +98,26 @@ def test_chains_answer_the_same_with_and_without_arrays(monkeypatch, n, kw):
         sol, _ = solve_keeping_system(monkeypatch, chain_text(n, **kw), "chain.mom")
         got.append((repr(sol.answers), repr(sol.answer_errors)))
     assert got[0] == got[1]
+
+
+def test_terms_of_several_shapes_each_with_its_own_unknowns(monkeypatch):
+    """Interleaved shapes, every unknown in one term only (the derivatives added in one
+    update), once at the top and once inside a number times a sum."""
+    rng = random.Random(9)
+    terms = []
+    for j in range(900):
+        a, b = f"a{j}", f"b{j}"
+        k = j % 3 if j % 7 else 1
+        if k == 0:
+            terms.append(Mul((Const(0.5), Const(rng.uniform(1, 9)), Var(a), Var(a))))
+        elif k == 1:
+            terms.append(Mul((Const(0.5), Const(rng.uniform(1, 9)),
+                              Add((Mul((Var(a), Var(a))), Mul((Var(b), Var(b))))))))
+        else:
+            terms.append(Mul((Const(-2.0), Var(a), Add((Const(1.5), Var(b))))))
+    values = {f"{p}{j}": rng.uniform(-3, 3) for j in range(900) for p in "ab"}
+    inner = Add(tuple(terms[:450]))
+    e = Add(tuple(terms[450:]) + (Mul((Const(-1.0), inner)),))
+    on, off, taken = _both(monkeypatch, e, values)
+    assert on == off and on is not None
+    assert taken.count(True) == 2
