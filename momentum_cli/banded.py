@@ -53,37 +53,22 @@ def _flapack():
 def _walk(A, col_rows, start: int, seen_r, seen_c, rows_out, cols_out) -> int:
     """Breadth-first over rows and columns from row `start`; appends the visit order,
     returns the last row reached (a far end of the component). `seen_r`, `seen_c`:
-    lists of flags, or sets (a probe that must not mark the others)."""
-    flags = isinstance(seen_r, list)
+    lists of flags, set as rows and columns are reached."""
     queue = [start]
-    if flags:
-        seen_r[start] = True
-    else:
-        seen_r.add(start)
-    last = start
-    k = 0
-    while k < len(queue):
-        i = queue[k]
-        k += 1
-        last = i
-        rows_out.append(i)
+    seen_r[start] = True
+    append_c, append_r = cols_out.append, queue.append
+    for i in queue:  # the queue grows as it is walked: rows in the order they are reached
         for j in A[i]:
-            if (seen_c[j]) if flags else (j in seen_c):
+            if seen_c[j]:
                 continue
-            if flags:
-                seen_c[j] = True
-            else:
-                seen_c.add(j)
-            cols_out.append(j)
+            seen_c[j] = True
+            append_c(j)
             for r in col_rows[j]:
-                if (seen_r[r]) if flags else (r in seen_r):
-                    continue
-                if flags:
+                if not seen_r[r]:
                     seen_r[r] = True
-                else:
-                    seen_r.add(r)
-                queue.append(r)
-    return last
+                    append_r(r)
+    rows_out.extend(queue)
+    return queue[-1]
 
 
 def order(A, n: int):
@@ -101,12 +86,20 @@ def order(A, n: int):
     cols_out: list[int] = []
     seen_r = [False] * n
     seen_c = [False] * n
+    probe_r = [False] * n  # a probe's own flags, cleared after it (a component's walk
+    probe_c = [False] * n  # from its far end must not see the probe's marks)
     for s in range(n):
         if seen_r[s]:
             continue
         # from the far end of this component (a chain walked from its middle is
         # twice as wide): walk once to find it, then again from there
-        far = _walk(A, col_rows, s, set(), set(), [], [])
+        got_r: list[int] = []
+        got_c: list[int] = []
+        far = _walk(A, col_rows, s, probe_r, probe_c, got_r, got_c)
+        for i in got_r:
+            probe_r[i] = False
+        for j in got_c:
+            probe_c[j] = False
         _walk(A, col_rows, far, seen_r, seen_c, rows_out, cols_out)
     return rows_out, cols_out
 

@@ -350,8 +350,22 @@ def propagate(system, reports, values, exact: bool = False, fused: dict | None =
     err: dict[str, float] = {}
     if not fused or exact or not FAST or not SQUARE:
         fused = None
-    for rep in reports:
+    # runs of 1x1 blocks (each ball's y velocity) as arrays: `_ones_as_arrays`
+    try_ones = 0 if FAST and not exact and len(reports) >= ONES_RUN and \
+        "numpy" in sys.modules else len(reports)
+    done = 0  # reports before this were bounded as a run
+    for at, rep in enumerate(reports):
+        if at < done:
+            continue
         names = rep.unknowns
+        if at >= try_ones and len(names) == 1 and len(rep.equations) == 1 and \
+                at + ONES_RUN <= len(reports) and \
+                len(reports[at + ONES_RUN - 1].unknowns) == 1:  # else a short run
+            end, ok = _ones_as_arrays(system, reports, at, values, size, err, fused)
+            if ok:
+                done = end
+                continue
+            try_ones = end
         if fused is not None:
             got = fused.get(id(rep))
             if got is not None and got[0].fill(got[1], names, rep.quality, values, size, err):
@@ -379,6 +393,9 @@ def propagate(system, reports, values, exact: bool = False, fused: dict | None =
         newton = rep.method == "newton"
         eqs, sget, eget = system.equations, size.get, err.get
         pairs = _flat_pairs if sparse else _same
+        if sparse and n >= COLUMNS_FROM and not exact and rep.method == "linear" and \
+                "numpy" in sys.modules and _rows_as_arrays(rep, eqs, col, values, size, err):
+            continue
         for i, k in enumerate(rep.equations):
             f = eqs[k].residual
             if not FAST:
@@ -442,6 +459,32 @@ def propagate(system, reports, values, exact: bool = False, fused: dict | None =
 
 def _same(x):
     return x
+
+
+def _rows_as_arrays(rep, eqs, col, values, size: dict, err: dict) -> bool:
+    """`propagate`'s step for a large linear block with its rows read per shape as
+    arrays (`bounds_rows`) and its columns' sizes and bounds as arrays (`bounds_columns`):
+    True where both took it (sizes and bounds set), False where either declined."""
+    from . import bounds_columns, bounds_rows
+
+    if not bounds_columns.ENABLED:
+        return False
+    got = bounds_rows.read(eqs, rep.equations, col, values, size, err, ROUNDOFF)
+    if got is None:
+        return False
+    rmax, scale, delta, rows, cols, ents = got
+    names = rep.unknowns
+    n = len(names)
+    q = rep.quality
+    out = bounds_columns.from_rows(
+        rows, cols, ents, rmax, scale, delta, [abs(values.get(nm, 0.0)) for nm in names],
+        q.components if q is not None and q.components else [0.0] * n,
+        rep.cond if rep.cond and math.isfinite(rep.cond) else 1.0, True)
+    if out is None:
+        return False
+    size.update(zip(names, out[0]))
+    err.update(zip(names, out[1]))
+    return True
 
 
 def _matrix_parts(A, cols, square: bool):
@@ -511,6 +554,62 @@ def _one(system, rep, values, exact: bool, size: dict, err: dict) -> None:
         e = cond * (d / aa) if a is not None else cond * 0.0
     solver = 0.0 if exact and not newton else comp * abs(values.get(name, 0.0))
     err[name] = e + solver if math.isfinite(e) else math.inf
+
+
+ONES_RUN = 64  # a run of this many 1x1 blocks is bounded as arrays (`_ones_as_arrays`)
+
+
+def _ones_as_arrays(system, reports, start: int, values, size: dict, err: dict, fused):
+    """(end, done): `_one` for each of the run of 1x1 linear blocks from reports[start]
+    (not fused) as arrays, their rows read per shape (`bounds_rows`); done False where the
+    run is short or declined (then each takes `_one`, as before). Only where no row of the
+    run uses another unknown of it (no bound of the run feeds the run), so the order of
+    the steps changes nothing: each element takes `_one`'s float operations."""
+    from . import bounds_rows
+
+    end = start
+    while end < len(reports):
+        rep = reports[end]
+        if len(rep.unknowns) != 1 or len(rep.equations) != 1 or rep.method != "linear" or \
+                (fused is not None and id(rep) in fused):
+            break
+        end += 1
+    run = reports[start:end]
+    if len(run) < ONES_RUN or not bounds_rows.ENABLED:
+        return end, False
+    names = [rep.unknowns[0] for rep in run]
+    col = {nm: j for j, nm in enumerate(names)}
+    if len(col) != len(names):
+        return end, False
+    got = bounds_rows.read(system.equations, [rep.equations[0] for rep in run], col, values,
+                           size, err, ROUNDOFF)
+    if got is None:
+        return end, False
+    np = sys.modules["numpy"]
+    _rmax, scale, delta, rows, cols, ents = got
+    m = len(run)
+    # each row's one entry is its own unknown's (a row without it, or with another of
+    # the run's unknowns, is left to `_one`)
+    if len(rows) != m or not (cols == rows).all() or \
+            not (np.bincount(rows, minlength=m) == 1).all():
+        return end, False
+    a = np.empty(m)
+    a[rows] = ents  # entries come shape by shape: in row order here
+    try:
+        x = np.array([abs(values[nm]) for nm in names], dtype=float)
+    except KeyError:
+        return end, False
+    comp = np.array([q.components[0] if q is not None and q.components else 0.0
+                     for q in (rep.quality for rep in run)], dtype=float)
+    with np.errstate(all="ignore"):
+        sizes = np.maximum(x, scale / a)  # max(x, scale / |a|, x * 1.0 / 1.0)
+        e = (1.0 / a) * delta  # |1 / a| * d
+        errs = np.where(np.isfinite(e), e + comp * x, np.inf)
+    if not (np.isfinite(x).all() and np.isfinite(sizes).all()):
+        return end, False
+    size.update(zip(names, sizes.tolist()))
+    err.update(zip(names, errs.tolist()))
+    return end, True
 
 
 FAST = True  # tests turn it off to compare the scalar steps with the general ones

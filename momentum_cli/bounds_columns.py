@@ -29,8 +29,26 @@ def sizes_and_errors(cols, rmax, scale, delta, xs, comps, cond: float, solved: b
         return None
     lens = np.fromiter((len(cj) for cj in cols), dtype=np.intp, count=n) >> 1
     flat = np.array(list(chain.from_iterable(cols)), dtype=float)
-    rows = flat[0::2].astype(np.intp)
-    ent = flat[1::2]
+    return _from_entries(np, n, lens, flat[0::2].astype(np.intp), flat[1::2], rmax, scale,
+                         delta, xs, comps, cond, solved)
+
+
+def from_rows(rows, cols, ents, rmax, scale, delta, xs, comps, cond: float, solved: bool):
+    """`sizes_and_errors` of a block's entries given as arrays (row, column, |entry|) in
+    row order (`bounds_rows.read`): each column's entries in row order, as the columns'
+    lists hold them."""
+    import numpy as np
+
+    n = len(xs)
+    if len(comps) != n:
+        return None
+    by_col = np.lexsort((rows, cols))  # by column, then row
+    return _from_entries(np, n, np.bincount(cols, minlength=n), rows[by_col],
+                         ents[by_col], rmax, scale, delta, xs, comps, cond, solved)
+
+
+def _from_entries(np, n, lens, rows, ent, rmax, scale, delta, xs, comps, cond, solved):
+    """`sizes_and_errors` from the entries in column order (`lens` per column)."""
     rmax = np.array(rmax, dtype=float)
     scale = np.array(scale, dtype=float)
     delta = np.array(delta, dtype=float)

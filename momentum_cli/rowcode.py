@@ -272,6 +272,19 @@ def shape_of(e):
     return sh
 
 
+def shapes_of(trees) -> list:
+    """`shape_of` of each tree, in order (a large block's rows, a long sum's terms: the
+    remembered ones looked up in line)."""
+    if _PLAIN[0]:
+        return [None] * len(trees)
+    get = _SHAPES.get
+    out = []
+    for e in trees:
+        sh = get(e, _NONE)
+        out.append(shape_of(e) if sh is _NONE else sh)
+    return out
+
+
 def _walk(e, toks, nums, names, first):
     t = type(e)
     if len(toks) > MAX_TOKENS:
@@ -612,24 +625,26 @@ def _vgs_function(key):
     return _gs_function(key, True)
 
 
-def value_grad_size(e, values, walk):
+def value_grad_size(e, values, walk, big_sum=None):
     """(`evaluate(e, values)`, *`grad_size_big(e, values, walk)`) of a large tree (a
     scene's energy, an energy lost: an answer's value and its bound) with each small
     term walked once by its shape's compiled walk, not once for the value and once for
     the bound; None where the tree has a shape of its own or anything else the two
     walks take otherwise (a product of two large factors, a power), or anything fails
-    (the caller takes the two walks then: the same numbers, or their failures)."""
+    (the caller takes the two walks then: the same numbers, or their failures).
+    `big_sum(terms, w, values, out, walk_term)`: (values, sizes) of a long sum's terms,
+    their slopes added to `out` as this walk adds them, or None (terms_columns)."""
     if not ENABLED or _PLAIN[0] or shape_of(e) is not None:
         return None
     out: dict = {}
     try:
-        v, z = _vgs(e, 1.0, values, out, walk)
+        v, z = _vgs(e, 1.0, values, out, walk, big_sum)
     except (_No, KeyError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
         return None
     return v, out, z
 
 
-def _vgs(e, w, values, out, walk):
+def _vgs(e, w, values, out, walk, big_sum=None):
     """(value, size) of `e` with its derivatives times w added to `out`: the walks of
     `_evaluate_parts` and `grad_size_big`'s gs, in one."""
     sh = shape_of(e)
@@ -647,10 +662,15 @@ def _vgs(e, w, values, out, walk):
                    walk(e, w, values, out))
     t = type(e)
     if t is Add:
+        if big_sum is not None and len(e.terms) >= 256:  # an energy of many bodies
+            got = big_sum(e.terms, w, values, out,
+                          lambda x: _vgs(x, w, values, out, walk, big_sum))
+            if got is not None:
+                return math.fsum(got[0]), sum(got[1])
         vs = []
         zs = []
         for x in e.terms:
-            v, z = _vgs(x, w, values, out, walk)
+            v, z = _vgs(x, w, values, out, walk, big_sum)
             vs.append(v)
             zs.append(z)
         return math.fsum(vs), sum(zs)
@@ -670,7 +690,7 @@ def _vgs(e, w, values, out, walk):
         for j, f in enumerate(fs):
             if j != i:
                 k *= f.value
-        v, z = _vgs(fs[i], k, values, out, walk)
+        v, z = _vgs(fs[i], k, values, out, walk, big_sum)
         value = size = 1.0
         for j, f in enumerate(fs):
             if j == i:

@@ -287,7 +287,11 @@ def _energy_names(system: System, names: set) -> set:
 def _solve(system: System, structure: Structure, solve_all: bool,
            precision: str = "float", defer: bool = False) -> Solution:
     with rowcode.remembered():  # each equation's shape is read once
-        return _solve_rounds(system, structure, solve_all, precision, defer)
+        try:
+            return _solve_rounds(system, structure, solve_all, precision, defer)
+        finally:
+            if "momentum_cli.block_rows" in sys.modules:  # a large block's rows kept
+                sys.modules["momentum_cli.block_rows"].forget()
 
 
 def _solve_rounds(system: System, structure: Structure, solve_all: bool,
@@ -900,8 +904,10 @@ def _solve_block(system: System, structure: Structure, block, values,
     bset = set(names)
     col = {n: j for j, n in enumerate(names)}
     rows, rhs = [], []
+    got = _rows_as_arrays(system, block, col, values) if exact is None and \
+        precision == "float" and len(eqs) == len(names) else None
     try:
-        for e in eqs:
+        for e in eqs if got is None else ():
             # exact mode forms the rows in rationals too (no cancellation in the rhs)
             coef, const = rowcode.affine(e.residual, bset, values) if exact is None else \
                 affine_exact(e.residual, bset, ChainMap(exact, values))
@@ -912,6 +918,8 @@ def _solve_block(system: System, structure: Structure, block, values,
     except (KeyError, ValueError, ZeroDivisionError, OverflowError) as exc:
         raise ProblemError(f"cannot evaluate {eqs[0].principle}: {exc}", eqs[0].span,
                            code="number") from None
+    if got is not None:
+        rows, rhs = got
     x, quality = solve_linear(rows, rhs, eqs, names, precision)
     for n, v in zip(names, x):
         values[n] = v
@@ -922,6 +930,22 @@ def _solve_block(system: System, structure: Structure, block, values,
     return BlockReport(block.index, names, block.equations, "linear", quality.cond, 0, 0.0,
                        matrix, [float(v) for v in rhs] if matrix is not None else None,
                        quality)
+
+
+def _rows_as_arrays(system: System, block, col: dict, values):
+    """A large square block's (rows, rhs) read per shape as arrays (`block_rows`: the
+    banded LU loads numpy for it anyway), or None: its rows then one by one."""
+    from . import linalg
+
+    if len(col) < linalg.BIG:
+        return None
+    try:
+        import numpy  # noqa: F401 - block_rows' arrays
+    except ImportError:
+        return None
+    from . import block_rows
+
+    return block_rows.rows(system.equations, block.equations, col, values)
 
 
 def _solve_one(system: System, block, values) -> BlockReport | None:
@@ -1354,12 +1378,23 @@ def _answers(system: System, values, sol: Solution | None = None) -> list[tuple]
     return out
 
 
+def _big_sum():
+    """terms_columns' walk of a long sum's terms as arrays, where numpy is loaded (by a
+    large block's banded LU); else None (term by term)."""
+    if "numpy" not in sys.modules:
+        return None
+    from .terms_columns import walk_sum
+
+    return walk_sum
+
+
 def _value(expr: E, values, sol: Solution | None) -> tuple[float, float, float]:
     """(value, absolute error bound, round-off level) of a derived expression."""
     exact = sol.exact if sol is not None else None
     size = sol.size if sol is not None and sol.size is not None else {}
     err = sol.errors if sol is not None and sol.errors is not None else {}
-    got = rowcode.value_grad_size(expr, values, _grad_size) if exact is None else None
+    got = rowcode.value_grad_size(expr, values, _grad_size, _big_sum()) \
+        if exact is None else None
     if got is not None:  # a large sum (an energy): each term walked once for both
         si, dv, mag = got
         slope, scale = slopes_of(dv, mag, size)

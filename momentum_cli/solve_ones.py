@@ -45,6 +45,54 @@ def run(system, blocks, order, start: int, values, make_report) -> tuple[int, li
     if end - start < MIN_RUN:
         return start, [], end + 1
     eqs = system.equations
+    got = _read_as_arrays(eqs, blocks, order, start, values)
+    if got is not None:
+        taken, As, Bs, k = got
+    else:
+        taken, As, Bs, k = _read_one_by_one(eqs, blocks, order, start, values)
+    if len(taken) < MIN_RUN:
+        return start, [], k + 1
+    out = []
+    for block, a, b, got in zip(taken, As, Bs, solve_ones(np, As, Bs)):
+        if got is None:  # singular: `_solve_one` would hand it on; so does the caller
+            break
+        x, quality = got
+        values[block.unknowns[0]] = x[0]
+        out.append((block, make_report(block, a, b, x, quality)))
+    return start + len(out), out, start + len(out) + 1
+
+
+def _read_as_arrays(eqs, blocks, order, start: int, values):
+    """`_read_one_by_one` with the rows read per shape as arrays (`block_rows.ones`: the
+    same coefficients, the run ending at the same block), or None (one by one then)."""
+    from . import block_rows
+
+    taken, names = [], []
+    pending: set = set()
+    k = start
+    while k < len(order):  # the blocks the run may take: one unknown each, not solved
+        block = blocks[order[k]]
+        if len(block.unknowns) != 1 or len(block.equations) != 1:
+            break
+        name = block.unknowns[0]
+        if name in values or name in pending:
+            break
+        taken.append(block)
+        names.append(name)
+        pending.add(name)
+        k += 1
+    if len(taken) < MIN_RUN:
+        return None
+    got = block_rows.ones(eqs, [b.equations[0] for b in taken], names, values)
+    if got is None:
+        return None
+    As, Bs, stop = got
+    return taken[:stop], As, Bs, start + stop
+
+
+def _read_one_by_one(eqs, blocks, order, start: int, values):
+    """(blocks, a, b, where the run stopped): each block's row read by rowcode.affine
+    until one the run cannot take."""
     affine = rowcode.affine
     isfinite = math.isfinite
     taken, As, Bs = [], [], []
@@ -71,16 +119,7 @@ def run(system, blocks, order, start: int, values, make_report) -> tuple[int, li
         Bs.append(b)
         pending.add(name)
         k += 1
-    if len(taken) < MIN_RUN:
-        return start, [], k + 1
-    out = []
-    for block, a, b, got in zip(taken, As, Bs, solve_ones(np, As, Bs)):
-        if got is None:  # singular: `_solve_one` would hand it on; so does the caller
-            break
-        x, quality = got
-        values[block.unknowns[0]] = x[0]
-        out.append((block, make_report(block, a, b, x, quality)))
-    return start + len(out), out, start + len(out) + 1
+    return taken, As, Bs, k
 
 
 def _pow2(np, x):
