@@ -132,3 +132,17 @@ def test_report_rows_of_big_scenes_too(text):
     sol = _solved(text)
     got, want = _rows_by_blocks(sol, build_report("x.mom", sol, 6, "file", lazy=False))
     assert got == want and len(got) == len(sol.system.equations)
+
+
+@pytest.mark.parametrize("text", [chain_text(600), cradle_text(300, "sequence")])
+def test_bodies_drawn_alike_share_one_outline_equal_to_their_own(text, monkeypatch):
+    """A big file's bodies drawn alike share one outline tuple; the scene's bodies equal
+    those the builder makes without its memos (each body its own tuple)."""
+    from momentum_cli import scene as SC
+
+    shared = build(parse(Source("x.mom", text)))
+    monkeypatch.setattr(SC, "CONTACT_MEMO", False)
+    own = build(parse(Source("x.mom", text)))
+    assert list(shared.bodies.values()) == list(own.bodies.values())
+    assert len({id(b.outline) for b in shared.bodies.values()}) < len(shared.bodies) // 2
+    assert len({id(b.outline) for b in own.bodies.values()}) == len(own.bodies)
