@@ -45,7 +45,7 @@ from .expr import (
     to_text,
 )
 from .principles import PrinciplesMixin, external
-from .records import field, record
+from .records import EMPTY_LIST, field, record
 from .references import FindSpec, ReferencesMixin
 from .scene import (
     STATE_QTYS,
@@ -382,14 +382,16 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         name = _state_name(body, qty, sid)
         if given is not None:
             return Known(name, given[0])
+        hints = self._hints
+        if hints is None:  # whether any state has hints (most scenes: none)
+            hints = self._hints = any(st.hints for st in self.scene.states.values())
         unknowns = self.unknowns
         u = unknowns.get(name)
         if u is None:
             dim, unit = STATE_QTYS[qty]
-            u = unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
-        hints = self._hints
-        if hints is None:  # whether any state has hints (most scenes: none)
-            hints = self._hints = any(st.hints for st in self.scene.states.values())
+            # no hints in the scene: the shared empty list (records.EMPTY_LIST)
+            u = unknowns[name] = Unknown(name, dim, unit, _STATE, [] if hints else EMPTY_LIST,
+                                         sid, body, qty)
         if hints:
             hints = self.scene.states[sid].hints
         if hints:
@@ -514,7 +516,7 @@ class _Compiler(ReferencesMixin, PrinciplesMixin):
         unknowns = self.unknowns
         if name not in unknowns:
             dim, unit = STATE_QTYS[qty]
-            unknowns[name] = Unknown(name, dim, unit, _STATE, [], sid, body, qty)
+            unknowns[name] = Unknown(name, dim, unit, _STATE, EMPTY_LIST, sid, body, qty)
         hit = svs[at] = _new(Var)
         hit.name = name
         return hit

@@ -12,6 +12,23 @@ from __future__ import annotations
 
 
 
+class FrozenEmptyList(list):
+    """An empty list that cannot grow: one shared default for a field that is almost
+    always empty (an unknown's hints: a fresh list each cost a 10^5-ball chain ~13 MB).
+    It prints, compares and iterates as `[]`; adding to it raises, so a record whose list
+    may grow gets its own."""
+
+    __slots__ = ()
+
+    def _frozen(self, *args, **kw):
+        raise TypeError("a shared empty list: give the record its own list to add to")
+
+    append = extend = insert = __iadd__ = __imul__ = __setitem__ = _frozen
+
+
+EMPTY_LIST = FrozenEmptyList()
+
+
 class _Missing:
     def __repr__(self):
         return "MISSING"

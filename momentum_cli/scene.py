@@ -396,6 +396,7 @@ class _Builder:
         self._contacts_seen: dict | None = None  # _contact's memo (a big file's)
         self._deferred = None  # the reader of lines kept as text (a big file's)
         self._bodies_seen: dict | None = None  # _body's memo (a big file's)
+        self._outlines: dict | None = None  # _body's drawings, one tuple each (a big file's)
         self.bodies: dict[str, Body] = {}
         self.points: dict[str, PointOn] = {}
         self.surfaces: dict[str, Surface] = {}
@@ -567,6 +568,7 @@ class _Builder:
                 self._unknown(s)
         if CONTACT_MEMO and len(of(S.BodyDecl)) >= CONTACT_MEMO_FROM:
             self._bodies_seen = {}
+            self._outlines = {}
         for s in of(S.BodyDecl):
             if type(s) is tuple:
                 self._deferred.body(s)
@@ -909,9 +911,13 @@ class _Builder:
                 m, inertia, formula, r, L, w = self._simple(shape, args)
                 kind = shape.kind
                 point_mass = kind == "particle" or (kind == "rigid" and inertia == 0)
+                outline = ((kind, (0.0, 0.0), self._dims(shape, args), 0.0),)
+                like = self._outlines
+                if like is not None:  # one tuple for bodies drawn alike (10^5 balls: 12 MB)
+                    outline = like.setdefault(outline, outline)
                 got = (kind, m, inertia, formula,
                        r if kind in ROUND or kind in ("particle", "rigid") else None, L,
-                       point_mass, w, ((kind, (0.0, 0.0), self._dims(shape, args), 0.0),))
+                       point_mass, w, outline)
                 if key is not None and len(self.notes.items) == n_notes:
                     seen[key] = got  # the same literals and constants: the same numbers
                     if len(seen) >= MEMO_KINDS:

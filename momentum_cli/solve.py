@@ -333,6 +333,9 @@ def _solve_rounds(system: System, structure: Structure, solve_all: bool,
                         missing, exact=True)
     if missing:
         raise _under_determined(system, structure, missing)
+    # done with by the rounds: freed (and packed) before the error bounds' peak of memory
+    bounds.clear()
+    structure.pack()
     size, err = propagate(system, reports, values, exact is not None, state.fused)
     deferred: list[ProblemError] = []
     for k in structure.redundant:

@@ -246,26 +246,21 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     st = sol.structure
     values = sol.values
     reader = reader_for(units, sc.file_units)
-    solved_eqs = {k for b in sol.blocks for k in b.equations}
-    # one list and one set per block, shared by its rows (a copy per row is O(N^2))
-    solves, keeps = {}, {}
+    # the block's list of unknowns (and a set of them) shared by its rows (a copy per
+    # row is O(N^2)); lists by equation index, not dicts: a dict entry costs ~5x a list
+    # slot (three of 3*10^5 at 10^5 balls, and a copied list a block: ~60 MB)
+    n_eqs = len(system.equations)
+    solves: list = [None] * n_eqs  # None: in no block
+    keeps: list = [_NONE] * n_eqs
     for b in sol.blocks:
-        unk = list(b.unknowns)
-        keep = set(unk) if len(unk) > 1 else tuple(unk)  # only `in` reads it: 1 name, no set
+        unk = b.unknowns if type(b.unknowns) is list else list(b.unknowns)
+        keep = set(unk) if len(unk) > 1 else unk  # only `in` reads it: 1 name, no set
         for k in b.equations:
             solves[k], keeps[k] = unk, keep
-    role = {}
     checked = set(st.redundant).union(st.constant_eqs)  # lists: a set, not a scan per row
     under = st.under_eqs
-    for k in range(len(system.equations)):
-        if k in solved_eqs:
-            role[k] = "solved"
-        elif k in checked:
-            role[k] = "check"
-        elif k in under:
-            role[k] = "undetermined"
-        else:
-            role[k] = "not needed"
+    role = ["solved" if solves[k] is not None else "check" if k in checked else
+            "undetermined" if k in under else "not needed" for k in range(n_eqs)]
     # an integration's rows print what it integrated and its result (integration.py)
     integrated = {k for integ in system.integrations for k in integ.equations}
     six: dict = {}
@@ -279,16 +274,16 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
     def row(k: int) -> EquationRow:
         e = eqs[k]
         return EquationRow(k, e.principle, e.group, e.span.line if e.span else None,
-                           *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
+                           *_lines(e, k in integrated, values, keeps[k], system,
                                    reader, sig, shown),
-                           e.kind, role[k], solves.get(k, []))
+                           e.kind, role[k], [] if solves[k] is None else solves[k])
 
     def row_text(k: int) -> str:
         """`equation_text` of `row(k)`, without the row."""
         e = eqs[k]
         span = e.span
         return equation_text(k, e.principle, span.line if span else None, role[k],
-                             *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
+                             *_lines(e, k in integrated, values, keeps[k], system,
                                      reader, sig, shown))
 
     def row_texts(ks):
@@ -299,7 +294,6 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
             yield from map(row_text, ks)
             return
         six, sixes = shown[0], shown[1]
-        get_keep = keeps.get
         for k in ks:
             e = eqs[k]
             if k in integrated:
@@ -307,17 +301,17 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                 continue
             got = printers(e)
             if not got:  # not compiled yet, or long: as `lines` prints it
-                pair = lines_of(got, e, values, get_keep(k, _NONE), sig, six, sixes) \
+                pair = lines_of(got, e, values, keeps[k], sig, six, sixes) \
                     if got is not None else None
                 if pair is None:
-                    pair = si_lines(e, values, get_keep(k, _NONE), sig, six, sixes, shown[3])
+                    pair = si_lines(e, values, keeps[k], sig, six, sixes, shown[3])
                 sym, num = pair
             else:
                 leaves, (psym, pnum) = got
                 texts = getattr(e, "_texts", None)  # `Equation.text()` printed it already
                 sym = texts[0] if texts is not None and texts[0] is not None else \
                     psym(leaves, None, None, 6, six)
-                num = pnum(leaves, values, get_keep(k, _NONE), sig, sixes)
+                num = pnum(leaves, values, keeps[k], sig, sixes)
             span = e.span
             line = span.line if span else None
             r = role[k]
