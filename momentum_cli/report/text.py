@@ -62,6 +62,7 @@ def formatter(sig: int):
             s = cache[x] = fmt_num(x, sig)
         return s
     f.cache = cache  # for a loop that reads it inline (never holds None)
+    f.matrices = {}  # `_matrix`'s texts of a kind of block, at this precision
     return f
 
 
@@ -280,31 +281,54 @@ def _transition_parts(rep: Report, start, stop):
 def _matrix(unknowns: list, matrix: list, rhs: list, f, out: list) -> None:
     """A block's matrix as `table(unknowns + ["", "rhs"], rows, "      ")` lays it out:
     the cells formatted column by column through the number cache, each column's width
-    measured once, every line from one format string (cached by the widths)."""
-    shown = f.cache
+    measured once, every line from one format string (cached by the widths). A sequence
+    of like blocks (a cradle's impacts) repeats one matrix and right side under other
+    unknowns: their cells and widths, and at the same widths their rows, are made once
+    per kind (kept by the formatter, whose precision they have); only the heading is
+    made per block."""
     n = len(unknowns)
-    cols = [[shown[x] if x in shown else f(x) for x in col] for col in zip(*matrix)]
-    last = [f(x) for x in rhs]
-    if not matrix or len(cols) != n or len(last) != len(matrix) or \
-            any(len(r) != n for r in matrix):  # empty or ragged: the general table
-        rows = [[shown[x] if x in shown else f(x) for x in row] + ["|", f(r)]
-                for row, r in zip(matrix, rhs)]
-        out.extend(table(unknowns + ["", "rhs"], rows, indent="      "))
-        return
-    widths = tuple([max(len(h), max(map(len, c), default=0)) for h, c in zip(unknowns, cols)]
-                   + [1, max(3, max(map(len, last)))])
-    got = _FORMATS.get(("      ", widths))
+    key = got = None
+    if n <= 8 and len(rhs) == len(matrix):  # a small block: its numbers are the key
+        try:
+            key = (n, tuple(map(tuple, matrix)), tuple(rhs))
+            got = f.matrices.get(key)
+        except TypeError:  # an unhashable cell: made as below, not kept
+            key = None
     if got is None:
+        shown = f.cache
+        cols = [[shown[x] if x in shown else f(x) for x in col] for col in zip(*matrix)]
+        last = [f(x) for x in rhs]
+        if not matrix or len(cols) != n or len(last) != len(matrix) or \
+                any(len(r) != n for r in matrix):  # empty or ragged: the general table
+            rows = [[shown[x] if x in shown else f(x) for x in row] + ["|", f(r)]
+                    for row, r in zip(matrix, rhs)]
+            out.extend(table(unknowns + ["", "rhs"], rows, indent="      "))
+            return
+        got = (cols, last, [max(map(len, c), default=0) for c in cols],
+               max(3, max(map(len, last))), {})
+        if key is not None:
+            if len(f.matrices) > 256:
+                f.matrices.clear()
+            f.matrices[key] = got
+    cols, last, cells, wide, bodies = got
+    widths = tuple([max(len(h), w) for h, w in zip(unknowns, cells)] + [1, wide])
+    fmts = _FORMATS.get(("      ", widths))
+    if fmts is None:
         if len(_FORMATS) > 256:
             _FORMATS.clear()
-        got = _FORMATS["      ", widths] = (
+        fmts = _FORMATS["      ", widths] = (
             "      " + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}",
             "      " + "  ".join("-" * w for w in widths))
-    fmt = got[0].format
+    fmt = fmts[0].format
     out.append(fmt(*unknowns, "", "rhs").rstrip())
-    out.append(got[1])
-    bar = ["|"] * len(last)
-    out += [s.rstrip() for s in map(fmt, *cols, bar, last)]
+    out.append(fmts[1])
+    body = bodies.get(widths)
+    if body is None:
+        bar = ["|"] * len(last)
+        body = [s.rstrip() for s in map(fmt, *cols, bar, last)]
+        if len(bodies) < 64:
+            bodies[widths] = body
+    out += body
 
 
 def _items(k: dict, f) -> str:
