@@ -15,6 +15,7 @@ from ..expr import Var
 from ..solve import CheckReport, Solution
 from ..units import ACCELERATION, INERTIA, LENGTH, MASS, MOMENT, VELOCITY
 from .abbrev import abbreviate, name_list
+from . import printer as printer_module
 from .printer import lines, lines_of, printers
 from .statements import statements
 from .treecode import caller as tcaller
@@ -300,12 +301,25 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
             return
         six, sixes = shown[0], shown[1]
         get_keep = keeps.get
+        recent: list = []  # (matcher, printers) of the shapes met last: a group's rows
+        # repeat a few kinds (restitution, momentum x, momentum y), read by their matcher
         for k in ks:
             e = eqs[k]
             if k in integrated:
                 yield row_text(k)
                 continue
-            got = printers(e)
+            got = None
+            if recent:
+                lhs, rhs = e.lhs, e.rhs
+                for m, fns in recent:
+                    leaves = m(lhs, rhs)
+                    if leaves is not None:
+                        got = leaves, fns
+                        break
+            if got is None:
+                got = printers(e)
+                if got:
+                    recent = [printer_module.READ_BY, *recent[:2]]
             if not got:  # not compiled yet, or long: as `lines` prints it
                 pair = lines_of(got, e, values, get_keep(k, _NONE), sig, six, sixes) \
                     if got is not None else None

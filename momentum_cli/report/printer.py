@@ -264,6 +264,7 @@ def printers(eq):
     The last two compiled shapes met with the same top (the sides' node types and sizes)
     are tried first by their matchers: the leaves without the walk, the shape without
     its key."""
+    global READ_BY
     if not ENABLED:
         return None
     lhs, rhs = eq.lhs, eq.rhs
@@ -272,10 +273,11 @@ def printers(eq):
            tr, len(rhs.terms) if tr is Add else len(rhs.factors) if tr is Mul else -1)
     last = _LAST.get(top)
     if last is not None:
-        for m, fns in last:
-            leaves = m(lhs, rhs)
+        for pair in last:
+            leaves = pair[0](lhs, rhs)
             if leaves is not None:
-                return leaves, fns
+                READ_BY = pair
+                return leaves, pair[1]
     if (tl is Add and top[1] > _LONG) or (tr is Add and top[3] > _LONG):
         return False  # a long sum: not walked whole to find it out
     toks: list = []
@@ -288,10 +290,14 @@ def printers(eq):
         m = _matcher_of(toks)
         last = _LAST.get(top)  # two shapes kept per top: a sequence alternates them
         _LAST[top] = ((m, got[1]),) if last is None else ((m, got[1]), last[0])
+        READ_BY = _LAST[top][0]
     return got
 
 
 _MATCHERS: dict = {}  # shape -> its matcher
+# (matcher, printers) of the compiled shape `printers` read last: a loop over many rows
+# tries the few it met last before `printers` (model.row_texts)
+READ_BY: tuple | None = None
 _LAST: dict = {}  # the sides' top node types and sizes -> the (matcher, printers) met last
 _LEAFY = (Add, Mul, Var, Const, Known)  # the nodes `_walk` tells apart from "other"
 
