@@ -449,17 +449,18 @@ def _side(e, values, keep, sig: int, six: dict, shown: dict) -> tuple[str, str]:
     nums: list = []
     last: list = [None, None]  # the shape met last: its matcher and printers
     for x in e.terms:
-        got = _term_printers(x, last)
+        m = last[0]  # `_term_printers`' first try, in line: the last term's matcher
+        leaves = m(x) if m is not None else None
+        got = (leaves, last[1]) if leaves is not None else _term_printers(x, last)
         if got:
             leaves, (sym, num) = got
             s, n = sym(leaves, None, None, 6, six)[0], num(leaves, values, keep, sig, shown)[0]
         else:
             s, n = _txt(x, False, 6, None, False)[0], _si_text(x, values, keep, sig)[0]
-        for out, t in ((syms, s), (nums, n)):
-            if not out:
-                out.append(t)
-            elif t[:1] == "-":
-                out.append(" - " + t[1:])
-            else:
-                out.append(" + " + t)
+        if syms:  # both lists as long: a term's two texts joined alike
+            syms.append(" - " + s[1:] if s[:1] == "-" else " + " + s)
+            nums.append(" - " + n[1:] if n[:1] == "-" else " + " + n)
+        else:
+            syms.append(s)
+            nums.append(n)
     return "".join(syms), "".join(nums)
