@@ -674,20 +674,25 @@ def _error_estimates(sol: Solution) -> list[CheckReport]:
     asked: set[str] | None = None  # the answers' unknowns: read once a block has a bound
     out = []
     texts: dict = {}
+    snapped = sol.snapped or ()
     for b in sol.blocks:
         q = b.quality
-        if q is None or len(b.unknowns) < 2:
+        unknowns = b.unknowns
+        if q is None or len(unknowns) < 2:
             continue
         if asked is None:
             asked = set()
             for f in sol.system.finds:
                 variables(f.expr, asked)
-        name = f"error estimate, block {', '.join(b.unknowns[:3])}" + \
-            ("..." if len(b.unknowns) > 3 else "")
-        comps = q.components or [q.bound] * len(b.unknowns)
-        # a value snapped to 0 (round-off, said in the checks) has no relative error
-        mine = {u: e for u, e in zip(b.unknowns, comps)
-                if u in asked and u not in (sol.snapped or ())}
+        name = f"error estimate, block {', '.join(unknowns[:3])}" + \
+            ("..." if len(unknowns) > 3 else "")
+        # a value snapped to 0 (round-off, said in the checks) has no relative error; a
+        # block of a long sequence mostly holds no answer at all (one set test, no loop)
+        if asked.isdisjoint(unknowns):
+            mine = {}
+        else:
+            comps = q.components or [q.bound] * len(unknowns)
+            mine = {u: e for u, e in zip(unknowns, comps) if u in asked and u not in snapped}
         worst = max(mine.values(), default=0.0)
         shown = worst if mine else q.bound
         # the text is a function of these alone: a long sequence of like blocks repeats it
