@@ -292,6 +292,11 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
                              *_lines(e, k in integrated, values, keeps.get(k, _NONE), system,
                                      reader, sig, shown))
 
+    # row_texts' (matcher, printers) met last, and which followed which: kept from one
+    # group of rows (a transition) to the next
+    last_read: list = [None]
+    next_read: dict = {}
+
     def row_texts(ks):
         """`map(row_text, ks)`, the same strings: a big scene's rows (SI, radians, printers
         on) printed in one loop, each by its shape's printers where they are compiled (no
@@ -301,25 +306,28 @@ def build_report(name: str, sol: Solution, sig: int = 6, units: str = "file",
             return
         six, sixes = shown[0], shown[1]
         get_keep = keeps.get
-        recent: list = []  # (matcher, printers) of the shapes met last: a group's rows
-        # repeat a few kinds (restitution, momentum x, momentum y), read by their matcher
+        # the rows repeat a few kinds in a period (a cradle's impact: restitution, then
+        # momentum x and y of each body): the shape that followed the last row's shape
+        # the time before is read by its matcher first, with no other lookup
+        after, prev = next_read, last_read[0]
         for k in ks:
             e = eqs[k]
             if k in integrated:
                 yield row_text(k)
                 continue
-            got = None
-            if recent:
-                lhs, rhs = e.lhs, e.rhs
-                for m, fns in recent:
-                    leaves = m(lhs, rhs)
-                    if leaves is not None:
-                        got = leaves, fns
-                        break
-            if got is None:
+            guess = after.get(prev)
+            leaves = guess[0](e.lhs, e.rhs) if guess is not None else None
+            if leaves is not None:
+                got = leaves, guess[1]
+                prev = guess
+            else:
                 got = printers(e)
                 if got:
-                    recent = [printer_module.READ_BY, *recent[:2]]
+                    read = printer_module.READ_BY
+                    if len(after) > 64:
+                        after.clear()
+                    after[prev] = prev = read
+            last_read[0] = prev
             if not got:  # not compiled yet, or long: as `lines` prints it
                 pair = lines_of(got, e, values, get_keep(k, _NONE), sig, six, sixes) \
                     if got is not None else None
