@@ -14,7 +14,6 @@ from ..expr import _ADD, _ATOM, _MUL, Add, Const, Known, Mul, Pow, Var, _den_txt
 from ..numbers import fmt_num
 from ..shape_codes import compiled_after
 from .reader import _NAME, _si_den, _si_text
-from .sym_template import templated
 
 ENABLED = True  # tests turn it off (or compile every shape at once) to compare the paths
 # a shape is compiled once met this often: compile() of its two printers and matcher costs
@@ -253,7 +252,10 @@ def _compile(key) -> tuple:
         env = dict(_ENV)
         exec(_Gen(key, numeric).source(), env)  # noqa: S102 - our own generated code
         out.append(env["printer"])
-    # the symbolic line of a kind of row by a template of its names (sym_template.py)
+    # the symbolic line of a kind of row by a template of its names (imported here: a
+    # small file compiles no shape)
+    from .sym_template import templated
+
     out[0] = templated(key, out[0], (_C, _V, _K, _ADDT, _MULT, _EQ, _EXPR))
     return tuple(out)
 
