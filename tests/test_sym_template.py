@@ -25,7 +25,8 @@ from momentum_cli.report import printer, sym_template
 
 ROOT = Path(__file__).resolve().parent.parent
 HOSTILE = ["a", "b", "a", "-a", "a b", "a*b", "(a + b)", "x^2", "inf", "nan", "2", "-1",
-           "(a)", "rod.vx@2", "e[b2-b1]", "J_n[b2-b1]@1->2", "m_b1", "", "0.5"]
+           "(a)", "rod.vx@2", "e[b2-b1]", "J_n[b2-b1]@1->2", "m_b1", "", "0.5", "(-2)",
+           "-2", "(-0.5)", "2^2"]
 
 
 def _printers(key: tuple):
@@ -95,6 +96,8 @@ def test_names_that_would_change_the_text_are_printed_by_the_printer():
         (Add((x, Var("y"))), Mul((Const(-2.0), Var("z")))),  # a name that begins with '-'
         (Mul((Const(2.0), Var("p"))), Const(0.0)),  # a name that reads as the number
         (Mul((Known("k", 1.0), Add((x, Var("y"))))), Const(0.0)),  # k as "(x + y)"
+        (Mul((Var("p"), Const(-2.0))), Const(0.0)),  # p as "(-2)", the number's text
+        (Mul((Const(2.0), Const(2.0), Var("p"))), Const(0.0)),  # p as the merged "2^2"
     ]
     rng = random.Random(7)
     for lhs, rhs in cases:
@@ -104,6 +107,16 @@ def test_names_that_would_change_the_text_are_printed_by_the_printer():
                                                  None))[0])
     for a, b, want in (("p", "q", "p*q = 0"), ("p", "p", "p^2 = 0")):
         ls = [Var(a), Var(b), Const(0.0)]
+        assert templated(ls, None, None, 6, {}) == plain(ls, None, None, 6, {}) == want
+    plain, templated = _printers(_shape(Equation(cases[5][0], cases[5][1], "p", "g",
+                                                 None))[0])
+    for a, want in (("p", "p*(-2) = 0"), ("(-2)", "(-2)^2 = 0")):
+        ls = [Var(a), Const(-2.0), Const(0.0)]
+        assert templated(ls, None, None, 6, {}) == plain(ls, None, None, 6, {}) == want
+    plain, templated = _printers(_shape(Equation(cases[6][0], cases[6][1], "p", "g",
+                                                 None))[0])
+    for a, want in (("p", "2^2*p = 0"), ("2^2", "2^2^2 = 0")):
+        ls = [Const(2.0), Const(2.0), Var(a), Const(0.0)]
         assert templated(ls, None, None, 6, {}) == plain(ls, None, None, 6, {}) == want
 
 

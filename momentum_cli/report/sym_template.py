@@ -83,7 +83,8 @@ class _Checks:
         self.dash: list = []  # names that must not begin with '-'
         self.differ: list = []  # pairs of names that must differ
         self.not_text: list = []  # (name, literal text) that must differ
-        self.plain: list = []  # names that must hold none of " *^(": unlike any compound
+        self.plain: list = []  # names that must hold none of " *^(": unlike any compound,
+        # a number in parentheses or a merged x^2
 
     def const_text(self, i: int) -> str:
         return fmt_num(self.consts[i], 6)
@@ -146,12 +147,13 @@ class _Checks:
                 self.differ.append((a[1], b[1]))
             elif a[0] == "n" or b[0] == "n":
                 name, other = (a, b) if a[0] == "n" else (b, a)
-                if other[0] == "c":
-                    self.not_text.append((name[1], self.const_text(other[1])))
-                elif other[0] == "-c":
-                    self.not_text.append((name[1], fmt_num(-self.consts[other[1]], 6)))
-                else:  # a compound's text holds one of " *^(" (sizes 2 and up)
-                    self.plain.append(name[1])
+                self.plain.append(name[1])  # unlike any text in parentheses or merged
+                # (x^2), and unlike a number's text as the product shows it
+                if other[0] in ("c", "-c") and self.prec(other) >= _MUL:
+                    self.not_text.append((name[1], self.const_text(other[1])
+                                          if other[0] == "c" else
+                                          fmt_num(-self.consts[other[1]], 6)))
+                # (a compound's text holds one of " *^(": sizes 2 and up)
             else:
                 return False  # two compounds with names (or one with numbers): the printer
         return all(self.visit(x) for x in items if x[0] != "-c")
