@@ -1,5 +1,6 @@
-"""A block's matrix in the plain text, made once per kind of block (text._matrix keeps a
-kind's cells, widths and rows on the formatter), against the general table it lays out.
+"""Plain text's tables made per kind, against the general table they lay out: a block's
+matrix made once per kind of block (text._matrix keeps a kind's cells, widths and rows
+on the formatter), and a table given as columns (the Solution table: no row made).
 
 Blocks of one matrix and right side under unknowns of other lengths, other numbers
 (-0.0 beside 0.0, None, ints), ragged and empty matrices, other precisions: each block,
@@ -52,3 +53,27 @@ def test_a_kind_kept_at_one_precision_is_not_shown_at_another():
         out: list = []
         text._matrix(["a", "b"], m, r, text.formatter(sig), out)
         assert out == _general(["a", "b"], m, r, sig)
+
+
+def _laid_out(headers: list, rows: list) -> list:
+    """The table by hand: each cell padded to its column's widest, the last not."""
+    widths = [max([len(h)] + [len(r[i]) for r in rows]) for i, h in enumerate(headers)]
+
+    def line(cells):
+        return ("  " + "  ".join(c.ljust(w) if i < len(cells) - 1 else c
+                                 for i, (c, w) in enumerate(zip(cells, widths)))).rstrip()
+    return [line(headers), "  " + "  ".join("-" * w for w in widths)] + [line(r) for r in rows]
+
+
+def test_a_table_of_columns_is_the_table_of_its_rows():
+    rng = random.Random(11)
+    cells = ["", "a", "b.vx@2", "  ", "x ", "0.00154984", "-1", "m/s", "N*s", "J_n[b2-b1]@1->2"]
+    for n_cols in (2, 3, 4):
+        for _ in range(20):
+            headers = [rng.choice(["unknown", "value", "unit", "x"]) for _ in range(n_cols)]
+            rows = [[rng.choice(cells) for _ in range(n_cols)]
+                    for _ in range(rng.choice([0, 1, 2, 7]))]
+            cols = [[r[i] for r in rows] for i in range(n_cols)]
+            want = _laid_out(headers, rows)
+            assert text.column_table(headers, cols) == want
+            assert text.table(headers, rows) == want

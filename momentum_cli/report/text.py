@@ -17,23 +17,8 @@ def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list
     """Columns padded to their widest cell; the last column is not padded."""
     n = len(headers)
     if n > 1 and all(len(r) == n for r in rows):
-        # the usual case: every row as wide as the header: each column measured once
-        # (max over it) and every line made by one format call
-        cols = list(zip(*rows)) if rows else [()] * n
-        widths = tuple([max(len(h), max(map(len, c), default=0))
-                        for h, c in zip(headers, cols)])
-        got = _FORMATS.get((indent, widths))
-        if got is None:
-            if len(_FORMATS) > 256:
-                _FORMATS.clear()
-            got = _FORMATS[indent, widths] = (
-                indent + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}",
-                indent + "  ".join("-" * w for w in widths))
-        fmt = got[0]
-        out = [fmt.format(*headers).rstrip(), got[1]]
-        if rows:
-            out += [s.rstrip() for s in map(fmt.format, *cols)]
-        return out
+        # the usual case: every row as wide as the header
+        return column_table(headers, list(zip(*rows)) if rows else [()] * n, indent)
     widths = [len(h) for h in headers]
     for r in rows:
         for i, c in enumerate(r):
@@ -45,6 +30,25 @@ def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list
 
     out = [line(headers), indent + "  ".join("-" * w for w in widths)]
     out.extend(line(r) for r in rows)
+    return out
+
+
+def column_table(headers: list[str], cols: list, indent: str = "  ") -> list[str]:
+    """`table(headers, rows)` of rows given as columns (each as long, one per header, two
+    or more): each column measured once (max over it) and every line made by one
+    format call over the columns; no row is made."""
+    widths = tuple([max(len(h), max(map(len, c), default=0)) for h, c in zip(headers, cols)])
+    got = _FORMATS.get((indent, widths))
+    if got is None:
+        if len(_FORMATS) > 256:
+            _FORMATS.clear()
+        got = _FORMATS[indent, widths] = (
+            indent + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}",
+            indent + "  ".join("-" * w for w in widths))
+    fmt = got[0]
+    out = [fmt.format(*headers).rstrip(), got[1]]
+    if cols and cols[0]:
+        out += [s.rstrip() for s in map(fmt.format, *cols)]
     return out
 
 
@@ -162,11 +166,20 @@ def iter_parts(rep: Report, sig: int = 6, steps: bool = True, start=None, stop=N
     yield ""
     yield f"Solution ({u.get('name', 'SI')})"
     plain = getattr(rep.unknowns, "texts", None)  # a lazy report's: tuples, no dicts
-    yield from _in_runs(table(["unknown", "value", "unit"], [
-        [n, shown[v] if v in shown else f(v), unit] for n, v, unit in (
-            plain() if plain is not None else
-            ((x["name"], x.get("value", x["si_value"]), x.get("shown_unit", x["unit"]))
-             for x in rep.unknowns))]))
+    names: list = []  # the table's three columns, filled in one pass (no row made)
+    texts: list = []
+    units: list = []
+    put_name, put_text, put_unit = names.append, texts.append, units.append
+    for n, v, unit in (plain() if plain is not None else
+                       ((x["name"], x.get("value", x["si_value"]),
+                         x.get("shown_unit", x["unit"])) for x in rep.unknowns)):
+        put_name(n)
+        put_text(shown[v] if v in shown else f(v))
+        put_unit(unit)
+    lines = column_table(["unknown", "value", "unit"], [names, texts, units])
+    names = texts = units = None  # not held while the lines are written
+    yield from _in_runs(lines)
+    lines = None
     out = []
     if rep.regimes:
         out.append("")
