@@ -252,6 +252,11 @@ def _compile(key) -> tuple:
         env = dict(_ENV)
         exec(_Gen(key, numeric).source(), env)  # noqa: S102 - our own generated code
         out.append(env["printer"])
+    # the symbolic line of a kind of row by a template of its names (imported here: a
+    # small file compiles no shape)
+    from .sym_template import templated
+
+    out[0] = templated(key, out[0], (_C, _V, _K, _ADDT, _MULT, _EQ, _EXPR))
     return tuple(out)
 
 
@@ -261,6 +266,7 @@ def printers(eq):
     The last two compiled shapes met with the same top (the sides' node types and sizes)
     are tried first by their matchers: the leaves without the walk, the shape without
     its key."""
+    global READ_BY
     if not ENABLED:
         return None
     lhs, rhs = eq.lhs, eq.rhs
@@ -269,10 +275,11 @@ def printers(eq):
            tr, len(rhs.terms) if tr is Add else len(rhs.factors) if tr is Mul else -1)
     last = _LAST.get(top)
     if last is not None:
-        for m, fns in last:
-            leaves = m(lhs, rhs)
+        for pair in last:
+            leaves = pair[0](lhs, rhs)
             if leaves is not None:
-                return leaves, fns
+                READ_BY = pair
+                return leaves, pair[1]
     if (tl is Add and top[1] > _LONG) or (tr is Add and top[3] > _LONG):
         return False  # a long sum: not walked whole to find it out
     toks: list = []
@@ -285,10 +292,14 @@ def printers(eq):
         m = _matcher_of(toks)
         last = _LAST.get(top)  # two shapes kept per top: a sequence alternates them
         _LAST[top] = ((m, got[1]),) if last is None else ((m, got[1]), last[0])
+        READ_BY = _LAST[top][0]
     return got
 
 
 _MATCHERS: dict = {}  # shape -> its matcher
+# (matcher, printers) of the compiled shape `printers` read last: a loop over many rows
+# tries the few it met last before `printers` (model.row_texts)
+READ_BY: tuple | None = None
 _LAST: dict = {}  # the sides' top node types and sizes -> the (matcher, printers) met last
 _LEAFY = (Add, Mul, Var, Const, Known)  # the nodes `_walk` tells apart from "other"
 
@@ -440,17 +451,18 @@ def _side(e, values, keep, sig: int, six: dict, shown: dict) -> tuple[str, str]:
     nums: list = []
     last: list = [None, None]  # the shape met last: its matcher and printers
     for x in e.terms:
-        got = _term_printers(x, last)
+        m = last[0]  # `_term_printers`' first try, in line: the last term's matcher
+        leaves = m(x) if m is not None else None
+        got = (leaves, last[1]) if leaves is not None else _term_printers(x, last)
         if got:
             leaves, (sym, num) = got
             s, n = sym(leaves, None, None, 6, six)[0], num(leaves, values, keep, sig, shown)[0]
         else:
             s, n = _txt(x, False, 6, None, False)[0], _si_text(x, values, keep, sig)[0]
-        for out, t in ((syms, s), (nums, n)):
-            if not out:
-                out.append(t)
-            elif t[:1] == "-":
-                out.append(" - " + t[1:])
-            else:
-                out.append(" + " + t)
+        if syms:  # both lists as long: a term's two texts joined alike
+            syms.append(" - " + s[1:] if s[:1] == "-" else " + " + s)
+            nums.append(" - " + n[1:] if n[:1] == "-" else " + " + n)
+        else:
+            syms.append(s)
+            nums.append(n)
     return "".join(syms), "".join(nums)

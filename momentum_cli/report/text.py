@@ -17,23 +17,8 @@ def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list
     """Columns padded to their widest cell; the last column is not padded."""
     n = len(headers)
     if n > 1 and all(len(r) == n for r in rows):
-        # the usual case: every row as wide as the header: each column measured once
-        # (max over it) and every line made by one format call
-        cols = list(zip(*rows)) if rows else [()] * n
-        widths = tuple([max(len(h), max(map(len, c), default=0))
-                        for h, c in zip(headers, cols)])
-        got = _FORMATS.get((indent, widths))
-        if got is None:
-            if len(_FORMATS) > 256:
-                _FORMATS.clear()
-            got = _FORMATS[indent, widths] = (
-                indent + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}",
-                indent + "  ".join("-" * w for w in widths))
-        fmt = got[0]
-        out = [fmt.format(*headers).rstrip(), got[1]]
-        if rows:
-            out += [s.rstrip() for s in map(fmt.format, *cols)]
-        return out
+        # the usual case: every row as wide as the header
+        return column_table(headers, list(zip(*rows)) if rows else [()] * n, indent)
     widths = [len(h) for h in headers]
     for r in rows:
         for i, c in enumerate(r):
@@ -45,6 +30,25 @@ def table(headers: list[str], rows: list[list[str]], indent: str = "  ") -> list
 
     out = [line(headers), indent + "  ".join("-" * w for w in widths)]
     out.extend(line(r) for r in rows)
+    return out
+
+
+def column_table(headers: list[str], cols: list, indent: str = "  ") -> list[str]:
+    """`table(headers, rows)` of rows given as columns (each as long, one per header, two
+    or more): each column measured once (max over it) and every line made by one
+    format call over the columns; no row is made."""
+    widths = tuple([max(len(h), max(map(len, c), default=0)) for h, c in zip(headers, cols)])
+    got = _FORMATS.get((indent, widths))
+    if got is None:
+        if len(_FORMATS) > 256:
+            _FORMATS.clear()
+        got = _FORMATS[indent, widths] = (
+            indent + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}",
+            indent + "  ".join("-" * w for w in widths))
+    fmt = got[0]
+    out = [fmt.format(*headers).rstrip(), got[1]]
+    if cols and cols[0]:
+        out += [s.rstrip() for s in map(fmt.format, *cols)]
     return out
 
 
@@ -62,6 +66,7 @@ def formatter(sig: int):
             s = cache[x] = fmt_num(x, sig)
         return s
     f.cache = cache  # for a loop that reads it inline (never holds None)
+    f.matrices = {}  # `_matrix`'s texts of a kind of block, at this precision
     return f
 
 
@@ -161,11 +166,20 @@ def iter_parts(rep: Report, sig: int = 6, steps: bool = True, start=None, stop=N
     yield ""
     yield f"Solution ({u.get('name', 'SI')})"
     plain = getattr(rep.unknowns, "texts", None)  # a lazy report's: tuples, no dicts
-    yield from _in_runs(table(["unknown", "value", "unit"], [
-        [n, shown[v] if v in shown else f(v), unit] for n, v, unit in (
-            plain() if plain is not None else
-            ((x["name"], x.get("value", x["si_value"]), x.get("shown_unit", x["unit"]))
-             for x in rep.unknowns))]))
+    names: list = []  # the table's three columns, filled in one pass (no row made)
+    texts: list = []
+    units: list = []
+    put_name, put_text, put_unit = names.append, texts.append, units.append
+    for n, v, unit in (plain() if plain is not None else
+                       ((x["name"], x.get("value", x["si_value"]),
+                         x.get("shown_unit", x["unit"])) for x in rep.unknowns)):
+        put_name(n)
+        put_text(shown[v] if v in shown else f(v))
+        put_unit(unit)
+    lines = column_table(["unknown", "value", "unit"], [names, texts, units])
+    names = texts = units = None  # not held while the lines are written
+    yield from _in_runs(lines)
+    lines = None
     out = []
     if rep.regimes:
         out.append("")
@@ -280,31 +294,54 @@ def _transition_parts(rep: Report, start, stop):
 def _matrix(unknowns: list, matrix: list, rhs: list, f, out: list) -> None:
     """A block's matrix as `table(unknowns + ["", "rhs"], rows, "      ")` lays it out:
     the cells formatted column by column through the number cache, each column's width
-    measured once, every line from one format string (cached by the widths)."""
-    shown = f.cache
+    measured once, every line from one format string (cached by the widths). A sequence
+    of like blocks (a cradle's impacts) repeats one matrix and right side under other
+    unknowns: their cells and widths, and at the same widths their rows, are made once
+    per kind (kept by the formatter, whose precision they have); only the heading is
+    made per block."""
     n = len(unknowns)
-    cols = [[shown[x] if x in shown else f(x) for x in col] for col in zip(*matrix)]
-    last = [f(x) for x in rhs]
-    if not matrix or len(cols) != n or len(last) != len(matrix) or \
-            any(len(r) != n for r in matrix):  # empty or ragged: the general table
-        rows = [[shown[x] if x in shown else f(x) for x in row] + ["|", f(r)]
-                for row, r in zip(matrix, rhs)]
-        out.extend(table(unknowns + ["", "rhs"], rows, indent="      "))
-        return
-    widths = tuple([max(len(h), max(map(len, c), default=0)) for h, c in zip(unknowns, cols)]
-                   + [1, max(3, max(map(len, last)))])
-    got = _FORMATS.get(("      ", widths))
+    key = got = None
+    if n <= 8 and len(rhs) == len(matrix):  # a small block: its numbers are the key
+        try:
+            key = (n, tuple(map(tuple, matrix)), tuple(rhs))
+            got = f.matrices.get(key)
+        except TypeError:  # an unhashable cell: made as below, not kept
+            key = None
     if got is None:
+        shown = f.cache
+        cols = [[shown[x] if x in shown else f(x) for x in col] for col in zip(*matrix)]
+        last = [f(x) for x in rhs]
+        if not matrix or len(cols) != n or len(last) != len(matrix) or \
+                any(len(r) != n for r in matrix):  # empty or ragged: the general table
+            rows = [[shown[x] if x in shown else f(x) for x in row] + ["|", f(r)]
+                    for row, r in zip(matrix, rhs)]
+            out.extend(table(unknowns + ["", "rhs"], rows, indent="      "))
+            return
+        got = (cols, last, [max(map(len, c), default=0) for c in cols],
+               max(3, max(map(len, last))), {})
+        if key is not None:
+            if len(f.matrices) > 256:
+                f.matrices.clear()
+            f.matrices[key] = got
+    cols, last, cells, wide, bodies = got
+    widths = tuple([max(len(h), w) for h, w in zip(unknowns, cells)] + [1, wide])
+    fmts = _FORMATS.get(("      ", widths))
+    if fmts is None:
         if len(_FORMATS) > 256:
             _FORMATS.clear()
-        got = _FORMATS["      ", widths] = (
+        fmts = _FORMATS["      ", widths] = (
             "      " + "  ".join(f"{{:<{w}}}" for w in widths[:-1]) + "  {}",
             "      " + "  ".join("-" * w for w in widths))
-    fmt = got[0].format
+    fmt = fmts[0].format
     out.append(fmt(*unknowns, "", "rhs").rstrip())
-    out.append(got[1])
-    bar = ["|"] * len(last)
-    out += [s.rstrip() for s in map(fmt, *cols, bar, last)]
+    out.append(fmts[1])
+    body = bodies.get(widths)
+    if body is None:
+        bar = ["|"] * len(last)
+        body = [s.rstrip() for s in map(fmt, *cols, bar, last)]
+        if len(bodies) < 64:
+            bodies[widths] = body
+    out += body
 
 
 def _items(k: dict, f) -> str:
