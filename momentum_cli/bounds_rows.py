@@ -62,11 +62,7 @@ def _np():
 
 
 def _walk_of(key):
-    if key not in _WALKS:
-        if len(_WALKS) >= rowcode.LIMIT:
-            _WALKS.clear()
-        _WALKS[key] = _column_walk(key)
-    return _WALKS[key]
+    return rowcode.kept(_WALKS, key, _column_walk)
 
 
 def read(eqs, equations, col: dict, values, size: dict, err: dict, roundoff: float):

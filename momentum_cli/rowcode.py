@@ -497,6 +497,16 @@ def _val_function(key):
 
 
 
+def kept(cache: dict, key, make):
+    """cache[key], made by make(key) the first time; the cache is emptied once it holds
+    LIMIT entries (a file of many shapes must not grow it without bound)."""
+    if key not in cache:
+        if len(cache) >= LIMIT:
+            cache.clear()
+        cache[key] = make(key)
+    return cache[key]
+
+
 def _compiled(cache: dict, key, make):
     """The compiled function for `key`, made once the shape was met COMPILE_AFTER times
     (a shape met a few times, as in small files, is cheaper to walk than to compile);

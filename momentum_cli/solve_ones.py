@@ -68,19 +68,9 @@ def _read_as_arrays(eqs, blocks, order, start: int, values):
     from . import block_rows
 
     taken, names = [], []
-    pending: set = set()
-    k = start
-    while k < len(order):  # the blocks the run may take: one unknown each, not solved
-        block = blocks[order[k]]
-        if len(block.unknowns) != 1 or len(block.equations) != 1:
-            break
-        name = block.unknowns[0]
-        if name in values or name in pending:
-            break
+    for block, name in _candidates(blocks, order, start, values):
         taken.append(block)
         names.append(name)
-        pending.add(name)
-        k += 1
     if len(taken) < MIN_RUN:
         return None
     got = block_rows.ones(eqs, [b.equations[0] for b in taken], names, values)
@@ -96,15 +86,7 @@ def _read_one_by_one(eqs, blocks, order, start: int, values):
     affine = rowcode.affine
     isfinite = math.isfinite
     taken, As, Bs = [], [], []
-    pending: set = set()
-    k = start
-    while k < len(order):
-        block = blocks[order[k]]
-        if len(block.unknowns) != 1 or len(block.equations) != 1:
-            break
-        name = block.unknowns[0]
-        if name in values or name in pending:
-            break
+    for block, name in _candidates(blocks, order, start, values):
         try:
             coef, const = affine(eqs[block.equations[0]].residual, {name: 0}, values)
         except (NonLinear, KeyError, ValueError, ZeroDivisionError, OverflowError):
@@ -117,9 +99,22 @@ def _read_one_by_one(eqs, blocks, order, start: int, values):
         taken.append(block)
         As.append(a)
         Bs.append(b)
+    return taken, As, Bs, start + len(taken)
+
+
+def _candidates(blocks, order, start: int, values):
+    """(block, its unknown) from order[start] while the run may take them: one unknown
+    in one equation, not solved yet, none twice."""
+    pending: set = set()
+    for k in range(start, len(order)):
+        block = blocks[order[k]]
+        if len(block.unknowns) != 1 or len(block.equations) != 1:
+            return
+        name = block.unknowns[0]
+        if name in values or name in pending:
+            return
         pending.add(name)
-        k += 1
-    return taken, As, Bs, k
+        yield block, name
 
 
 def _pow2(np, x):

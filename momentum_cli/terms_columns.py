@@ -59,11 +59,7 @@ def _column_walk(key):
 
 
 def _walk_of(key):
-    if key not in _WALKS:
-        if len(_WALKS) >= rowcode.LIMIT:
-            _WALKS.clear()
-        _WALKS[key] = _column_walk(key)
-    return _WALKS[key]
+    return rowcode.kept(_WALKS, key, _column_walk)
 
 
 def walk_sum(terms, w, values, out, walk_term):
