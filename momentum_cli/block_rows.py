@@ -41,20 +41,9 @@ def groups(eqs, equations, keep: bool = False) -> Groups | None:
     np = sys.modules.get("numpy")
     if np is None or not rowcode.ENABLED:
         return None
-    by_key: dict = {}
-    last = g = None  # rows of one shape come in runs: the group of the last key
-    for i, sh in enumerate(rowcode.shapes_of([eqs[k].residual for k in equations])):
-        if sh is None:
-            return None
-        key = sh[0]
-        if key is not last:
-            g = by_key.get(key)
-            if g is None:
-                g = by_key[key] = ([], [], [])
-            last = key
-        g[0].append(i)
-        g[1].append(sh[1])
-        g[2].append(sh[2])
+    by_key, free = rowcode.grouped([eqs[k].residual for k in equations])
+    if free:
+        return None
     out = {}
     for key, (idx, nums, names) in by_key.items():
         c = [np.array(cv, dtype=float) for cv in zip(*nums)] if nums[0] else []

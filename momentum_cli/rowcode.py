@@ -285,6 +285,29 @@ def shapes_of(trees) -> list:
     return out
 
 
+def grouped(trees):
+    """({shape key: ([index], [numbers], [names])}, [index of a tree without a shape]):
+    the trees' shapes gathered by key, in order; trees of one shape come in runs, so the
+    group of the last key is kept at hand."""
+    groups: dict = {}
+    free: list[int] = []
+    last = g = None
+    for i, sh in enumerate(shapes_of(trees)):
+        if sh is None:
+            free.append(i)
+            continue
+        key = sh[0]
+        if key is not last:
+            g = groups.get(key)
+            if g is None:
+                g = groups[key] = ([], [], [])
+            last = key
+        g[0].append(i)
+        g[1].append(sh[1])
+        g[2].append(sh[2])
+    return groups, free
+
+
 def _walk(e, toks, nums, names, first):
     t = type(e)
     if len(toks) > MAX_TOKENS:

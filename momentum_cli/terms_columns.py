@@ -69,22 +69,7 @@ def walk_sum(terms, w, values, out, walk_term):
     np = sys.modules.get("numpy")
     if not ENABLED or np is None or len(terms) < MIN_TERMS:
         return None
-    groups: dict = {}
-    free: list[int] = []  # the terms without a shape, in order
-    last = g = None  # terms of one shape come in runs: the group of the last key
-    for i, sh in enumerate(rowcode.shapes_of(terms)):
-        if sh is None:
-            free.append(i)
-            continue
-        key = sh[0]
-        if key is not last:
-            g = groups.get(key)
-            if g is None:
-                g = groups[key] = ([], [], [])
-            last = key
-        g[0].append(i)
-        g[1].append(sh[1])
-        g[2].append(sh[2])
+    groups, free = rowcode.grouped(terms)  # free: the terms without a shape, in order
     if len(groups) * 8 > len(terms):
         return None  # too few terms of each shape
     n = len(terms)
