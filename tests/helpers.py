@@ -80,3 +80,18 @@ def solve_keeping_system(monkeypatch, text: str, name: str = "test.mom", **kw):
     finally:
         monkeypatch.setattr(S, "_solve", solve)
     return sol, kept["system"]
+
+
+def example_both_ways(monkeypatch, module, path, summary):
+    """[summary(solution) with `module.ENABLED` on, then off] for the example at `path`;
+    a solve that fails gives its repr instead (the same failure either way)."""
+    got = []
+    for on in (True, False):
+        monkeypatch.setattr(module, "ENABLED", on)
+        try:
+            sol, _ = solve_keeping_system(monkeypatch, path.read_text(), path.name)
+        except Exception as exc:  # noqa: BLE001 - compared, not raised
+            got.append(repr(exc))
+            continue
+        got.append(summary(sol))
+    return got

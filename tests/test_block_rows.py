@@ -15,7 +15,7 @@ from momentum_cli import block_rows, bounds, rowcode
 from momentum_cli.bench import chain_text
 from momentum_cli.expr import Add, Const, Mul, NonLinear, Var
 
-from helpers import solve_keeping_system
+from helpers import example_both_ways, solve_keeping_system
 
 np = pytest.importorskip("numpy")
 
@@ -147,16 +147,9 @@ def test_examples_solve_the_same_with_and_without(monkeypatch, path):
     monkeypatch.setattr(L, "BIG", 1)
     monkeypatch.setattr(rowcode, "PLAIN_SMALL", False)
     monkeypatch.setattr(rowcode, "COMPILE_AFTER", 0)
-    got = []
-    for on in (True, False):
-        monkeypatch.setattr(block_rows, "ENABLED", on)
-        try:
-            sol, _ = solve_keeping_system(monkeypatch, path.read_text(), path.name)
-        except Exception as exc:  # noqa: BLE001 - the same failure either way
-            got.append(repr(exc))
-            continue
-        got.append((repr(sol.answers), repr(sol.values), repr(sol.errors),
-                    repr([c.__dict__ if hasattr(c, "__dict__") else c for c in sol.checks])))
+    got = example_both_ways(monkeypatch, block_rows, path, lambda sol: (
+        repr(sol.answers), repr(sol.values), repr(sol.errors),
+        repr([c.__dict__ if hasattr(c, "__dict__") else c for c in sol.checks])))
     assert got[0] == got[1]
 
 

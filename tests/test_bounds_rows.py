@@ -13,7 +13,7 @@ from momentum_cli import bounds, bounds_rows, rowcode
 from momentum_cli.bench import chain_text
 from momentum_cli.expr import Add, Const, Mul, Var
 
-from helpers import solve_keeping_system
+from helpers import example_both_ways, solve_keeping_system
 
 np = pytest.importorskip("numpy")
 pytest.importorskip("scipy")
@@ -156,15 +156,8 @@ def test_examples_bound_the_same_with_and_without_rows_as_arrays(monkeypatch, pa
     monkeypatch.setattr(bounds, "COLUMNS_FROM", 1)
     monkeypatch.setattr(rowcode, "PLAIN_SMALL", False)
     monkeypatch.setattr(rowcode, "COMPILE_AFTER", 0)
-    got = []
-    for on in (True, False):
-        monkeypatch.setattr(bounds_rows, "ENABLED", on)
-        try:
-            sol, _ = solve_keeping_system(monkeypatch, path.read_text(), path.name)
-        except Exception as exc:  # noqa: BLE001 - the same failure either way
-            got.append(repr(exc))
-            continue
-        got.append((sol.answers, _bits(sol.size or {}), _bits(sol.errors or {})))
+    got = example_both_ways(monkeypatch, bounds_rows, path, lambda sol: (
+        sol.answers, _bits(sol.size or {}), _bits(sol.errors or {})))
     assert got[0] == got[1]
 
 
@@ -184,14 +177,20 @@ def test_runs_of_one_unknown_bound_as_each_alone(monkeypatch, n, kw):
     monkeypatch.setattr(bounds, "_ones_as_arrays", spy)
     for values in (dict(sol.values), {k: (v if i % 97 else math.inf)
                                       for i, (k, v) in enumerate(sol.values.items())}):
-        out = []
-        for run in (64, 10**9):
-            monkeypatch.setattr(bounds, "ONES_RUN", run)
-            with rowcode.remembered():
-                size, err = bounds.propagate(system, sol.blocks, values, False)
-            out.append((_bits(size), _bits(err)))
+        out = _bounds_with_and_without_runs(monkeypatch, system, sol.blocks, values)
         assert out[0] == out[1]
     assert True in taken
+
+
+def _bounds_with_and_without_runs(monkeypatch, system, blocks, values) -> list:
+    """The bounds' bits with runs of 1x1 blocks taken as arrays, then never."""
+    out = []
+    for run in (64, 10**9):
+        monkeypatch.setattr(bounds, "ONES_RUN", run)
+        with rowcode.remembered():
+            size, err = bounds.propagate(system, blocks, values, False)
+        out.append((_bits(size), _bits(err)))
+    return out
 
 
 def test_cradle_bounds_the_same_with_and_without_runs_of_ones(monkeypatch):
@@ -199,11 +198,5 @@ def test_cradle_bounds_the_same_with_and_without_runs_of_ones(monkeypatch):
 
     sol, system = solve_keeping_system(monkeypatch, cradle_text(300, "sequence"),
                                        "cradle.mom")
-    values = dict(sol.values)
-    out = []
-    for run in (64, 10**9):
-        monkeypatch.setattr(bounds, "ONES_RUN", run)
-        with rowcode.remembered():
-            size, err = bounds.propagate(system, sol.blocks, values, False)
-        out.append((_bits(size), _bits(err)))
+    out = _bounds_with_and_without_runs(monkeypatch, system, sol.blocks, dict(sol.values))
     assert out[0] == out[1]
